@@ -1,0 +1,1 @@
+"""Heading autopilots (PD, fuzzy PID, learned policy) and the autopilot node."""

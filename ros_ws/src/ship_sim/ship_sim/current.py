@@ -1,0 +1,138 @@
+"""Ocean current in NED: constant, or slowly varying (first-order Gauss-Markov), and its effect.
+
+Sources
+- Fossen, *Handbook of Marine Craft Hydrodynamics and Motion Control* (2011), Sec. 8.3: the
+  current enters the equations of motion as relative velocity nu_r = nu - nu_c; for an
+  irrotational current constant in NED the rigid-body and hydrodynamic terms are written in
+  nu_r only (Property 8.1), so the model's velocity states are velocities through the water and
+  only the position kinematics see the current: eta_dot = R(psi) nu_r + [v_N, v_E, 0].
+  The slowly varying speed is the first-order Gauss-Markov process V_dot + V/T = w of the same
+  section, limited to [speed_min, speed_max].
+- Seed 004 eq. (4.30) (Fig. 4.8): current of mean speed V_c and direction beta in NED,
+  v_N = V_c cos beta, v_E = V_c sin beta. Seed 000 (Table I) uses a constant 0.9 m/s current.
+
+Conventions: speed in m/s; ``direction`` (rad) is the direction the water flows TOWARDS,
+clockwise from north (0 = flowing north, pi/2 = flowing east), as NED headings are. Note that
+this is the opposite of the meteorological "coming from" convention.
+
+Gauss-Markov part (when a time constant and a noise intensity are given), for speed V and
+direction beta alike, with nominal value X0, time constant T (s) and white-noise intensity q
+(spectral density, (m/s)^2/s for speed, rad^2/s for direction):
+    X_dot = -(X - X0) / T + w,        E[w(t) w(t')] = q delta(t - t')
+It is advanced with its exact discretisation (valid for any dt), so its stationary standard
+deviation is sqrt(q T / 2) and its mean is X0. The speed is then clipped to
+[speed_min, speed_max] (the bound makes the mean differ from X0 only if the bounds are not
+symmetric about X0 and are reached). Random numbers come from numpy.random.default_rng(seed):
+the same seed gives the same current, bit for bit.
+
+Vectorised: with ``shape=(n,)`` the object holds n independent currents (one per vessel or
+Monte Carlo run); ``velocity_ne()`` returns arrays of that shape.
+"""
+import numpy as np
+
+
+def _param(name, value, lo, hi, lo_open=False):
+    """Float parameter check: ValueError naming the parameter, its value and the allowed range."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f'{name} = {value!r} is not a number') from None
+    ok = (v > lo if lo_open else v >= lo) and v <= hi
+    if not (np.isfinite(v) and ok):
+        raise ValueError(f"{name} = {value!r} is outside the allowed range "
+                         f"{'(' if lo_open else '['}{lo}, {hi}]")
+    return v
+
+
+class OceanCurrent:
+    """Current velocity in NED, constant or Gauss-Markov in speed and direction.
+
+    Parameters (SI): ``speed`` (m/s, [0, 10]); ``direction`` (rad, flowing towards, clockwise
+    from north); ``speed_time_constant``, ``direction_time_constant`` (s, > 0, or None for a
+    constant); ``speed_noise`` ((m/s)^2/s), ``direction_noise`` (rad^2/s) intensities (>= 0);
+    ``speed_min``/``speed_max`` (m/s; default 0 and 2 * speed + 0.5 m/s); ``seed``; ``shape``.
+    """
+
+    MAX_SPEED = 10.0
+
+    def __init__(self, speed=0.0, direction=0.0, *, speed_time_constant=None, speed_noise=0.0,
+                 direction_time_constant=None, direction_noise=0.0, speed_min=0.0,
+                 speed_max=None, seed=None, shape=()):
+        self.shape = tuple(shape)
+        self.speed_nominal = _param('speed', speed, 0.0, self.MAX_SPEED)
+        self.direction_nominal = _param('direction', direction, -1e3, 1e3)
+        self.speed_min = _param('speed_min', speed_min, 0.0, self.speed_nominal)
+        if speed_max is None:
+            speed_max = min(2.0 * self.speed_nominal + 0.5, self.MAX_SPEED)
+        self.speed_max = _param('speed_max', speed_max, self.speed_nominal, self.MAX_SPEED)
+        self.speed_noise = _param('speed_noise', speed_noise, 0.0, 100.0)
+        self.direction_noise = _param('direction_noise', direction_noise, 0.0, 100.0)
+        self.speed_time_constant = (None if speed_time_constant is None else
+                                    _param('speed_time_constant', speed_time_constant,
+                                           0.0, 1e7, lo_open=True))
+        self.direction_time_constant = (None if direction_time_constant is None else
+                                        _param('direction_time_constant',
+                                               direction_time_constant, 0.0, 1e7, lo_open=True))
+        self._rng = np.random.default_rng(seed)
+        self.speed = np.full(self.shape, self.speed_nominal)
+        self.direction = np.full(self.shape, self.direction_nominal)
+
+    @property
+    def varying(self):
+        """True if advance() changes the current."""
+        return ((self.speed_time_constant is not None and self.speed_noise > 0.0)
+                or (self.direction_time_constant is not None and self.direction_noise > 0.0))
+
+    def velocity_ne(self):
+        """Current velocity (v_north, v_east) in m/s, floats or arrays of ``shape``."""
+        vn = self.speed * np.cos(self.direction)
+        ve = self.speed * np.sin(self.direction)
+        if self.shape == ():
+            return float(vn), float(ve)
+        return vn, ve
+
+    def _gm_step(self, x, x0, tc, q, dt):
+        # Exact discretisation of X_dot = -(X - X0)/T + w over dt.
+        phi = np.exp(-dt / tc)
+        sd = np.sqrt(0.5 * q * tc * (1.0 - phi * phi))
+        return x0 + phi * (x - x0) + sd * self._rng.standard_normal(self.shape)
+
+    def advance(self, dt):
+        """Advance the Gauss-Markov parts by dt seconds (no-op for a constant current)."""
+        dt = _param('dt', dt, 0.0, 1e6)
+        if dt == 0.0:
+            return
+        if self.speed_time_constant is not None and self.speed_noise > 0.0:
+            s = self._gm_step(self.speed, self.speed_nominal, self.speed_time_constant,
+                              self.speed_noise, dt)
+            self.speed = np.clip(s, self.speed_min, self.speed_max)
+        if self.direction_time_constant is not None and self.direction_noise > 0.0:
+            self.direction = self._gm_step(self.direction, self.direction_nominal,
+                                           self.direction_time_constant,
+                                           self.direction_noise, dt)
+
+
+def add_current_to_kinematics(model, xdot, v_north, v_east):
+    """Model derivative through the water -> derivative over ground: add the current.
+
+    ``xdot`` is ``model.rhs(x, u)`` (velocity states relative to the water, Fossen Sec. 8.3);
+    the current (m/s, NED, floats or arrays broadcast over xdot's leading axes) is added to the
+    north and east position rates. Returns a new array; xdot is not modified.
+    """
+    out = np.array(xdot, dtype=float, copy=True)
+    out[..., model.IX] += v_north
+    out[..., model.IY] += v_east
+    return out
+
+
+def apply_current_drift(model, x, v_north, v_east, h):
+    """Shortcut for one integration step of length h (s) with the current held over the step.
+
+    No model's derivative depends on its position, so integrating ``add_current_to_kinematics``
+    with any Runge-Kutta scheme equals integrating the model alone and then adding
+    (v_north, v_east) * h to the position; this returns that x (a new array).
+    """
+    out = np.array(x, dtype=float, copy=True)
+    out[..., model.IX] += v_north * h
+    out[..., model.IY] += v_east * h
+    return out

@@ -1,0 +1,158 @@
+"""Standard manoeuvres (turning circle, zig-zag) run on a plant model and measured.
+
+Method (as /work/shared/reference/mss_golden/maneuvers.json documents it, so our numbers are
+comparable with MSS run under Octave; cf. the IMO manoeuvring standards and Fossen, Handbook
+of Marine Craft Hydrodynamics and Motion Control, 2nd ed., Sec. 16.1):
+
+- Start from the model's straight-running trim (``model.initial_state``), rudder 0, and
+  integrate with MSS RK4 (``ship_sim.integrators``) at step h with the command held over each
+  step; the model's own rudder servo (rate limit, angle limit) produces the actual rudder.
+- Turning circle: rudder step at t = 0. Positions are taken relative to the execute point in
+  the frame of the initial heading: advance = distance along it, transfer = |distance across
+  it|. Advance and transfer at 90 deg heading change, tactical diameter = transfer at 180 deg;
+  the heading crossings are found by linear interpolation between samples (every step).
+  Steady turning radius = U/|r| at the final time (as MSS turncircle.m prints it).
+- Zig-zag (MSS zigzag.m logic): the rudder goes to starboard-turning first; at the start of
+  every step, if the heading change is >= +switch and r > 0 the rudder is reversed to port, if
+  it is <= -switch and r < 0 back to starboard. Overshoot = peak heading change beyond the
+  switch heading after a reversal (sample maximum, no interpolation), for each reversal that
+  is followed by another one.
+
+Commands use the project's unified rudder sign (rad, positive turns to port); headings NED
+(rad); distances m; speeds m/s; times s.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .integrators import rk4_step, rk4_step_floats
+
+
+@dataclass(frozen=True)
+class TurningCircle:
+    """Turning-circle measures (m, s, m/s, rad/s). NaN where a heading change is not reached."""
+
+    direction: int                 # +1 starboard (psi increasing), -1 port
+    time_to_90deg_s: float
+    advance_m: float               # along the initial heading at 90 deg heading change
+    transfer_m: float              # across the initial heading at 90 deg
+    time_to_180deg_s: float
+    tactical_diameter_m: float     # across the initial heading at 180 deg
+    max_advance_m: float
+    max_transfer_m: float
+    steady_radius_m: float         # U/|r| at the final time
+    final_speed_mps: float
+    final_yaw_rate_radps: float
+
+
+@dataclass(frozen=True)
+class ZigZag:
+    """Zig-zag measures: reversal times (s) and overshoot angles (rad), in order."""
+
+    switch_times_s: tuple
+    overshoots_rad: tuple
+
+
+def integrate(model, x0, u, h, t_end):
+    """Integrate ``model`` from x0 with the native input u held constant, MSS RK4 step h (s).
+
+    x0 (n,) uses the single-vessel float path; x0 (N, n) the batched numpy path. Returns
+    t (K+1,) and the states (K+1, n) or (K+1, N, n), K = round(t_end / h). Raises
+    ModelStateError if any sample leaves the model's domain.
+    """
+    n_steps = int(round(t_end / h))
+    x0 = np.asarray(x0, dtype=float)
+    u = np.asarray(u, dtype=float)
+    if x0.ndim == 1:
+        x, ul, f = x0.tolist(), u.tolist(), model.rhs_scalar
+        traj = [x]
+        for _ in range(n_steps):
+            x = rk4_step_floats(f, x, ul, h)
+            traj.append(x)
+        states = np.array(traj)
+    else:
+        states = np.empty((n_steps + 1,) + x0.shape)
+        states[0] = x0
+        for k in range(n_steps):
+            states[k + 1] = rk4_step(model.rhs, states[k], u, h)
+    model.check_state(states)
+    return np.arange(n_steps + 1) * h, states
+
+
+def _crossing(level, dpsi, *series):
+    """Linear interpolation of each series where dpsi first reaches level (NaN if never)."""
+    above = np.flatnonzero(dpsi >= level)
+    if above.size == 0 or above[0] == 0:
+        return (np.nan,) * len(series)
+    k = above[0]
+    w = (level - dpsi[k - 1]) / (dpsi[k] - dpsi[k - 1])
+    return tuple(s[k - 1] + w * (s[k] - s[k - 1]) for s in series)
+
+
+def turning_metrics(t, north, east, psi, speed, r):
+    """Turning-circle measures from sampled tracks (1-D arrays; first sample = execute)."""
+    psi = np.unwrap(psi)
+    direction = 1 if psi[-1] >= psi[0] else -1
+    dpsi = direction * (psi - psi[0])
+    c, s = np.cos(psi[0]), np.sin(psi[0])
+    dn, de = north - north[0], east - east[0]
+    along = c * dn + s * de
+    across = np.abs(-s * dn + c * de)
+    t90, adv, tr = _crossing(np.pi / 2, dpsi, t, along, across)
+    t180, td = _crossing(np.pi, dpsi, t, across)
+    return TurningCircle(
+        direction=direction, time_to_90deg_s=float(t90), advance_m=float(adv),
+        transfer_m=float(tr), time_to_180deg_s=float(t180), tactical_diameter_m=float(td),
+        max_advance_m=float(along.max()), max_transfer_m=float(across.max()),
+        steady_radius_m=float(speed[-1] / abs(r[-1])), final_speed_mps=float(speed[-1]),
+        final_yaw_rate_radps=float(r[-1]))
+
+
+def turning_circle(model, rudder, shaft=None, h=0.1, t_end=700.0):
+    """Run a turning circle from straight-running trim: unified rudder step (rad) at t = 0.
+
+    ``shaft`` (rpm) for models with a shaft: trim and command (default: model nominal).
+    Returns (TurningCircle, t, states).
+    """
+    x0 = model.initial_state(shaft=shaft)
+    u = model.inputs(rudder, shaft)
+    t, states = integrate(model, x0, u, h, t_end)
+    return (turning_metrics(t, states[:, model.IX], states[:, model.IY],
+                            states[:, model.IPSI], model.speed(states), states[:, model.IR]),
+            t, states)
+
+
+def zigzag(model, rudder, switch_heading, shaft=None, h=0.1, t_end=700.0):
+    """Run a rudder/heading zig-zag (both rad, > 0), first turn to starboard as MSS zigzag.m.
+
+    Returns (ZigZag, t, states, rudder commands (unified, rad) applied over each step).
+    """
+    n_steps = int(round(t_end / h))
+    x = model.initial_state(shaft=shaft).tolist()
+    psi0 = x[model.IPSI]
+    to_port = model.inputs(rudder, shaft).tolist()
+    to_stbd = model.inputs(-rudder, shaft).tolist()
+    f, ipsi, ir = model.rhs_scalar, model.IPSI, model.IR
+    cmd = -rudder
+    traj, cmds, switches = [x], [], []
+    for k in range(n_steps):
+        dpsi, r = x[ipsi] - psi0, x[ir]
+        if dpsi >= switch_heading and r > 0 and cmd < 0:
+            cmd = rudder
+            switches.append(k)
+        elif dpsi <= -switch_heading and r < 0 and cmd > 0:
+            cmd = -rudder
+            switches.append(k)
+        x = rk4_step_floats(f, x, to_port if cmd > 0 else to_stbd, h)
+        traj.append(x)
+        cmds.append(cmd)
+    states = np.array(traj)
+    model.check_state(states)
+    t = np.arange(n_steps + 1) * h
+    dpsi = states[:, ipsi] - psi0
+    overshoots = []
+    for k0, k1 in zip(switches, switches[1:]):
+        side = 1.0 if dpsi[k0] > 0 else -1.0
+        overshoots.append(float(np.max(side * dpsi[k0:k1]) - switch_heading))
+    return (ZigZag(tuple(float(t[k]) for k in switches), tuple(overshoots)), t, states,
+            np.array(cmds))

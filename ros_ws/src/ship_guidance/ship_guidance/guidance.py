@@ -1,0 +1,220 @@
+"""Route-following guidance (pure): progress along a Route, waypoint switching, LOS / ILOS.
+
+The guidance node wraps one ``Guidance`` per vessel; Monte Carlo and learning code use it
+in-process. Units m, s, rad; positions and headings NED (see path.py, los.py for the laws and
+their sources).
+
+How the route is followed:
+- The first update (and the first after ``reset()``) takes the closest point of the whole
+  route, so a restarted node resumes mid-route; ``reset(s=0.0)`` starts from the beginning.
+- The route is cut at CORNERS, joins where the tangent jumps by more than ``corner_angle``
+  (default 1 deg), into smooth stretches. Within a stretch the reference is the closest point
+  of the path (seed 000 eqs. 1-3, ``Route.project``), searched only within ``window`` of arc
+  length around the previous one so progress never jumps to another branch of a self-crossing
+  or hairpin path. Tangent joins (line -> tangent arc, sampled curves) are thus followed
+  without switching logic.
+- At the end of a stretch the guidance switches to the next one when the vessel is within the
+  acceptance circle (radius ``acceptance_radius``, seeds 003 "TURN = circle" and 004) of the
+  corner, or has passed the normal to the path at the corner, whichever comes first (the
+  normal catches vessels that miss the circle, e.g. with R = 0). Until then the reference is
+  the stretch's last leg extended along its end tangent; right after a switch, while the vessel
+  has not reached the next stretch's start normal, it is the next leg extended backwards (the
+  classic waypoint-LOS legs). The acceptance circle is not applied at tangent joins: there is
+  no corner to anticipate and on a densely sampled curve it would skip many short legs.
+- The route is finished when the vessel enters the acceptance circle of the route's end point
+  or passes its end normal. Afterwards the command keeps the vessel on the extension of the
+  last leg's end tangent (a defined behaviour; the node decides what to do next).
+- Law: 'los' psi_c = alpha - atan(e/d); 'ilos' psi_c = alpha - atan((e + sigma e_int)/d) with
+  the integrator of Borhaug et al. (2008), frozen once finished. The integrator is kept across
+  switches (a steady current needs a similar correction on the next leg) unless
+  ``reset_integral_at_corners``.
+
+Stability check: given the paired PD autopilot's zeta and omega_n (rad/s) and the speed U (m/s)
+the constructor refuses a look-ahead at or below U / (2 zeta omega_n) for LOS, or
+(U + 4 zeta^2 sigma) / (2 zeta omega_n) for ILOS, unless ``allow_unstable=True``. The seeds
+(001 eq. 34, 003 eq. 3.5) write d > 1 / (2 zeta omega_n) in non-dimensional units (d in ship
+lengths, omega_n in units of U/L); convert with los.omega_n_from_nondim and
+los.ship_lengths_to_metres. See los.py for the derivation.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ship_sim.frames import wrap_angle
+
+from .los import critical_lookahead
+from .path import Route
+
+LAWS = ('los', 'ilos')
+
+
+@dataclass(frozen=True, slots=True)
+class GuidanceOutput:
+    """One guidance step. heading_cmd: NED heading command psi_c (rad, wrapped); cross_track: e
+    (m, positive to starboard of the path); s: arc length of the reference point (m); leg_index:
+    its leg; distance_remaining: route length - s (m); finished: end reached (latched);
+    path_angle: alpha (rad); curvature: signed curvature of the path there (1/m, + clockwise);
+    integral: ILOS state e_int (s, 0 for LOS); heading_error: wrap(psi_c - psi) (rad)."""
+    heading_cmd: float
+    cross_track: float
+    s: float
+    leg_index: int
+    distance_remaining: float
+    finished: bool
+    path_angle: float
+    curvature: float
+    integral: float
+    heading_error: float
+
+
+class Guidance:
+    """Follow ``route`` (path.Route) with LOS or ILOS. See the module docstring.
+
+    Parameters (SI): law 'los' | 'ilos'; lookahead d (m, > 0); acceptance_radius (m, >= 0);
+    integral_gain sigma (m/s, > 0, ILOS only); corner_angle (rad, tangent jump that makes a
+    corner); window (m, half-width of the progress search, default 2 d, widened to 3x the
+    distance moved since the previous update); zeta, omega_n (rad/s), speed (m/s): the paired
+    autopilot and speed for the stability check (all three or none); allow_unstable: skip the
+    refusal. Raises ValueError naming the offending parameter.
+    """
+
+    def __init__(self, route, law='los', lookahead=100.0, acceptance_radius=0.0, *,
+                 integral_gain=0.5, corner_angle=math.radians(1.0), window=None,
+                 zeta=None, omega_n=None, speed=None, allow_unstable=False,
+                 reset_integral_at_corners=False):
+        if not isinstance(route, Route):
+            raise ValueError('route must be a ship_guidance.path.Route, '
+                             f'got {type(route).__name__}')
+        if law not in LAWS:
+            raise ValueError(f"law must be one of {LAWS}, got {law!r}")
+        _check_positive('lookahead', lookahead)
+        _check_positive('acceptance_radius', acceptance_radius, allow_zero=True)
+        if law == 'ilos':
+            _check_positive('integral_gain', integral_gain)
+        if not 0.0 <= float(corner_angle) <= math.pi:
+            raise ValueError(f'corner_angle must be in [0, pi] rad, got {corner_angle}')
+        if window is not None:
+            _check_positive('window', window)
+        self.route = route
+        self.law = law
+        self.lookahead = float(lookahead)
+        self.acceptance_radius = float(acceptance_radius)
+        self.integral_gain = float(integral_gain) if law == 'ilos' else 0.0
+        self.window = 2.0 * self.lookahead if window is None else float(window)
+        self.reset_integral_at_corners = bool(reset_integral_at_corners)
+        self.critical_lookahead = None
+        given = [x is not None for x in (zeta, omega_n, speed)]
+        if any(given):
+            if not all(given):
+                raise ValueError('the stability check needs zeta, omega_n and speed together, got '
+                                 f'zeta={zeta}, omega_n={omega_n}, speed={speed}')
+            self.critical_lookahead = critical_lookahead(zeta, omega_n, speed, self.integral_gain)
+            if not self.lookahead > self.critical_lookahead and not allow_unstable:
+                limit = ('U / (2 zeta omega_n)' if law == 'los'
+                         else '(U + 4 zeta^2 sigma) / (2 zeta omega_n)')
+                raise ValueError(
+                    f'lookahead {self.lookahead:.2f} m is not above the stability limit '
+                    f'{self.critical_lookahead:.2f} m = {limit} of the paired autopilot '
+                    f'(zeta={zeta}, omega_n={omega_n} rad/s, speed={speed} m/s'
+                    + (f', sigma={self.integral_gain} m/s' if law == 'ilos' else '')
+                    + '; seeds 001 eq. 34 / 003 eq. 3.5 in metres). Increase lookahead or pass '
+                    'allow_unstable=True.')
+        # Smooth stretches between corners: first leg index of each.
+        turn = np.abs(wrap_angle(route.start_angles[1:] - route.end_angles[:-1]))
+        self._first = np.concatenate(([0], np.nonzero(turn > float(corner_angle))[0] + 1))
+        self._last = np.concatenate((self._first[1:] - 1, [len(route.legs) - 1]))
+        self.corner_legs = tuple(int(i) for i in self._first[1:])  # legs that start at a corner
+        self.reset()
+
+    def reset(self, s=None):
+        """Forget progress (next update searches the whole route), or restart at arc length s."""
+        self._s = None if s is None else float(np.clip(s, 0.0, self.route.length))
+        self._k = 0 if s is None else self._stretch_of(int(self.route.leg_at(self._s)))
+        self._prev = None
+        self.integral = 0.0
+        self.finished = False
+
+    @property
+    def s(self):
+        """Arc length of the current reference point (m), None before the first update.
+        To change parameters mid-route build a new Guidance and call ``reset(s=old.s)``."""
+        return self._s
+
+    def _stretch_of(self, leg):
+        return int(np.searchsorted(self._first, leg, side='right') - 1)
+
+    def _bounds(self, k):
+        c = self.route.cumulative
+        return c[self._first[k]], c[self._last[k] + 1]
+
+    def _reached_end(self, k, proj, north, east):
+        """Acceptance circle of the stretch's end point, or past the normal there. Both only
+        count once the reference point has progressed close to the end (within pi R_acc of
+        arc length, which any approach inside the circle satisfies, resp. clamped at the end),
+        so a long arc whose end lies near its start does not switch at once."""
+        leg = int(self._last[k])
+        hi = self.route.cumulative[leg + 1]
+        end = self.route.legs[leg].end
+        if (math.hypot(north - end[0], east - end[1]) <= self.acceptance_radius
+                and hi - proj.s <= math.pi * self.acceptance_radius):
+            return True
+        return (proj.s >= hi - self.route.s_tol
+                and self.route.along(leg, north, east) >= self.route.leg_lengths[leg])
+
+    def update(self, north, east, psi=0.0, dt=0.0):
+        """One guidance step at NED position (m) and heading psi (rad; only used for
+        heading_error), dt (s) since the previous step (integrates ILOS). -> GuidanceOutput."""
+        n, e, psi, dt = float(north), float(east), float(psi), float(dt)
+        if not all(math.isfinite(x) for x in (n, e, psi, dt)):
+            raise ValueError(f'guidance update needs finite inputs, got north={north}, '
+                             f'east={east}, psi={psi}, dt={dt}')
+        if dt < 0.0:
+            raise ValueError(f'dt must be >= 0 s, got {dt}')
+        route = self.route
+        if self._s is None:
+            proj = route.project(n, e)
+            self._k = self._stretch_of(proj.leg_index)
+            # A start exactly on a corner belongs to the stretch that leaves it.
+            if proj.s >= self._bounds(self._k)[1] and self._k < len(self._first) - 1:
+                self._k += 1
+        step = 0.0 if self._prev is None else math.hypot(n - self._prev[0], e - self._prev[1])
+        w = max(self.window, 3.0 * step)
+        hint = self._s
+        while True:
+            lo, hi = self._bounds(self._k)
+            if hint is not None:
+                proj = route.project(n, e, s_hint=hint, window=(w, w), bounds=(lo, hi))
+            elif self._k != self._stretch_of(proj.leg_index):
+                proj = route.project(n, e, bounds=(lo, hi))
+            if self._k == len(self._first) - 1 or not self._reached_end(self._k, proj, n, e):
+                break
+            self._k += 1  # switch at the corner (acceptance circle or end normal)
+            hint = self._bounds(self._k)[0]
+            if self.reset_integral_at_corners:
+                self.integral = 0.0
+        if not self.finished and self._k == len(self._first) - 1:
+            self.finished = bool(self._reached_end(self._k, proj, n, e))
+        self._s, self._prev = proj.s, (n, e)
+
+        alpha, err, d = proj.path_angle, proj.cross_track, self.lookahead
+        if self.law == 'los':
+            psi_c = alpha - math.atan(err / d)
+        else:
+            sigma = self.integral_gain
+            psi_c = alpha - math.atan((err + sigma * self.integral) / d)
+            if not self.finished:
+                self.integral += dt * d * err / ((err + sigma * self.integral) ** 2 + d * d)
+        psi_c = float(wrap_angle(psi_c))
+        return GuidanceOutput(
+            heading_cmd=psi_c, cross_track=err, s=proj.s, leg_index=proj.leg_index,
+            distance_remaining=max(0.0, route.length - proj.s), finished=self.finished,
+            path_angle=alpha, curvature=proj.curvature, integral=self.integral,
+            heading_error=float(wrap_angle(psi_c - psi)))
+
+
+def _check_positive(name, value, allow_zero=False):
+    v = float(value)
+    if not math.isfinite(v) or v < 0.0 or (v == 0.0 and not allow_zero):
+        bound = '>= 0' if allow_zero else '> 0'
+        raise ValueError(f'{name} must be a finite number {bound}, got {value}')

@@ -1,0 +1,145 @@
+"""Per-model autopilot gains from identified Nomoto K, T, and a factory for the controllers.
+
+Design (the choices, documented once here; ``scripts/identify_nomoto.py`` applies them to the
+identified K, T and writes ship_autopilot/data/autopilot_gains.yaml):
+
+- PD (seed 001 eq. 20, seed 003 eqs. 2.15-2.16): k1 = -wn^2/b, k2 = -(a + 2 zeta wn)/b with
+  a = -1/T, b = -K/T (unified rudder sign, ship_autopilot.pd).
+- zeta = 0.8 for every model: seed 003 (Ch. III) picks 0.8 as "neither too sluggish, nor too
+  stiff"; it is inside Fossen's recommended 0.8..1.0 and gives about 1.5 % overshoot.
+- wn is chosen nondimensionally, wn' = wn L / U (time in ship lengths travelled, the natural
+  time scale of steering; K' = K L/U, T' = T U/L are the usual nondimensional Nomoto gains):
+  * nps_auv2: wn' = 3.0, the value seed 003 selects for the NPS AUV II (it gives the seed's
+    k1 = 3.2, k2' = 1.2 from its a' = -1.468, b' = -2.859);
+  * the ships (mariner, tanker, container, nomoto1): wn' = 1.0. That is about 0.05 rad/s for
+    the mariner, the closed-loop frequency usual for ship autopilots; it satisfies Fossen's
+    bandwidth rule 1/T < wn for the identified T of every ship, and gives k1 of order 1
+    (one degree of rudder per degree of heading error), so a 10 deg error uses the 10 deg
+    rudder of the tanker and the container, and the PD stays inside the rudder-rate limits
+    for small errors. wn' = 3 would ask for about 10 deg of rudder per degree on the ships.
+- Fuzzy PID (seed 004 Ch. 5, ship_autopilot.fuzzy_pid): its linearisation at the origin is the
+  PID K_P = k1, K_D = k2 (the PD above near zero error), K_I = k1 wn / 10 (Fossen's rule of
+  thumb for the integral of a PID autopilot: integral time 10/wn, well below the closed-loop
+  bandwidth, so it hardly changes the designed transient). The free scaling is set by
+  e_sat = 30 deg, the heading error where block 1 saturates: larger errors are handled as a
+  course change whose approach rate the fuzzy block limits to r_sat = e_sat K_P / K_D; with
+  30 deg this is about 1.7 deg/s for the mariner, above its steady turn rate at 35 deg of
+  rudder (about 0.6 deg/s), so the fuzzy block does not slow course changes, while e_sat =
+  10 deg would cap the approach at about 0.56 deg/s (a 90 deg change would take 3 minutes
+  more on the linear mariner). The integrator
+  runs only while |psi_e| < 10 deg (integration band, part of the anti-windup of
+  ship_autopilot.fuzzy_pid): on the MSS mariner this halves the overshoot the integral adds to
+  30-90 deg course changes compared with integrating over the whole 30 deg universe, and any
+  offset the rudder can hold leaves a PD error well below 10 deg (k1 is about 1).
+
+Files (data YAML read by this module; the autopilot node chooses one model's entry):
+- data/nomoto_gains.yaml: identified K, T, a, b per model with the manoeuvre used.
+- data/autopilot_gains.yaml: the design choices above and the resulting gains per model.
+"""
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from .fuzzy_pid import FuzzyPIDAutopilot, FuzzyPIDGains, scaling_from_pid
+from .pd import PDAutopilot, nomoto_ab, pd_gains
+from .rudder import RudderLimiter
+
+#: Default damping ratio (seed 003 Ch. III).
+ZETA = 0.8
+#: Nondimensional natural frequency wn L / U per model (see the module docstring).
+OMEGA_N_ND = {'nps_auv2': 3.0, 'mariner': 1.0, 'tanker': 1.0, 'container': 1.0,
+              'nomoto1': 1.0, 'nomoto2': 1.0}
+#: Integral gain of the fuzzy PID's linearisation: K_I = K_P * wn * KI_FACTOR.
+KI_FACTOR = 0.1
+#: Heading error (deg) where the fuzzy PID's error input reaches the edge of its universe.
+E_SAT_DEG = 30.0
+
+#: The fuzzy PID integrates only while |heading error| is below this (deg).
+INTEGRATION_BAND_DEG = 10.0
+
+#: Controller names accepted by ``build_autopilot``.
+CONTROLLERS = ('pd', 'fuzzy_pid')
+
+#: Gain tables ship as package data next to this module (source tree and install alike).
+DATA_DIR = Path(__file__).resolve().parent / 'data'
+
+
+def config_dir():
+    """Folder of the gain tables (package data; scripts/identify_nomoto.py writes them)."""
+    return DATA_DIR
+
+
+def design_gains(K, T, speed, length, omega_n_nd=1.0, zeta=ZETA, ki_factor=KI_FACTOR,
+                 e_sat=np.deg2rad(E_SAT_DEG),
+                 integration_band=np.deg2rad(INTEGRATION_BAND_DEG)):
+    """PD and fuzzy PID gains for a first-order Nomoto model (K 1/s, T s) at speed U (m/s).
+
+    e_sat, integration_band in rad. Returns a dict: omega_n (rad/s), omega_n_nd, zeta,
+    pd {k1, k2}, fuzzy_pid {kp, kd, ki, e_sat_deg, integration_band_deg, GE, GR, GA, GU, L}.
+    ValueError if the design gives a non-positive PD gain (wn below what the ship's own yaw
+    damping already provides: 2 zeta wn <= 1/T).
+    """
+    if not (np.isfinite(speed) and speed > 0 and np.isfinite(length) and length > 0):
+        raise ValueError(f'speed = {speed!r}, length = {length!r} must be positive')
+    omega_n = omega_n_nd * speed / length
+    a, b = nomoto_ab(K, T)
+    k1, k2 = pd_gains(a, b, omega_n, zeta)
+    if not (k1 > 0 and k2 > 0):
+        raise ValueError(f'PD design gives k1 = {k1:.4g}, k2 = {k2:.4g} (need > 0) for K = {K}, '
+                         f'T = {T}, omega_n = {omega_n:.4g}: raise omega_n')
+    ki = k1 * omega_n * ki_factor
+    g = scaling_from_pid(k1, k2, ki, e_sat)
+    return {
+        'omega_n': float(omega_n), 'omega_n_nd': float(omega_n_nd), 'zeta': float(zeta),
+        'pd': {'k1': float(k1), 'k2': float(k2)},
+        'fuzzy_pid': {'kp': float(k1), 'kd': float(k2), 'ki': float(ki),
+                      'e_sat_deg': float(np.rad2deg(e_sat)),
+                      'integration_band_deg': float(np.rad2deg(integration_band)),
+                      'GE': g.GE, 'GR': g.GR, 'GA': g.GA, 'GU': g.GU, 'L': g.L},
+    }
+
+
+def load_yaml(path):
+    with open(path, encoding='utf-8') as f:
+        return yaml.safe_load(f)
+
+
+def nomoto_gains(model, path=None):
+    """Identified {K, T, a, b, ...} of ``model`` from data/nomoto_gains.yaml (or ``path``)."""
+    data = load_yaml(path or config_dir() / 'nomoto_gains.yaml')
+    return _entry(data, model, path or 'nomoto_gains.yaml')
+
+
+def autopilot_gains(model, path=None):
+    """Designed gains of ``model`` from data/autopilot_gains.yaml (or ``path``)."""
+    data = load_yaml(path or config_dir() / 'autopilot_gains.yaml')
+    return _entry(data, model, path or 'autopilot_gains.yaml')
+
+
+def _entry(data, model, where):
+    models = data.get('models', {})
+    if model not in models:
+        raise ValueError(f"model '{model}' not in {where}; available: {', '.join(models)}")
+    return models[model]
+
+
+def build_autopilot(kind, gains, max_angle, max_rate=None, shape='hard', anti_windup=True):
+    """Controller ``kind`` ('pd' or 'fuzzy_pid') from a gains entry (autopilot_gains.yaml).
+
+    ``gains``: for 'pd' a dict with k1, k2; for 'fuzzy_pid' one with GE, GR, GA, GU (and
+    optionally L, integration_band_deg).
+    The entry of a model (``autopilot_gains(model)``) may be passed whole. Rudder limits in
+    rad, rad/s; ``shape`` 'hard' or 'tanh'.
+    """
+    limiter = RudderLimiter(max_angle, max_rate, shape)
+    if kind == 'pd':
+        g = gains.get('pd', gains)
+        return PDAutopilot(g['k1'], g['k2'], limiter)
+    if kind == 'fuzzy_pid':
+        g = gains.get('fuzzy_pid', gains)
+        band = g.get('integration_band_deg')
+        return FuzzyPIDAutopilot(FuzzyPIDGains(g['GE'], g['GR'], g['GA'], g['GU'],
+                                               g.get('L', 1.0)), limiter, anti_windup,
+                                 None if band is None else np.deg2rad(band))
+    raise ValueError(f"controller = {kind!r} is not allowed; allowed: {', '.join(CONTROLLERS)}")

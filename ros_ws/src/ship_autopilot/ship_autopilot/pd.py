@@ -1,0 +1,68 @@
+"""PD heading autopilot designed by pole placement on the first-order Nomoto model.
+
+Sources
+- Seed 001 (platoon thesis) eqs. (12)-(20) and seed 003 (Simakis, NPS) eqs. (2.12)-(2.16):
+  plant psi_dot = r, r_dot = a r + b delta; law delta = k1 (psi - psi_c) + k2 r (001 eq. 16);
+  closed loop psi / psi_c = -b k1 / (s^2 - (a + b k2) s - b k1) (001 eq. 17), matched to
+  s^2 + 2 zeta omega_n s + omega_n^2 (001 eq. 19) by
+      k1 = -omega_n^2 / b,   k2 = -(a + 2 zeta omega_n) / b      (001 eq. 20, 003 eqs. 2.15-16)
+- Rudder saturation: hard limit or delta_sat tanh(delta_0 / delta_sat) (001 eq. 15 / 25), see
+  ship_autopilot.rudder.
+
+Units: a (1/s), b (1/s^2), omega_n (rad/s), zeta (-), k1 (rad rudder per rad heading, i.e. -),
+k2 (s). Signs: unified rudder (+ turns to port), NED psi, r; for a normal ship a = -1/T < 0 and
+b = -K/T < 0 (K > 0), so k1 > 0 and k2 > 0 (see ship_sim.models.nomoto).
+"""
+import math
+
+from .controller import HeadingController
+from .rudder import RudderLimiter
+
+
+def pd_gains(a, b, omega_n, zeta):
+    """PD gains (k1, k2) placing the Nomoto closed-loop poles at omega_n, zeta (001 eq. 20)."""
+    a, b, omega_n, zeta = (float(v) for v in (a, b, omega_n, zeta))
+    if not (math.isfinite(b) and b != 0.0):
+        raise ValueError(f'b = {b!r} must be finite and nonzero (no rudder authority)')
+    if not (math.isfinite(omega_n) and omega_n > 0.0):
+        raise ValueError(f'omega_n = {omega_n!r} is outside the allowed range (0, inf)')
+    if not (math.isfinite(zeta) and zeta > 0.0):
+        raise ValueError(f'zeta = {zeta!r} is outside the allowed range (0, inf)')
+    if not math.isfinite(a):
+        raise ValueError(f'a = {a!r} must be finite')
+    return -omega_n ** 2 / b, -(a + 2.0 * zeta * omega_n) / b
+
+
+def nomoto_ab(K, T):
+    """First-order Nomoto (a, b) in the unified rudder sign from K (1/s) and T (s)."""
+    return -1.0 / T, -K / T
+
+
+class PDAutopilot(HeadingController):
+    """delta = k1 wrap(psi - psi_c) + k2 r, then saturation (hard/tanh) and rate limit.
+
+    ``PDAutopilot(k1, k2, limiter)``; ``PDAutopilot.from_nomoto(a, b, omega_n, zeta, limiter)``
+    designs the gains with ``pd_gains``. No internal state besides the previous command.
+    """
+
+    name = 'pd'
+
+    def __init__(self, k1, k2, limiter):
+        self.k1, self.k2 = float(k1), float(k2)
+        for key, val in (('k1', self.k1), ('k2', self.k2)):
+            if not math.isfinite(val):
+                raise ValueError(f'{key} = {val!r} must be finite')
+        super().__init__(limiter)
+
+    @classmethod
+    def from_nomoto(cls, a, b, omega_n, zeta, limiter):
+        return cls(*pd_gains(a, b, omega_n, zeta), limiter)
+
+    def _law(self, e, r, dt):
+        return self.k1 * e + self.k2 * r, {}
+
+    def __repr__(self):
+        return f'PDAutopilot(k1={self.k1!r}, k2={self.k2!r}, limiter={self.limiter!r})'
+
+
+__all__ = ['PDAutopilot', 'RudderLimiter', 'nomoto_ab', 'pd_gains']

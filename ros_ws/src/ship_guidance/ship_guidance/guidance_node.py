@@ -1,0 +1,158 @@
+"""guidance_node: route + odom -> heading command (LOS / ILOS / arc / curved paths).
+
+Subscribes `odom` (nav_msgs/Odometry, ENU) and `route` (nav_msgs/Path, reliable +
+transient_local; see ship_guidance.ros.path_msgs for how lines and arcs are carried).
+Publishes, exactly once per odom message (so lockstep consumers can pair by sequence):
+  heading_cmd        std_msgs/Float64  ENU yaw command (rad)
+  cross_track_error  std_msgs/Float64  m, positive when the vessel is to starboard of the path
+  progress           std_msgs/Float64MultiArray  [s (m), distance remaining (m), leg index,
+                     finished (0/1), path angle (ENU yaw, rad), curvature (1/m, + = port turn)]
+and `route_complete` (std_msgs/Bool, latched) once the end of the route is reached.
+
+The odom subscription is created only when the first valid route has arrived, so a lockstep
+simulator that waits for its odom subscribers never starts before the guidance can answer.
+A new route restarts the guidance (it snaps to the closest point of the new route).
+The look-ahead is given in metres or, if `lookahead_ship_lengths` > 0, in ship lengths.
+If the paired autopilot's `autopilot_zeta`, `autopilot_omega_n` and the `speed` are given,
+a look-ahead below the stability limit d > U / (2 zeta omega_n) is refused unless
+`allow_unstable` is true.
+"""
+import math
+
+from nav_msgs.msg import Odometry, Path
+from rclpy.node import Node
+from std_msgs.msg import Bool, Float64, Float64MultiArray, MultiArrayDimension
+
+from ship_guidance.guidance import LAWS, Guidance
+from ship_guidance.ros.path_msgs import path_msg_to_route
+from ship_sim.frames import psi_to_yaw
+from ship_sim.ros.conversions import odometry_to_ned
+from ship_sim.ros.params import NodeParameters, ParameterError
+from ship_sim.ros.qos import LATCHED, STREAM
+from ship_sim.ros.run import run_node
+
+PROGRESS_LABELS = ('s_m', 'remaining_m', 'leg', 'finished', 'path_yaw_rad', 'curvature_1pm')
+
+
+class GuidanceNode(Node):
+    def __init__(self):
+        super().__init__('guidance_node')
+        p = self.params = NodeParameters(self)
+        self.law = p.declare('law', 'ilos', 'guidance law', choices=LAWS, read_only=True)
+        self.lookahead_m = p.declare('lookahead_m', 500.0, 'LOS look-ahead distance', lo=1e-3,
+                                     hi=1e6, unit='m', read_only=True)
+        self.lookahead_l = p.declare('lookahead_ship_lengths', 0.0,
+                                     'look-ahead in ship lengths (0: use lookahead_m)', lo=0.0,
+                                     hi=1e3, read_only=True)
+        self.ship_length = p.declare('ship_length_m', 0.0, 'ship length for *_ship_lengths',
+                                     lo=0.0, hi=1e4, unit='m', read_only=True)
+        acc_m = p.declare('acceptance_radius_m', 0.0, 'waypoint acceptance circle radius at '
+                          'corners (0: switch when passing the corner normal)', lo=0.0, hi=1e6,
+                          unit='m', read_only=True)
+        acc_l = p.declare('acceptance_radius_ship_lengths', 0.0, 'acceptance radius in ship '
+                          'lengths (0: use acceptance_radius_m)', lo=0.0, hi=1e3, read_only=True)
+        self.sigma = p.declare('integral_gain', 0.5, 'ILOS integral gain sigma', lo=1e-6,
+                               hi=1e3, unit='m/s', read_only=True)
+        zeta = p.declare('autopilot_zeta', 0.0, 'damping of the paired autopilot, for the '
+                         'stability check (0: no check)', lo=0.0, hi=10.0, read_only=True)
+        omega = p.declare('autopilot_omega_n', 0.0, 'natural frequency of the paired autopilot '
+                          '(0: no check)', lo=0.0, hi=100.0, unit='rad/s', read_only=True)
+        speed = p.declare('speed', 0.0, 'vessel speed for the stability check (0: no check)',
+                          lo=0.0, hi=100.0, unit='m/s', read_only=True)
+        self.allow_unstable = p.declare('allow_unstable', False, 'accept a look-ahead below the '
+                                        'stability limit', read_only=True)
+        uses_lengths = self.lookahead_l > 0.0 or acc_l > 0.0
+        if uses_lengths and self.ship_length <= 0.0:
+            raise ParameterError('ship_length_m', self.ship_length,
+                                 '> 0 when a *_ship_lengths parameter is used')
+        self.lookahead = self.lookahead_l * self.ship_length if self.lookahead_l else self.lookahead_m
+        self.acceptance = acc_l * self.ship_length if acc_l else acc_m
+        checks = (zeta, omega, speed)
+        self.stability = dict(zeta=zeta, omega_n=omega, speed=speed) if all(checks) else {}
+        if any(checks) and not all(checks):
+            raise ParameterError('autopilot_zeta', message='the stability check needs '
+                                 'autopilot_zeta, autopilot_omega_n and speed all > 0 '
+                                 f'(got {zeta}, {omega}, {speed}); set all three or none')
+        self._validate_lookahead()
+
+        self.pub_heading = self.create_publisher(Float64, 'heading_cmd', STREAM)
+        self.pub_xte = self.create_publisher(Float64, 'cross_track_error', STREAM)
+        self.pub_progress = self.create_publisher(Float64MultiArray, 'progress', STREAM)
+        self.pub_complete = self.create_publisher(Bool, 'route_complete', LATCHED)
+        self.create_subscription(Path, 'route', self._on_route, LATCHED)
+        self.odom_sub = None
+        self.guidance = None
+        self.t_prev = None
+        self.completed = False
+        self.n_bad_odom = 0
+        self.m_heading, self.m_xte = Float64(), Float64()
+        self.m_progress = Float64MultiArray()
+        self.m_progress.layout.dim = [MultiArrayDimension(label=','.join(PROGRESS_LABELS),
+                                                          size=len(PROGRESS_LABELS), stride=1)]
+
+    def _validate_lookahead(self):
+        """Refuse an unstable look-ahead at start (a dummy route carries the check)."""
+        from ship_guidance.path import Line, Route
+        try:
+            self._make_guidance(Route([Line((0.0, 0.0), (1.0, 0.0))]))
+        except ValueError as exc:
+            name = 'lookahead_ship_lengths' if self.lookahead_l else 'lookahead_m'
+            raise ParameterError(name, message=f'{name}: {exc}') from None
+
+    def _make_guidance(self, route):
+        return Guidance(route, law=self.law, lookahead=self.lookahead,
+                        acceptance_radius=self.acceptance, integral_gain=self.sigma,
+                        allow_unstable=self.allow_unstable, **self.stability)
+
+    def _on_route(self, msg):
+        try:
+            route = path_msg_to_route(msg)
+        except ValueError as exc:
+            self.get_logger().error(f'route refused: {exc}; keeping the previous route')
+            return
+        self.guidance = self._make_guidance(route)
+        self.t_prev = None
+        self.completed = False
+        self.pub_complete.publish(Bool(data=False))
+        self.get_logger().info(f'route received: {len(route.legs)} legs, {route.length:.1f} m, '
+                               f'law {self.law}, look-ahead {self.lookahead:.1f} m')
+        if self.odom_sub is None:
+            self.odom_sub = self.create_subscription(Odometry, 'odom', self._on_odom, STREAM)
+
+    def _on_odom(self, msg):
+        o = odometry_to_ned(msg)
+        dt = 0.0 if self.t_prev is None else o.t - self.t_prev
+        try:
+            out = self.guidance.update(o.north, o.east, o.psi, max(dt, 0.0))
+        except ValueError as exc:
+            # Bad odom must not poison the guidance; answer anyway so lockstep pairing holds.
+            self.n_bad_odom += 1
+            self.get_logger().warning(f'odom refused ({exc}); {self.n_bad_odom} so far',
+                                      throttle_duration_sec=5.0)
+            self._publish(self.m_heading.data, self.m_xte.data, self.m_progress.data)
+            return
+        self.t_prev = o.t
+        yaw_cmd = float(psi_to_yaw(out.heading_cmd))
+        progress = [out.s, out.distance_remaining, float(out.leg_index), float(out.finished),
+                    float(psi_to_yaw(out.path_angle)), -out.curvature]
+        self._publish(yaw_cmd, out.cross_track, progress)
+        if out.finished and not self.completed:
+            self.completed = True
+            self.pub_complete.publish(Bool(data=True))
+            self.get_logger().info(f'route complete at t = {o.t:.1f} s')
+
+    def _publish(self, yaw_cmd, xte, progress):
+        self.m_heading.data = yaw_cmd if math.isfinite(yaw_cmd) else 0.0
+        self.m_xte.data = xte
+        self.m_progress.data = list(progress)
+        self.pub_heading.publish(self.m_heading)
+        self.pub_xte.publish(self.m_xte)
+        self.pub_progress.publish(self.m_progress)
+
+
+def main(args=None):
+    return run_node(GuidanceNode, args=args)
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())

@@ -1,0 +1,115 @@
+"""route_node: publishes a route file as nav_msgs/Path on `route` (reliable + transient_local).
+
+Parameters (see config/route.yaml):
+  route_file      path of a route file (.yaml route or .wpt waypoint table); a relative path
+                  is looked up in the working directory, then in share/ship_planner/config/routes
+  length_unit_m   metres per table unit for .wpt tables (0: the table's own unit)
+  max_arc_step_m  longest sub-arc between two Path poses (m)
+  watch_period_s  how often the file is checked for changes (s, 0: never)
+
+The route is republished when `route_file` (or another parameter) is changed at runtime or the
+file changes on disk. An invalid route is refused with a message that names the file and the
+line or row: at start the node exits (code 2) with that one line; later, the change is refused
+(parameter) or logged and the last good route stays published (file edit).
+"""
+import os
+
+from ament_index_python.packages import PackageNotFoundError, get_package_share_directory
+from nav_msgs.msg import Path
+from rclpy.node import Node
+
+from ship_guidance.ros.path_msgs import route_to_path_msg
+from ship_planner.route_files import RouteError, load_route
+from ship_sim.ros.params import NodeParameters, ParameterError
+from ship_sim.ros.qos import LATCHED
+from ship_sim.ros.run import run_node
+
+DEFAULT_ROUTE = 'example_enu.yaml'
+
+
+def resolve_route_file(name):
+    """Absolute path of a route file: as given, else in the package's config/routes folder."""
+    if os.path.isabs(name) or os.path.exists(name):
+        return os.path.abspath(name)
+    try:
+        shared = os.path.join(get_package_share_directory('ship_planner'), 'config', 'routes', name)
+    except PackageNotFoundError:
+        shared = None
+    if shared and os.path.exists(shared):
+        return shared
+    raise RouteError(f'route file not found (looked in {os.getcwd()} and the package\'s '
+                     f'config/routes)', file=name)
+
+
+class RouteNode(Node):
+    def __init__(self):
+        super().__init__('route_node')
+        self.params = NodeParameters(self)
+        p = self.params
+        p.declare('length_unit_m', 0.0, 'metres per unit of a .wpt table (0: its own unit)',
+                  lo=0.0, hi=1e5, unit='m', on_change=lambda _v: self._publish())
+        p.declare('max_arc_step_m', 25.0, 'longest sub-arc between Path poses', lo=0.1, hi=1e4,
+                  unit='m', on_change=lambda _v: self._publish())
+        # Declared last: its check reads the route with the parameters above.
+        p.declare('route_file', DEFAULT_ROUTE, 'route file (.yaml or .wpt)',
+                  check=self._check_route_file, allowed='a readable, valid route file',
+                  on_change=lambda _v: self._publish())
+        watch = p.declare('watch_period_s', 1.0, 'file change check period (0: off)', lo=0.0,
+                          hi=3600.0, unit='s', read_only=True)
+        self.pub = self.create_publisher(Path, 'route', LATCHED)
+        self._mtime = None
+        self._publish()
+        if watch > 0.0:
+            # Wall-clock timer: a file edit should show up even while sim time is paused.
+            self.create_timer(watch, self._watch, clock=self._wall_clock())
+
+    def _wall_clock(self):
+        from rclpy.clock import Clock, ClockType
+        return Clock(clock_type=ClockType.STEADY_TIME)
+
+    def _load(self, name=None):
+        name = self.params.value('route_file') if name is None else name
+        unit = self.params.value('length_unit_m') or None
+        path = resolve_route_file(name)
+        return path, load_route(path, length_unit_m=unit)
+
+    def _check_route_file(self, name):
+        try:
+            self._load(name)
+        except (RouteError, OSError) as exc:
+            return str(exc)
+        return None
+
+    def _publish(self):
+        try:
+            path, plan = self._load()
+        except (RouteError, OSError) as exc:
+            if self._mtime is None:  # nothing published yet: this is a start-up failure
+                raise ParameterError('route_file', message=f'route_file: {exc}') from None
+            self.get_logger().error(f'{exc}; keeping the last valid route')
+            return
+        self._mtime = os.path.getmtime(path)
+        msg = route_to_path_msg(plan.route, self.get_clock().now().to_msg(),
+                                self.params.value('max_arc_step_m'))
+        self.pub.publish(msg)
+        self.get_logger().info(
+            f"route '{plan.name}' from {path}: {len(plan.route.legs)} legs, "
+            f'{plan.route.length:.1f} m, {len(msg.poses)} poses')
+
+    def _watch(self):
+        try:
+            path = resolve_route_file(self.params.value('route_file'))
+            changed = os.path.getmtime(path) != self._mtime
+        except (RouteError, OSError):
+            return
+        if changed:
+            self.get_logger().info(f'{path} changed on disk; republishing')
+            self._publish()
+
+
+def main(args=None):
+    return run_node(RouteNode, args=args)
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())

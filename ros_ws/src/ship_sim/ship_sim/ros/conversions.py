@@ -1,0 +1,121 @@
+"""Message conversion, the one place where simulator numbers become ROS messages and back.
+
+Frames (DESIGN.md, REP-103/105; the arithmetic lives in ship_sim.frames):
+- ``nav_msgs/Odometry``: pose in ENU, ``header.frame_id = 'map'``,
+  ``child_frame_id = '<ns>/base_link'``; the twist is in the body frame FLU (REP-105: the twist
+  of an Odometry is expressed in the child frame), velocities over ground.
+- Inside our pure modules: NED pose (north, east, psi clockwise from north) and FRD body
+  velocities (u surge, v sway to starboard, r yaw rate clockwise).
+
+Units: m, m/s, rad, rad/s; time in seconds (float) <-> builtin_interfaces/Time (sec, nanosec).
+
+The fill_* functions write into an existing message, so a node publishing every step can reuse
+one message object instead of building a new tree of Python objects each time.
+"""
+import math
+from collections import namedtuple
+
+from builtin_interfaces.msg import Time
+from nav_msgs.msg import Odometry
+
+from ship_sim.frames import psi_to_yaw, yaw_to_psi
+
+#: A vessel's state read from (or written to) Odometry, in our science frames (NED / FRD).
+NedOdometry = namedtuple('NedOdometry', 't north east psi u v r')
+
+MAP_FRAME = 'map'
+_NS_PER_S = 1_000_000_000
+
+
+# -- yaw <-> quaternion (rotation about z only) -----------------------------------------------
+
+def yaw_to_quaternion(yaw):
+    """ENU yaw (rad) -> quaternion (x, y, z, w) of a pure rotation about z."""
+    half = 0.5 * yaw
+    return 0.0, 0.0, math.sin(half), math.cos(half)
+
+
+def quaternion_to_yaw(q):
+    """Quaternion (a geometry_msgs/Quaternion or an (x, y, z, w) tuple) -> yaw (rad), [-pi, pi].
+
+    The general ZYX formula, so a quaternion with some roll/pitch still gives its heading.
+    """
+    if hasattr(q, 'w'):
+        x, y, z, w = q.x, q.y, q.z, q.w
+    else:
+        x, y, z, w = q
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+# -- time ---------------------------------------------------------------------------------------
+
+def time_to_msg(t, msg=None):
+    """Seconds (float, >= 0) -> builtin_interfaces/Time, rounded to the nanosecond.
+
+    Rounds the total in integer nanoseconds first so that e.g. 0.3 s gives (0, 300000000) and
+    never (0, 299999999) or nanosec = 10**9.
+    """
+    ns = int(round(t * _NS_PER_S))
+    if msg is None:
+        msg = Time()
+    msg.sec, msg.nanosec = divmod(ns, _NS_PER_S)
+    return msg
+
+
+def msg_to_time(msg):
+    """builtin_interfaces/Time -> seconds (float)."""
+    return msg.sec + msg.nanosec * 1e-9
+
+
+def msg_to_nanoseconds(msg):
+    """builtin_interfaces/Time -> integer nanoseconds (exact, for comparing stamps)."""
+    return msg.sec * _NS_PER_S + msg.nanosec
+
+
+# -- odometry -------------------------------------------------------------------------------------
+
+def base_link_frame(namespace):
+    """The body frame of the vessel in ``namespace``: '/vessel_0' -> 'vessel_0/base_link'.
+
+    tf2 frame ids carry no leading slash; the root namespace gives plain 'base_link'.
+    """
+    ns = namespace.strip('/')
+    return f'{ns}/base_link' if ns else 'base_link'
+
+
+def fill_odometry(msg, t, north, east, psi, u, v, r):
+    """Write a NED pose and FRD body velocities over ground into an existing Odometry (ENU/FLU).
+
+    Leaves frame ids and covariances untouched (set them once when the message is made).
+    """
+    time_to_msg(t, msg.header.stamp)
+    p = msg.pose.pose.position
+    p.x, p.y, p.z = float(east), float(north), 0.0
+    half = 0.5 * float(psi_to_yaw(psi))
+    o = msg.pose.pose.orientation
+    o.x, o.y, o.z, o.w = 0.0, 0.0, math.sin(half), math.cos(half)
+    tw = msg.twist.twist
+    tw.linear.x, tw.linear.y, tw.linear.z = float(u), -float(v), 0.0
+    tw.angular.x, tw.angular.y, tw.angular.z = 0.0, 0.0, -float(r)
+    return msg
+
+
+def make_odometry(t, north, east, psi, u, v, r, child_frame_id, frame_id=MAP_FRAME):
+    """A new Odometry (ENU, FLU twist) from a NED pose and FRD body velocities over ground."""
+    msg = Odometry()
+    msg.header.frame_id = frame_id
+    msg.child_frame_id = child_frame_id
+    return fill_odometry(msg, t, north, east, psi, u, v, r)
+
+
+def odometry_to_ned(msg):
+    """Odometry (ENU pose, FLU twist) -> NedOdometry(t, north, east, psi, u, v, r) (NED/FRD).
+
+    psi is wrapped to [-pi, pi); u, v, r are the body velocities the message carries (over
+    ground when it comes from our simulator).
+    """
+    p = msg.pose.pose.position
+    tw = msg.twist.twist
+    yaw = quaternion_to_yaw(msg.pose.pose.orientation)
+    return NedOdometry(msg_to_time(msg.header.stamp), p.y, p.x, float(yaw_to_psi(yaw)),
+                       tw.linear.x, -tw.linear.y, -tw.angular.z)

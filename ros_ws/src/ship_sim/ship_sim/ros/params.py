@@ -1,0 +1,203 @@
+"""Declaring and validating ROS parameters, the same way in every node of the project.
+
+Usage inside a node's constructor::
+
+    self.params = NodeParameters(self)
+    dt = self.params.declare('dt', 0.1, 'integration step (s)', lo=1e-3, hi=1.0, read_only=True)
+    mode = self.params.declare('stepping_mode', 'realtime', 'how the sim is paced',
+                               choices=('realtime', 'lockstep'), read_only=True)
+    self.params.declare('speedup', 1.0, 'realtime factor', lo=0.01, hi=1000.0,
+                        on_change=self._set_speedup)
+
+- Every parameter gets a default, a description and, where it applies, a range published in
+  its ParameterDescriptor (floating_point_range / integer_range, so ``ros2 param describe``
+  shows it) or a list of allowed strings (appended to the description).
+- Start values (defaults, YAML, ``-p``) are checked when declared; an invalid one raises
+  ParameterError, whose message is one line naming the parameter, the value and what is
+  allowed. ship_sim.ros.run.run_node turns it into that line on stderr and exit code 2.
+- Runtime changes go through the same checks in an on-set callback and are refused with the
+  same message as the reason; read-only parameters cannot change at all. Accepted changes of a
+  parameter with ``on_change`` are handed to it after they are stored.
+- Types are static, as rclpy declares them from the default: ``-p dt:=1`` for a float parameter
+  is refused (write ``1.0``) with rclpy's own message, wrapped the same way.
+"""
+import math
+
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rcl_interfaces.msg import SetParametersResult
+from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
+
+
+class ParameterError(Exception):
+    """An invalid parameter value; str() is the one line to show the user."""
+
+    def __init__(self, name, value=None, allowed=None, *, message=None):
+        self.name = name
+        self.value = value
+        self.allowed = allowed
+        if message is None:
+            message = f'parameter {name!r} = {value!r} is not allowed: {allowed}'
+        super().__init__(' '.join(str(message).split()))  # one line, whatever the source says
+
+
+class _Spec:
+    __slots__ = ('name', 'kind', 'lo', 'hi', 'choices', 'check', 'allowed', 'on_change',
+                 'allow_nonfinite')
+
+    def __init__(self, name, kind, lo, hi, choices, check, allowed, on_change, allow_nonfinite):
+        self.name = name
+        self.kind = kind
+        self.lo = lo
+        self.hi = hi
+        self.choices = choices
+        self.check = check
+        self.allowed = allowed
+        self.on_change = on_change
+        self.allow_nonfinite = allow_nonfinite
+
+
+def _allowed_text(kind, lo, hi, choices):
+    if choices is not None:
+        return 'one of ' + ', '.join(repr(c) for c in choices)
+    what = {float: 'a number', int: 'an integer', bool: 'true or false', str: 'a string'}.get(
+        kind, kind.__name__)
+    if lo is not None and hi is not None:
+        return f'{what} in [{lo}, {hi}]'
+    if lo is not None:
+        return f'{what} >= {lo}'
+    if hi is not None:
+        return f'{what} <= {hi}'
+    return what
+
+
+class NodeParameters:
+    """The declared parameters of one node, with their checks (see the module docstring)."""
+
+    def __init__(self, node):
+        self._node = node
+        self._specs = {}
+        node.add_on_set_parameters_callback(self._on_set)
+        node.add_post_set_parameters_callback(self._post_set)
+        self._declaring = False
+        self._refused = None
+
+    def declare(self, name, default, description, *, lo=None, hi=None, choices=None, check=None,
+                allowed=None, unit='', read_only=False, on_change=None, allow_nonfinite=False):
+        """Declare ``name`` with ``default``; return its (validated) start value.
+
+        lo/hi: inclusive bounds for numbers; choices: allowed values (strings); check: a
+        function value -> None if fine, else a short text of what is allowed (for conditions a
+        range cannot express); allowed: overrides the text shown when a check fails.
+        Raises ParameterError if the start value is invalid.
+        """
+        kind = type(default)
+        if kind not in (bool, int, float, str):
+            raise TypeError(f'parameter {name!r}: unsupported default type {kind.__name__}')
+        if allowed is None:
+            allowed = _allowed_text(kind, lo, hi, choices)
+        desc = description + (f' [{unit}]' if unit else '')
+        if choices is not None:
+            desc += f"; allowed: {', '.join(str(c) for c in choices)}"
+        descriptor = ParameterDescriptor(description=desc, read_only=read_only)
+        if kind is float and (lo is not None or hi is not None):
+            descriptor.floating_point_range = [FloatingPointRange(
+                from_value=float(-math.inf if lo is None else lo),
+                to_value=float(math.inf if hi is None else hi))]
+        elif kind is int and (lo is not None or hi is not None):
+            # IntegerRange is int64; a missing side becomes the int64 limit.
+            descriptor.integer_range = [IntegerRange(
+                from_value=int(-2**63 if lo is None else lo),
+                to_value=int(2**63 - 1 if hi is None else hi))]
+        self._specs[name] = _Spec(name, kind, lo, hi, choices, check, allowed, on_change,
+                                  allow_nonfinite)
+        self._declaring = True
+        try:
+            value = self._node.declare_parameter(name, default, descriptor).value
+        except InvalidParameterTypeException as exc:
+            raise ParameterError(name, message=f'parameter {name!r}: {exc.args[0]}') from None
+        except InvalidParameterValueException as exc:
+            # Refused by our on-set callback (which kept the value and the reason) or, before
+            # it, by rclpy applying the descriptor's range (value only in the exception text).
+            if self._refused is not None:
+                value, bad = self._refused
+                raise ParameterError(name, value, bad) from None
+            raise ParameterError(name, _value_from(exc), allowed) from None
+        finally:
+            self._declaring = False
+            self._refused = None
+        return value
+
+    def value(self, name):
+        """Current value of a declared parameter."""
+        return self._node.get_parameter(name).value
+
+    def reason(self, name, value):
+        """None if ``value`` is allowed for ``name``, else the message of the refusal."""
+        spec = self._specs[name]
+        bad = self._problem(spec, value)
+        if bad is None:
+            return None
+        return str(ParameterError(name, value, bad))
+
+    # -- checks ------------------------------------------------------------------------------
+
+    @staticmethod
+    def _problem(spec, value):
+        """None if fine, else the 'allowed' text explaining what would be."""
+        kind = spec.kind
+        if kind is float and isinstance(value, int) and not isinstance(value, bool):
+            value = float(value)
+        if kind is bool:
+            ok_type = isinstance(value, bool)
+        elif kind is int:
+            ok_type = isinstance(value, int) and not isinstance(value, bool)
+        else:
+            ok_type = isinstance(value, kind)
+        if not ok_type:
+            return spec.allowed
+        if kind is float and not spec.allow_nonfinite and not math.isfinite(value):
+            return spec.allowed + ' (finite)'
+        if spec.choices is not None and value not in spec.choices:
+            return spec.allowed
+        if spec.lo is not None and value < spec.lo:
+            return spec.allowed
+        if spec.hi is not None and value > spec.hi:
+            return spec.allowed
+        if spec.check is not None:
+            extra = spec.check(value)
+            if extra:
+                return extra
+        return None
+
+    def _on_set(self, parameters):
+        for p in parameters:
+            spec = self._specs.get(p.name)
+            if spec is None:
+                continue  # not ours (e.g. use_sim_time): leave it to whoever declared it
+            bad = self._problem(spec, p.value)
+            if bad is not None:
+                if self._declaring:
+                    self._refused = (p.value, bad)
+                return SetParametersResult(successful=False,
+                                           reason=str(ParameterError(p.name, p.value, bad)))
+        return SetParametersResult(successful=True)
+
+    def _post_set(self, parameters):
+        if self._declaring:
+            return  # start values are read by the node itself
+        for p in parameters:
+            spec = self._specs.get(p.name)
+            if spec is not None and spec.on_change is not None:
+                spec.on_change(p.value)
+
+
+def _value_from(exc):
+    """Best effort: the refused value from rclpy's InvalidParameterValueException text."""
+    text = str(exc)
+    start = text.find('(')
+    end = text.find(')')
+    value = text[start + 1:end] if 0 <= start < end else text
+    try:
+        return float(value)  # rclpy refuses only numbers by range
+    except ValueError:
+        return value

@@ -1,0 +1,509 @@
+"""vessel_node: one simulated vessel on the ROS graph (thin plumbing around VesselSimulator).
+
+Topics (relative names: the namespace makes the vessel, e.g. /vessel_0/odom; QoS
+ship_sim.ros.qos.STREAM = reliable, keep-last 100):
+  publishes  odom        nav_msgs/Odometry   ENU pose, frame 'map', child '<ns>/base_link',
+                                             twist in body FLU over ground (REP-103/105)
+             rudder      std_msgs/Float64    actual rudder angle (rad, positive turns to port)
+             /clock      rosgraph_msgs/Clock sim time, when clock_master (reliable, depth 10;
+                                             rclpy's best-effort /clock subscribers match it)
+  subscribes rudder_cmd  std_msgs/Float64    rudder command (rad, positive turns to port)
+             shaft_cmd   std_msgs/Float64    shaft speed command (rpm), models with a shaft only
+
+One "step" of the node is one publish period 1/publish_rate, made of an integer number of
+integration steps dt. Step k publishes /clock, odom and rudder for sim time k/publish_rate.
+
+Stepping modes (parameter stepping_mode):
+- realtime: wall-clock paced (x speedup; a steady-clock timer, steps that fell behind are
+  caught up at once, at most MAX_CATCHUP per tick, so sim time keeps pace with wall time), the
+  latest command is held. The pacing lateness of every step is measured and logged at shutdown.
+- lockstep (DESIGN.md "Lockstep needs a deterministic pairing of messages"): publish step k,
+  then advance to k+1 only when the rudder_cmd for step k (the k-th rudder_cmd message since
+  start, pairing by sequence, 0-based) has arrived. Deterministic: the same run repeats bit for
+  bit whatever the load. Step 0 is published only when odom has lockstep_odom_subscribers
+  subscribers and rudder_cmd a publisher (then START_GRACE_S more so that the controller's
+  publisher has also matched us), or after lockstep_start_timeout (warning). If the command
+  for step k does not come within lockstep_timeout (wall seconds): a warning naming the step,
+  then the previous command is held for that step and the run continues; the late message,
+  when it comes, is recognised by its sequence number and dropped (counted), so pairing stays
+  aligned. Timeouts are counted and make the run no longer bit-identical, which the shutdown
+  summary says. (Chosen over stopping: a slow controller costs one late step, not the run.)
+  shaft_cmd is not paired (nobody publishes it per step): it applies from the next step on.
+
+Bad input never crashes the node: a non-finite command is refused, counted and warned about
+(throttled), and the previous command is held (in lockstep it still counts as that step's
+message). Out-of-range commands are saturated by the simulator. If the model leaves its valid
+domain (e.g. the tanker's surge speed drops to zero) the node logs an error and ends with exit
+code 1. max_steps > 0 ends the run cleanly (exit 0) after publishing step max_steps.
+
+Executor: run_node spins with rclpy.experimental.EventsExecutor, the faster one. Measured
+lockstep round trips, vessel_node (mariner, dt 0.1 s, 10 Hz) + a Python echo node answering
+each odom with a rudder_cmd, 2000 steps, 2 runs each, on the 2-core build machine while other
+jobs ran (steps/s; sim executor / echo executor):
+    events / events  1980, 3651     events / single  1400, 1631
+    single / events  1140, 1089     single / single   631,  860
+i.e. EventsExecutor roughly triples the loop rate (0.27-0.5 ms per round trip against
+1.2-1.6 ms). The simulator step itself (MSS mariner, float RK4 path) costs about 41 us.
+"""
+import collections
+import math
+import time
+
+from nav_msgs.msg import Odometry
+import rclpy.logging
+from rclpy.clock import Clock, ClockType
+from rclpy.duration import Duration
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock as ClockMsg
+from std_msgs.msg import Float64
+
+from ship_sim.current import OceanCurrent
+from ship_sim.frames import yaw_to_psi
+from ship_sim.models import MODEL_NAMES, ModelStateError, make_model
+from ship_sim.ros.conversions import base_link_frame, fill_odometry, time_to_msg
+from ship_sim.ros.params import NodeParameters, ParameterError
+from ship_sim.ros.qos import STREAM
+from ship_sim.ros.run import finish, run_node
+from ship_sim.simulator import VesselSimulator
+
+# Node parameter -> model constructor keyword, per model. 0 / '' means "model default" and is
+# not passed; a non-default value for a model without that keyword is refused.
+MODEL_KWARGS = {
+    'mariner': {'U0': 'U0'},
+    'tanker': {'depth': 'h'},
+    'container': {},
+    'nomoto1': {'preset': 'preset', 'U0': 'U'},
+    'nomoto2': {'preset': 'preset', 'U0': 'U'},
+    'nps_auv2': {'U0': 'U'},
+}
+# Extra wall time after the lockstep graph has matched, before step 0 goes out: our matching
+# is seen from our side only; the controller's rudder_cmd writer must also have matched our
+# reader, or its first command is lost (a volatile reader gets nothing sent before matching).
+START_GRACE_S = 0.25
+# Realtime: most steps run in one timer tick when catching up; beyond it the pace is reset.
+MAX_CATCHUP = 50
+CLOCK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+
+
+class _RunningStats:
+    """Mean / standard deviation / max of a stream of numbers (Welford), no storage."""
+
+    __slots__ = ('n', 'mean', 'm2', 'max')
+
+    def __init__(self):
+        self.n, self.mean, self.m2, self.max = 0, 0.0, 0.0, -math.inf
+
+    def add(self, x):
+        self.n += 1
+        d = x - self.mean
+        self.mean += d / self.n
+        self.m2 += d * (x - self.mean)
+        if x > self.max:
+            self.max = x
+
+    @property
+    def std(self):
+        return math.sqrt(self.m2 / (self.n - 1)) if self.n > 1 else 0.0
+
+
+class VesselNode(Node):
+    def __init__(self):
+        super().__init__('vessel_node')
+        self.exit_code = 0
+        self._declare_and_build()
+        self._make_topics()
+        self._n_rejected = 0      # non-finite commands refused
+        self._n_timeouts = 0      # lockstep steps run with a held command after a timeout
+        self._n_stale = 0         # lockstep commands that came after their step's timeout
+        self._running = False
+        self._done = False
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        if self.mode == 'realtime':
+            self._lateness = _RunningStats()
+            self._interval = _RunningStats()
+            self._last_pub_wall = None
+            self._tick_timer = None
+            self._start_realtime()
+        else:
+            self._n_cmd = 0
+            self._pending = collections.deque()
+            self._t_start_wait = time.monotonic()
+            self._matched_at = None
+            self._waiting_since = None
+            self._check_timer = self.create_timer(0.05, self._lockstep_watchdog, clock=steady)
+        self.get_logger().info(
+            f'{self.sim.model.name} ({self.sim.model.source}); dt {self.sim.dt} s, '
+            f'{self.rate:g} Hz ({self.n_sub} integration steps per step), {self.mode}'
+            + (f' x{self.speedup:g}' if self.mode == 'realtime' else '')
+            + f", clock master {self.clock_master}, start ENU ({self.start[0]:.1f}, "
+            f'{self.start[1]:.1f}) m, yaw {self.start[2]:.1f} deg, U {self.sim.speed_water():.3f}'
+            ' m/s' + (f', shaft {self._shaft_cmd:g} rpm' if self._shaft_cmd is not None else '')
+            + (f', current {self._current_text}' if self._current_text else ''))
+
+    # -- parameters and the simulator ---------------------------------------------------------
+    def _declare_and_build(self):
+        p = self.params = NodeParameters(self)
+        model = p.declare('model', 'mariner', 'plant model', choices=MODEL_NAMES, read_only=True)
+        given = {
+            'preset': p.declare('preset', '', "model preset ('' = the model's default; nomoto1/"
+                                'nomoto2: mariner or tanker)', read_only=True),
+            'U0': p.declare('U0', 0.0, 'nominal speed of the model (mariner U0, nomoto/nps_auv2 '
+                            "U); 0 = the model's default", lo=0.0, hi=30.0, unit='m/s',
+                            read_only=True),
+            'depth': p.declare('depth', 0.0, "water depth (tanker h >= 18.5 m); 0 = the model's "
+                               'default (deep water)', lo=0.0, hi=1e4, unit='m', read_only=True),
+        }
+        rmax = p.declare('rudder_max_deg', 0.0, "rudder angle limit override; 0 = the model's",
+                         lo=0.0, hi=90.0, unit='deg', read_only=True)
+        rrate = p.declare('rudder_rate_max_deg', 0.0, "rudder rate limit override; 0 = the "
+                          "model's", lo=0.0, hi=1e3, unit='deg/s', read_only=True)
+        x0 = p.declare('initial_x', 0.0, 'start position east (ENU x)', lo=-1e7, hi=1e7,
+                       unit='m', read_only=True)
+        y0 = p.declare('initial_y', 0.0, 'start position north (ENU y)', lo=-1e7, hi=1e7,
+                       unit='m', read_only=True)
+        yaw0 = p.declare('initial_yaw_deg', 90.0, 'start heading as ENU yaw (counter-clockwise '
+                         'from east; 90 = heading north)', lo=-360.0, hi=360.0, unit='deg',
+                         read_only=True)
+        speed0 = p.declare('initial_speed', 0.0, "start speed through the water; 0 = the model's "
+                           'straight-running trim (MSS ships cannot start at rest)', lo=0.0,
+                           hi=30.0, unit='m/s', read_only=True)
+        shaft = p.declare('shaft_rpm', 0.0, 'shaft speed command held until a shaft_cmd comes '
+                          "(models with a shaft); 0 = the model's nominal", lo=-1e3, hi=1e3,
+                          unit='rpm', read_only=True)
+        dt = p.declare('dt', 0.1, 'integration step', lo=1e-4, hi=1.0, unit='s', read_only=True)
+        rate = p.declare('publish_rate', 10.0, 'steps per sim second: odom, rudder and /clock '
+                         'are published (and in lockstep a command is awaited) once per step; '
+                         '1/publish_rate must be a whole multiple of dt', lo=0.01, hi=1000.0,
+                         unit='Hz', read_only=True,
+                         check=lambda r: _substeps_problem(r, dt))
+        self.mode = p.declare('stepping_mode', 'realtime', 'realtime: wall-clock paced; '
+                              'lockstep: advance only when the step\'s rudder_cmd has come',
+                              choices=('realtime', 'lockstep'), read_only=True)
+        self.speedup = p.declare('speedup', 1.0, 'realtime: sim seconds per wall second',
+                                 lo=0.01, hi=1e4, on_change=self._set_speedup)
+        self.lockstep_timeout = p.declare(
+            'lockstep_timeout', 5.0, 'lockstep: wall time to wait for a step\'s rudder_cmd; then '
+            'warn and hold the previous command for that step (0 = wait forever)', lo=0.0,
+            hi=3600.0, unit='s', on_change=self._set_lockstep_timeout)
+        self.start_timeout = p.declare(
+            'lockstep_start_timeout', 30.0, 'lockstep: wall time to wait for an odom subscriber '
+            'and a rudder_cmd publisher before step 0 (then start anyway, with a warning)',
+            lo=0.0, hi=3600.0, unit='s', read_only=True)
+        self.min_odom_subs = p.declare(
+            'lockstep_odom_subscribers', 1, 'lockstep: odom subscribers to wait for before step '
+            '0 (e.g. 2 when guidance and autopilot both follow odom)', lo=1, hi=1000,
+            read_only=True)
+        self.clock_master = p.declare('clock_master', True, 'publish /clock (exactly one node '
+                                      'of a graph does)', read_only=True)
+        self.max_steps = p.declare('max_steps', 0, 'end the run cleanly after this many steps '
+                                   '(0 = run until stopped)', lo=0, hi=10**12, read_only=True)
+        c_speed = p.declare('current_speed', 0.0, 'ocean current mean speed', lo=0.0, hi=10.0,
+                            unit='m/s', read_only=True)
+        c_dir = p.declare('current_direction_deg', 0.0, 'direction the current flows towards, '
+                          'clockwise from north (0 = northwards, 90 = eastwards)', lo=-360.0,
+                          hi=360.0, unit='deg', read_only=True)
+        c_sd = p.declare('current_speed_sd', 0.0, 'current variability: stationary standard '
+                         'deviation of the speed (Gauss-Markov; 0 = constant)', lo=0.0, hi=5.0,
+                         unit='m/s', read_only=True)
+        c_dir_sd = p.declare('current_direction_sd_deg', 0.0, 'current variability: stationary '
+                             'standard deviation of the direction (0 = constant)', lo=0.0,
+                             hi=180.0, unit='deg', read_only=True)
+        c_tc = p.declare('current_time_constant', 600.0, 'time constant of the current\'s '
+                         'Gauss-Markov variations', lo=1.0, hi=1e6, unit='s', read_only=True)
+        c_seed = p.declare('current_seed', 0, 'random seed of the current variations (same '
+                           'seed, same current)', lo=0, hi=2**31 - 1, read_only=True)
+
+        # Model.
+        table = MODEL_KWARGS[model]
+        kwargs = {}
+        for pname, value in given.items():
+            if not value:
+                continue
+            if pname not in table:
+                takes = ', '.join(table) or 'none of preset, U0, depth'
+                raise ParameterError(pname, value, f"the default (0 or '') for model {model!r}, "
+                                     f'which takes: {takes}')
+            kwargs[table[pname]] = value
+        if rmax:
+            kwargs['rudder_max'] = math.radians(rmax)
+        if rrate:
+            kwargs['rudder_rate_max'] = math.radians(rrate)
+        try:
+            m = make_model(model, **kwargs)
+        except (ValueError, TypeError) as exc:
+            raise ParameterError('model', message=f'model {model!r} with {kwargs}: {exc}') from None
+
+        # Current (ship_sim.current: intensity q = 2 sd^2 / T gives stationary sd).
+        current, self._current_text = None, ''
+        if c_speed > 0.0 or c_sd > 0.0 or c_dir_sd > 0.0:
+            sd_dir = math.radians(c_dir_sd)
+            current = OceanCurrent(
+                c_speed, math.radians(c_dir),
+                speed_time_constant=c_tc if c_sd > 0.0 else None,
+                speed_noise=2.0 * c_sd ** 2 / c_tc,
+                direction_time_constant=c_tc if sd_dir > 0.0 else None,
+                direction_noise=2.0 * sd_dir ** 2 / c_tc, seed=c_seed)
+            self._current_text = (f'{c_speed:g} m/s towards {c_dir:g} deg'
+                                  + (f' (sd {c_sd:g} m/s, {c_dir_sd:g} deg, T {c_tc:g} s, seed '
+                                     f'{c_seed})' if current.varying else ''))
+
+        # Initial state: ENU pose -> NED; shaft default for models with a shaft.
+        if shaft and not m.has_shaft:
+            raise ParameterError('shaft_rpm', shaft, f'0 for model {model!r} (it has no shaft)')
+        # Unset speed and shaft: the model's trim at its nominal shaft speed; only a speed: the
+        # shaft speed that holds it; only a shaft speed: the speed it gives. The shaft command
+        # starts at the state's shaft speed.
+        try:
+            self.sim = VesselSimulator(
+                m, dt=dt, north=y0, east=x0, psi=float(yaw_to_psi(math.radians(yaw0))),
+                speed=speed0 or None, shaft=shaft or None, current=current)
+        except (ValueError, ModelStateError) as exc:
+            raise ParameterError('initial_speed', message=f'initial state of {model!r} (initial_'
+                                 f'speed {speed0}, shaft_rpm {shaft}): {exc}') from None
+        self.rate = rate
+        self.n_sub = int(round(1.0 / (rate * dt)))
+        self.period = self.n_sub * dt
+        self.start = (x0, y0, yaw0)
+        self._rudder_cmd = 0.0
+        self._shaft_cmd = self.sim.shaft_command
+
+    # -- topics -------------------------------------------------------------------------------
+    def _make_topics(self):
+        self._odom_pub = self.create_publisher(Odometry, 'odom', STREAM)
+        self._rudder_pub = self.create_publisher(Float64, 'rudder', STREAM)
+        self._clock_pub = (self.create_publisher(ClockMsg, '/clock', CLOCK_QOS)
+                           if self.clock_master else None)
+        # Reused messages: publishing copies them, so one object per topic is enough.
+        self._odom = Odometry()
+        self._odom.header.frame_id = 'map'
+        self._odom.child_frame_id = base_link_frame(self.get_namespace())
+        self._rudder_msg = Float64()
+        self._clock_msg = ClockMsg()
+        on_cmd = self._on_rudder_cmd_lockstep if self.mode == 'lockstep' else self._on_rudder_cmd
+        self._cmd_sub = self.create_subscription(Float64, 'rudder_cmd', on_cmd, STREAM)
+        self._shaft_sub = (self.create_subscription(Float64, 'shaft_cmd', self._on_shaft_cmd,
+                                                    STREAM)
+                           if self.sim.model.has_shaft else None)
+
+    def _publish(self):
+        sim = self.sim
+        t, n, e, psi, u, v, r = sim.nav_state()
+        fill_odometry(self._odom, t, n, e, psi, u, v, r)
+        self._rudder_msg.data = sim.rudder()
+        try:
+            if self._clock_pub is not None:
+                time_to_msg(t, self._clock_msg.clock)
+                self._clock_pub.publish(self._clock_msg)
+            self._odom_pub.publish(self._odom)
+            self._rudder_pub.publish(self._rudder_msg)
+        except Exception:  # noqa: BLE001 - re-raised unless we are shutting down
+            if self.context.ok():
+                raise
+            self._running = False   # a signal shut the context down mid-step: just stop
+
+    def _advance(self):
+        """One node step (n_sub integration steps) with the held commands. False if stopped."""
+        sim = self.sim
+        try:
+            for _ in range(self.n_sub):
+                sim.step(self._rudder_cmd, self._shaft_cmd)
+        except ModelStateError as exc:
+            self.get_logger().error(f'step {self._step_index()}: the model left its valid '
+                                    f'domain, stopping: {exc}')
+            self._stop(1)
+            return False
+        return True
+
+    def _step_index(self):
+        return self.sim.k // self.n_sub
+
+    def _stop(self, code):
+        if self._done:
+            return
+        self._done = True
+        self._running = False
+        if code == 0:
+            # Let reliable subscribers get the last step before the node goes away.
+            for pub in (self._odom_pub, self._rudder_pub):
+                pub.wait_for_all_acked(Duration(seconds=2.0))
+        finish(self, code)
+
+    def _after_publish(self):
+        if self.max_steps and self._step_index() >= self.max_steps:
+            self.get_logger().info(f'max_steps {self.max_steps} reached at sim time '
+                                   f'{self.sim.t:.3f} s')
+            self._stop(0)
+
+    # -- commands -------------------------------------------------------------------------------
+    def _finite(self, value, topic):
+        if math.isfinite(value):
+            return True
+        self._n_rejected += 1
+        self.get_logger().warning(f'{topic} {value} refused (not finite; {self._n_rejected} '
+                                  'so far): holding the previous command',
+                                  throttle_duration_sec=5.0)
+        return False
+
+    def _on_rudder_cmd(self, msg):
+        if self._finite(msg.data, 'rudder_cmd'):
+            self._rudder_cmd = msg.data
+
+    def _on_shaft_cmd(self, msg):
+        if self._finite(msg.data, 'shaft_cmd'):
+            self._shaft_cmd = msg.data
+
+    # -- realtime -----------------------------------------------------------------------------
+    def _start_realtime(self):
+        self._running = True
+        self._anchor_k = self._step_index()
+        self._anchor_wall = time.monotonic()
+        self._publish()
+        self._last_pub_wall = self._anchor_wall
+        self._after_publish()
+        self._make_tick_timer()
+
+    def _make_tick_timer(self):
+        if self._tick_timer is not None:
+            self.destroy_timer(self._tick_timer)
+        self._tick_timer = self.create_timer(self.period / self.speedup, self._on_tick,
+                                             clock=Clock(clock_type=ClockType.STEADY_TIME))
+
+    def _set_speedup(self, value):
+        self.speedup = float(value)
+        if self.mode == 'realtime' and self._running:
+            self._anchor_k = self._step_index()
+            self._anchor_wall = time.monotonic()
+            self._make_tick_timer()
+            self.get_logger().info(f'speedup now x{self.speedup:g}')
+
+    def _on_tick(self):
+        if not self._running:
+            return
+        now = time.monotonic()
+        wall_period = self.period / self.speedup
+        due = self._anchor_k + int((now - self._anchor_wall) / wall_period)
+        k = self._step_index()
+        if due - k > MAX_CATCHUP:
+            self.get_logger().warning(f'step {k}: {due - k} steps behind the wall clock at '
+                                      f'x{self.speedup:g}; resetting the pace',
+                                      throttle_duration_sec=5.0)
+            due = k + MAX_CATCHUP
+            self._anchor_k = due
+            self._anchor_wall = now
+        while k < due and self._running:
+            if not self._advance():
+                return
+            k += 1
+            self._publish()
+            t_pub = time.monotonic()
+            self._lateness.add(t_pub - (self._anchor_wall + (k - self._anchor_k) * wall_period))
+            self._interval.add(t_pub - self._last_pub_wall)
+            self._last_pub_wall = t_pub
+            self._after_publish()
+
+    # -- lockstep -----------------------------------------------------------------------------
+    def _set_lockstep_timeout(self, value):
+        self.lockstep_timeout = float(value)
+
+    def _lockstep_watchdog(self):
+        now = time.monotonic()
+        if not self._running:
+            if self._done:
+                return
+            matched = (self._odom_pub.get_subscription_count() >= self.min_odom_subs
+                       and self._cmd_sub.get_publisher_count() > 0)
+            if matched and self._matched_at is None:
+                self._matched_at = now
+            if self._matched_at is not None and now - self._matched_at >= START_GRACE_S:
+                self._start_lockstep()
+            elif now - self._t_start_wait > self.start_timeout:
+                self.get_logger().warning(
+                    f'lockstep: after {self.start_timeout:g} s odom has '
+                    f'{self._odom_pub.get_subscription_count()} of {self.min_odom_subs} '
+                    f'subscribers and rudder_cmd {self._cmd_sub.get_publisher_count()} '
+                    'publishers; starting anyway (step 0 may be lost)')
+                self._start_lockstep()
+            return
+        if (self.lockstep_timeout > 0.0 and self._waiting_since is not None
+                and now - self._waiting_since > self.lockstep_timeout):
+            k = self._step_index()
+            self._n_timeouts += 1
+            self.get_logger().warning(
+                f'lockstep: no rudder_cmd for step {k} within {self.lockstep_timeout:g} s; '
+                f'holding {self._rudder_cmd:.4f} rad for this step ({self._n_timeouts} timeouts '
+                'so far; the run is no longer deterministic)')
+            self._lockstep_step()
+
+    def _start_lockstep(self):
+        self._running = True
+        self.get_logger().info('lockstep: publishing step 0')
+        self._publish()
+        self._waiting_since = time.monotonic()
+        self._after_publish()
+        # A command may have come before step 0 went out (it is then step 0's).
+        self._drain()
+
+    def _on_rudder_cmd_lockstep(self, msg):
+        index = self._n_cmd
+        self._n_cmd = index + 1
+        value = msg.data if self._finite(msg.data, 'rudder_cmd') else None
+        if index < self._step_index():
+            self._n_stale += 1  # its step already went by on a timeout: pairing stays aligned
+            return
+        self._pending.append(value)
+        self._drain()
+
+    def _drain(self):
+        pending = self._pending
+        while pending and self._running:
+            value = pending.popleft()
+            if value is not None:
+                self._rudder_cmd = value
+            self._lockstep_step()
+
+    def _lockstep_step(self):
+        if not self._advance():
+            return
+        self._publish()
+        self._waiting_since = time.monotonic()
+        self._after_publish()
+
+    # -- shutdown -----------------------------------------------------------------------------
+    def destroy_node(self):
+        # After a signal the context is already shut down, and the node's logger (and its
+        # children) would fail to publish to /rosout: then log to the console only, through a
+        # logger rosout does not know.
+        log = self.get_logger()
+        if not self.context.ok():
+            log = rclpy.logging.get_logger(log.name + '_summary')
+        k = self._step_index()
+        text = (f'end: {k} steps, sim time {self.sim.t:.3f} s, {self._n_rejected} non-finite '
+                'commands refused')
+        if self.mode == 'lockstep':
+            text += (f', {self._n_timeouts} lockstep timeouts, {self._n_stale} late commands '
+                     'dropped' + ('' if self._n_timeouts else ' (deterministic run)'))
+        elif self._lateness.n:
+            L, I = self._lateness, self._interval
+            text += (f'; realtime x{self.speedup:g} pacing over {L.n} steps: lateness mean '
+                     f'{L.mean * 1e3:.3f} ms, sd {L.std * 1e3:.3f} ms, max {L.max * 1e3:.3f} '
+                     f'ms; interval mean {I.mean * 1e3:.3f} ms (nominal '
+                     f'{self.period / self.speedup * 1e3:.3f}), sd {I.std * 1e3:.3f} ms')
+        log.info(text)
+        super().destroy_node()
+
+
+def _substeps_problem(rate, dt):
+    """None if 1/rate is a whole multiple (>= 1) of dt, else what is allowed."""
+    n = round(1.0 / (rate * dt))
+    if n >= 1 and abs(n * dt * rate - 1.0) < 1e-9:
+        return None
+    return f'a rate whose period 1/publish_rate is a whole multiple of dt = {dt} s'
+
+
+def main(args=None):
+    return run_node(VesselNode, args=args)
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())

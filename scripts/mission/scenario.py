@@ -1,0 +1,166 @@
+"""Scenario files: one YAML describes a run (vessels, routes, guidance, autopilot, timing).
+
+    name: flagship_mariner                  # run folder prefix
+    source: "..."                            # citation of the experiment reproduced
+    description: "..."
+    duration_s: 1000.0                       # sim time limit (the run also ends when every
+                                             # vessel has completed its route)
+    stepping: lockstep                       # lockstep | realtime
+    speedup: 1.0                             # realtime only: sim seconds per wall second
+    dt_s: 0.1                                # control period = simulator publish period
+    settle_s: 100.0                          # metrics ignore the first settle_s seconds
+    vessels:
+      vessel_0:                              # namespace
+        model: mariner                       # ship_sim model
+        route: routes/flagship_mariner.yaml  # route file, relative to this scenario file
+        start:                               # relative to the route's start (default 0/0/0)
+          along_m: 0.0                       #   along the first leg
+          cross_m: 200.0                     #   to starboard of the path (+)
+          heading_deg: 0.0                   #   relative to the path direction (+ = starboard)
+        # or absolute ENU: start: {x_m: 0, y_m: 0, yaw_deg: 90}
+        speed_mps: 7.7175                    # optional initial speed (model default if absent)
+        current: {speed_mps: 0.5, direction_deg: 90.0}   # towards, clockwise from north
+        vessel: {...}                        # any further vessel_node parameters
+        guidance: {law: ilos, lookahead_m: 800.0}         # guidance_node parameters
+        autopilot: {controller: pd}                       # autopilot_node parameters
+
+Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
+every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
+the graph together (model, start pose, stepping mode, pairing, rates). Errors name the file and
+the key.
+"""
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import yaml
+
+TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
+            'settle_s', 'vessels', 'record', 'lockstep_timeout_s'}
+VESSEL_KEYS = {'model', 'route', 'start', 'speed_mps', 'current', 'vessel', 'guidance',
+               'autopilot', 'model_params'}
+STEPPING = ('lockstep', 'realtime')
+
+
+class ScenarioError(ValueError):
+    """A scenario file that cannot run; the message names the file and the key."""
+
+
+@dataclass
+class VesselSpec:
+    namespace: str
+    model: str
+    route_file: Path
+    start: dict
+    speed: float = None
+    current: dict = field(default_factory=dict)
+    vessel_params: dict = field(default_factory=dict)
+    guidance_params: dict = field(default_factory=dict)
+    autopilot_params: dict = field(default_factory=dict)
+
+
+@dataclass
+class Scenario:
+    file: Path
+    name: str
+    source: str
+    description: str
+    duration_s: float
+    stepping: str
+    speedup: float
+    dt_s: float
+    settle_s: float
+    record: bool
+    lockstep_timeout_s: float
+    vessels: list
+
+
+def _need(cond, file, key, what):
+    if not cond:
+        raise ScenarioError(f'{file}: {key}: {what}')
+
+
+def _number(d, key, file, default, lo=None, hi=None, where=''):
+    v = d.get(key, default)
+    name = f'{where}{key}'
+    _need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v), file,
+          name, f'must be a number, got {v!r}')
+    _need(lo is None or v >= lo, file, name, f'must be >= {lo}, got {v}')
+    _need(hi is None or v <= hi, file, name, f'must be <= {hi}, got {v}')
+    return float(v)
+
+
+def _unknown(d, allowed, file, where):
+    extra = sorted(set(d) - allowed)
+    _need(not extra, file, where + extra[0] if extra else where,
+          f"unknown key; allowed: {', '.join(sorted(allowed))}")
+
+
+def load_scenario(path):
+    """Read and check a scenario file; ScenarioError names the file and the offending key."""
+    path = Path(path)
+    try:
+        data = yaml.safe_load(path.read_text())
+    except OSError as exc:
+        raise ScenarioError(f'{path}: cannot read: {exc.strerror}') from None
+    except yaml.YAMLError as exc:
+        raise ScenarioError(f'{path}: not valid YAML: {exc}') from None
+    _need(isinstance(data, dict), path, '(top)', 'must be a mapping')
+    _unknown(data, TOP_KEYS, path, '')
+    _need(isinstance(data.get('name'), str) and data['name'], path, 'name', 'a non-empty string')
+    stepping = data.get('stepping', 'lockstep')
+    _need(stepping in STEPPING, path, 'stepping', f"one of {', '.join(STEPPING)}, got {stepping!r}")
+    vessels = data.get('vessels')
+    _need(isinstance(vessels, dict) and vessels, path, 'vessels', 'a mapping namespace -> vessel')
+    specs = []
+    for ns, v in vessels.items():
+        where = f'vessels.{ns}.'
+        _need(isinstance(ns, str) and ns.isidentifier(), path, f'vessels.{ns}',
+              'namespace must be a plain name like vessel_0')
+        _need(isinstance(v, dict), path, where[:-1], 'must be a mapping')
+        _unknown(v, VESSEL_KEYS, path, where)
+        _need(isinstance(v.get('model'), str), path, where + 'model', 'a model name')
+        _need(isinstance(v.get('route'), str), path, where + 'route', 'a route file')
+        route = (path.parent / v['route']).resolve()
+        _need(route.exists(), path, where + 'route', f'{route} does not exist')
+        start = v.get('start', {}) or {}
+        _need(isinstance(start, dict), path, where + 'start', 'a mapping')
+        absolute = {'x_m', 'y_m', 'yaw_deg'}
+        relative = {'along_m', 'cross_m', 'heading_deg'}
+        _need(set(start) <= absolute | relative and not (set(start) & absolute
+                                                         and set(start) & relative),
+              path, where + 'start', f'either {sorted(absolute)} or {sorted(relative)}')
+        for k in start:
+            _number(start, k, path, 0.0, where=where + 'start.')
+        speed = v.get('speed_mps')
+        if speed is not None:
+            speed = _number(v, 'speed_mps', path, None, lo=0.0, hi=50.0, where=where)
+        for key in ('current', 'vessel', 'guidance', 'autopilot'):
+            _need(isinstance(v.get(key, {}) or {}, dict), path, where + key, 'a mapping')
+        specs.append(VesselSpec(ns, v['model'], route, dict(start), speed,
+                                dict(v.get('current') or {}), dict(v.get('vessel') or {}),
+                                dict(v.get('guidance') or {}), dict(v.get('autopilot') or {})))
+    return Scenario(
+        file=path, name=data['name'], source=str(data.get('source', '')),
+        description=str(data.get('description', '')),
+        duration_s=_number(data, 'duration_s', path, 1000.0, lo=0.1),
+        stepping=stepping, speedup=_number(data, 'speedup', path, 1.0, lo=0.01, hi=1e4),
+        dt_s=_number(data, 'dt_s', path, 0.1, lo=1e-3, hi=10.0),
+        settle_s=_number(data, 'settle_s', path, 0.0, lo=0.0),
+        record=bool(data.get('record', True)),
+        lockstep_timeout_s=_number(data, 'lockstep_timeout_s', path, 10.0, lo=0.1),
+        vessels=specs)
+
+
+def start_pose(spec, route):
+    """Absolute ENU start (x, y, yaw) of a vessel from its spec and its route (NED Route)."""
+    s = spec.start
+    if 'x_m' in s or 'y_m' in s or 'yaw_deg' in s:
+        return s.get('x_m', 0.0), s.get('y_m', 0.0), math.radians(s.get('yaw_deg', 0.0))
+    north, east, alpha = route.point_at(float(s.get('along_m', 0.0)))
+    cross = float(s.get('cross_m', 0.0))
+    # Starboard of a path heading alpha (NED) is the direction alpha + 90 deg.
+    north += cross * math.cos(alpha + math.pi / 2)
+    east += cross * math.sin(alpha + math.pi / 2)
+    psi = alpha + math.radians(s.get('heading_deg', 0.0))
+    return float(east), float(north), (math.pi / 2 - psi + math.pi) % (2 * math.pi) - math.pi

@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""Run a scenario: `scripts/run_mission.py scenarios/<name>.yaml [options]` (see mission.launcher).
+
+Starts every node as its own process from the colcon install (run `make build` first, or use
+`make demo SCENARIO=...`), records a bag, and writes metrics and plots to runs/<name>-<time>/
+(runs/latest points there). Exit code 0 on success, 1 if a node failed or the run timed out,
+2 for an invalid scenario, 130 on Ctrl-C.
+"""
+import argparse
+import json
+import sys
+
+from mission.launcher import MissionFailed, run_scenario
+from mission.scenario import ScenarioError, load_scenario
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('scenario', help='scenario YAML file')
+    ap.add_argument('--runs', default=None, help='folder for run folders (default: runs/)')
+    ap.add_argument('--domain-id', type=int, default=None, help='ROS_DOMAIN_ID (default: from pid)')
+    ap.add_argument('--no-record', action='store_true', help='no bag, no metrics')
+    ap.add_argument('--duration', type=float, default=None, help='override duration_s')
+    ap.add_argument('--stepping', choices=('lockstep', 'realtime'), default=None)
+    ap.add_argument('--wall-timeout', type=float, default=None, help='fail after this many s')
+    args = ap.parse_args(argv)
+    try:
+        scenario = load_scenario(args.scenario)
+    except ScenarioError as exc:
+        print(f'run_mission: {exc}', file=sys.stderr)
+        return 2
+    if args.duration:
+        scenario.duration_s = args.duration
+    if args.stepping:
+        scenario.stepping = args.stepping
+    kw = {'runs_root': args.runs} if args.runs else {}
+    try:
+        run, metrics = run_scenario(scenario, domain_id=args.domain_id,
+                                    record=False if args.no_record else None,
+                                    wall_timeout_s=args.wall_timeout, **kw)
+    except MissionFailed as exc:
+        print(f'run_mission: FAILED: {exc}', file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print('run_mission: interrupted; all nodes stopped', file=sys.stderr)
+        return 130
+    if metrics:
+        for ns, m in metrics['vessels'].items():
+            keys = [k for k in m if k.startswith(('xte_rms', 'xte_max', 'time_to_complete',
+                                                  'reward', 'rudder_mean'))]
+            print(f'{ns}: ' + ', '.join(f'{k} = {m[k]:.4g}' if isinstance(m[k], float)
+                                       else f'{k} = {m[k]}' for k in sorted(keys)))
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,439 @@
+"""Integration-test harness: real node processes from the colcon install tree, a test node.
+
+The shape of ros2/examples' launch_testing examples (start processes, wait for topics or output
+lines with timeouts, check while they run, check exit codes after shutdown), written as plain
+pytest fixtures because there is no launch_testing wheel here:
+
+- every test gets its own ROS_DOMAIN_ID (1..101, never 0, unique on this machine through a
+  lock file per id, starting at an offset from the pid) and ROS_AUTOMATIC_DISCOVERY_RANGE=
+  LOCALHOST, so parallel tests and other graphs never see each other;
+- nodes run as ``ros2 run`` would run them: ``ros_ws/install/<pkg>/lib/<pkg>/<exe>`` with the
+  environment ``install/setup.bash`` would set (AMENT_PREFIX_PATH, PYTHONPATH, ... computed
+  here from colcon's .dsv hook files, not by sourcing bash), arguments
+  ``--ros-args -r __ns:=/vessel_0 -p name:=value ...``; stdout and stderr go to files;
+- a test rclpy node (own Context on the test's domain) publishes and subscribes, with
+  deadline-based helpers (spin_until, wait_for_message, wait_for_subscribers);
+- teardown ALWAYS ends every process it started: SIGINT, then SIGTERM, then SIGKILL of the
+  process group, each after a timeout; it records exit codes and prints each process's exit
+  code and stderr tail (pytest shows them when a test fails). Children also get SIGTERM from
+  the kernel if the test process dies (PR_SET_PDEATHSIG), so nothing is orphaned.
+
+Usage (fixture ``ros_graph`` from conftest.py)::
+
+    def test_x(ros_graph):
+        sim = ros_graph.start('ship_sim', 'vessel_node', namespace='/vessel_0',
+                              params={'model': 'mariner', 'speedup': 20.0})
+        tn = ros_graph.test_node()
+        odom = tn.subscribe('/vessel_0/odom', Odometry)
+        assert tn.wait_for_message(odom, timeout=10.0) is not None
+        assert ros_graph.stop(sim) == 0
+"""
+import ctypes
+import fcntl
+import math
+import os
+import re
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import rclpy
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+
+from ship_sim.ros.qos import STREAM
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+INSTALL = REPO_ROOT / 'ros_ws' / 'install'
+DOMAIN_IDS = range(1, 102)   # Fast DDS ports stay below Linux's ephemeral range up to 101
+LOCK_DIR = Path('/tmp/shipnav_ros_domain_locks')
+
+# Teardown timeouts (s): SIGINT (normal end), then SIGTERM, then SIGKILL.
+SIGINT_TIMEOUT = 5.0
+SIGTERM_TIMEOUT = 3.0
+
+
+# -- environment of the install tree --------------------------------------------------------
+
+def _package_prefixes(install=INSTALL):
+    """{package: prefix} of an isolated colcon install, in dependency order (deps first)."""
+    pkgs = {}
+    for marker in sorted(install.glob('*/share/colcon-core/packages/*')):
+        prefix = marker.parents[3]
+        if marker.name == prefix.name:
+            deps = [d for d in marker.read_text().strip().split(':') if d]
+            pkgs[marker.name] = (prefix, deps)
+    order, seen = [], set()
+
+    def visit(name):
+        if name in seen or name not in pkgs:
+            return
+        seen.add(name)
+        for dep in pkgs[name][1]:
+            visit(dep)
+        order.append(name)
+
+    for name in sorted(pkgs):
+        visit(name)
+    return {name: pkgs[name][0] for name in order}
+
+
+def _apply_dsv(env, prefix, dsv):
+    """Apply one colcon .dsv file (the subset colcon's python packages write) to env."""
+    for line in dsv.read_text().splitlines():
+        parts = line.strip().split(';')
+        if len(parts) < 2:
+            continue
+        kind, rest = parts[0], parts[1:]
+        if kind == 'source':
+            path = prefix / rest[0]
+            if path.suffix == '.dsv' and path.exists():
+                _apply_dsv(env, prefix, path)
+        elif kind in ('prepend-non-duplicate', 'prepend-non-duplicate-if-exists'):
+            var, values = rest[0], rest[1:] or ['']
+            for sub in reversed(values):
+                value = str(prefix / sub) if sub else str(prefix)
+                if kind.endswith('if-exists') and not Path(value).exists():
+                    continue
+                old = [v for v in env.get(var, '').split(os.pathsep) if v and v != value]
+                env[var] = os.pathsep.join([value] + old)
+        elif kind == 'set':
+            env[rest[0]] = rest[1] if len(rest) > 1 else ''
+        elif kind == 'set-if-unset':
+            env.setdefault(rest[0], rest[1] if len(rest) > 1 else '')
+
+
+def install_env(base=None, install=INSTALL):
+    """The environment ``source install/setup.bash`` gives (for the packages installed)."""
+    env = dict(os.environ if base is None else base)
+    if not (install / 'setup.bash').exists():
+        raise FileNotFoundError(f'no colcon install tree at {install}: run `make build`')
+    old = [v for v in env.get('COLCON_PREFIX_PATH', '').split(os.pathsep)
+           if v and v != str(install)]
+    env['COLCON_PREFIX_PATH'] = os.pathsep.join([str(install)] + old)
+    for name, prefix in _package_prefixes(install).items():
+        dsv = prefix / 'share' / name / 'package.dsv'
+        if dsv.exists():
+            _apply_dsv(env, prefix, dsv)
+    return env
+
+
+def executable(package, name, install=INSTALL):
+    """Path of ``ros2 run package name``: <prefix>/lib/<package>/<name>, checked."""
+    path = install / package / 'lib' / package / name
+    if not (path.is_file() and os.access(path, os.X_OK)):
+        raise FileNotFoundError(f'{package}/{name} is not installed at {path}: run `make build`')
+    return path
+
+
+def format_param(value):
+    """A Python value as the YAML text `-p name:=value` expects."""
+    if isinstance(value, bool):
+        return 'true' if value else 'false'
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isnan(value):
+            return '.nan'
+        if math.isinf(value):
+            return '.inf' if value > 0 else '-.inf'
+        text = repr(value)
+        return text if any(c in text for c in '.en') else text + '.0'
+    if isinstance(value, (list, tuple)):
+        return '[' + ', '.join(format_param(v) for v in value) + ']'
+    text = str(value)
+    # Quote strings YAML would read as something else (numbers, booleans, empty, null).
+    if (text == '' or re.fullmatch(r'[-+]?(\d+\.?\d*([eE][-+]?\d+)?|\.\d+|\.nan|\.inf)', text)
+            or text.lower() in ('true', 'false', 'yes', 'no', 'on', 'off', 'null', '~')):
+        return "'" + text.replace("'", "''") + "'"
+    return text
+
+
+# -- domain ids ---------------------------------------------------------------------------------
+
+class DomainLease:
+    """An exclusive ROS_DOMAIN_ID for one test (flock on a file per id; released on close)."""
+
+    def __init__(self):
+        LOCK_DIR.mkdir(parents=True, exist_ok=True)
+        ids = list(DOMAIN_IDS)
+        start = (os.getpid() * 7) % len(ids)
+        for i in range(len(ids)):
+            did = ids[(start + i) % len(ids)]
+            fd = os.open(LOCK_DIR / f'{did}.lock', os.O_CREAT | os.O_RDWR, 0o666)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                os.close(fd)
+                continue
+            self.domain_id, self._fd = did, fd
+            return
+        raise RuntimeError(f'no free ROS_DOMAIN_ID in {DOMAIN_IDS}')
+
+    def close(self):
+        if self._fd is not None:
+            os.close(self._fd)
+            self._fd = None
+
+
+# -- node processes ------------------------------------------------------------------------------
+
+def _die_with_parent():
+    # In the child before exec: SIGTERM when the test process dies (even by SIGKILL).
+    libc = ctypes.CDLL('libc.so.6', use_errno=True)
+    libc.prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
+
+
+class NodeProcess:
+    """One node executable started from the install tree; output in <label>.out / .err."""
+
+    def __init__(self, package, name, *, env, log_dir, label, namespace=None, node_name=None,
+                 params=None, params_file=None, remaps=None, extra_args=()):
+        self.package, self.name, self.label = package, name, label
+        self.cmd = [str(executable(package, name)), '--ros-args']
+        if namespace:
+            self.cmd += ['-r', f'__ns:={namespace}']
+        if node_name:
+            self.cmd += ['-r', f'__node:={node_name}']
+        for src, dst in (remaps or {}).items():
+            self.cmd += ['-r', f'{src}:={dst}']
+        if params_file:
+            self.cmd += ['--params-file', str(params_file)]
+        for key, value in (params or {}).items():
+            self.cmd += ['-p', f'{key}:={format_param(value)}']
+        self.cmd += list(extra_args)
+        self.out_path = Path(log_dir) / f'{label}.out'
+        self.err_path = Path(log_dir) / f'{label}.err'
+        with open(self.out_path, 'wb') as out, open(self.err_path, 'wb') as err:
+            self.popen = subprocess.Popen(self.cmd, stdout=out, stderr=err, env=env,
+                                          stdin=subprocess.DEVNULL, start_new_session=True,
+                                          preexec_fn=_die_with_parent)
+        self.started = time.monotonic()
+        self.stopped_by = None   # None (exited by itself), 'SIGINT', 'SIGTERM' or 'SIGKILL'
+
+    @property
+    def pid(self):
+        return self.popen.pid
+
+    @property
+    def returncode(self):
+        return self.popen.poll()
+
+    def stdout(self):
+        return self.out_path.read_text(errors='replace')
+
+    def stderr(self):
+        return self.err_path.read_text(errors='replace')
+
+    def output(self):
+        return self.stdout() + self.stderr()
+
+    def wait(self, timeout):
+        """Exit code, or None if still running after ``timeout`` s."""
+        try:
+            return self.popen.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            return None
+
+    def wait_for_output(self, pattern, timeout, stream='both'):
+        """The first regex match in the output within ``timeout`` s, else None."""
+        rx = re.compile(pattern)
+        deadline = time.monotonic() + timeout
+        read = {'both': self.output, 'stdout': self.stdout, 'stderr': self.stderr}[stream]
+        while True:
+            m = rx.search(read())
+            if m or time.monotonic() > deadline:
+                return m
+            if self.returncode is not None:
+                return rx.search(read())
+            time.sleep(0.05)
+
+    def stop(self, sigint_timeout=SIGINT_TIMEOUT, sigterm_timeout=SIGTERM_TIMEOUT):
+        """End the process: SIGINT, then SIGTERM, then SIGKILL (group). Returns the exit code."""
+        if self.popen.poll() is not None:
+            return self.popen.returncode
+        for sig, timeout in ((signal.SIGINT, sigint_timeout), (signal.SIGTERM, sigterm_timeout)):
+            try:
+                self.popen.send_signal(sig)
+            except ProcessLookupError:
+                break
+            if self.wait(timeout) is not None:
+                self.stopped_by = sig.name
+                return self.popen.returncode
+        try:
+            os.killpg(self.popen.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        self.stopped_by = 'SIGKILL'
+        return self.popen.wait()
+
+    def report(self, tail=15):
+        lines = self.stderr().splitlines()[-tail:]
+        how = f' (after {self.stopped_by})' if self.stopped_by else ''
+        text = [f'--- {self.label}: pid {self.pid}, exit code {self.returncode}{how}',
+                '    ' + ' '.join(self.cmd)]
+        text += ['    | ' + line for line in lines]
+        return '\n'.join(text)
+
+
+# -- the test node -------------------------------------------------------------------------------
+
+class Inbox:
+    """Messages received on one subscription, with their wall receive times (monotonic)."""
+
+    def __init__(self):
+        self.messages = []
+        self.times = []
+
+    def __len__(self):
+        return len(self.messages)
+
+    def __getitem__(self, i):
+        return self.messages[i]
+
+    @property
+    def last(self):
+        return self.messages[-1] if self.messages else None
+
+    def _add(self, msg):
+        self.messages.append(msg)
+        self.times.append(time.monotonic())
+
+
+class TestNode:
+    """An rclpy node in the test process, on the test's domain, spun on demand with deadlines."""
+
+    def __init__(self, domain_id, name='test_node', executor='events'):
+        self.context = Context()
+        rclpy.init(context=self.context, domain_id=domain_id)
+        self.node = rclpy.create_node(name, context=self.context)
+        if executor == 'events':
+            from rclpy.experimental import EventsExecutor
+            self.executor = EventsExecutor(context=self.context)
+        else:
+            self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+
+    def subscribe(self, topic, msg_type, qos=STREAM, callback=None):
+        """Subscribe; returns an Inbox that fills while spinning. ``callback(msg)`` too."""
+        inbox = Inbox()
+
+        def on_msg(msg):
+            inbox._add(msg)
+            if callback is not None:
+                callback(msg)
+
+        inbox.subscription = self.node.create_subscription(msg_type, topic, on_msg, qos)
+        return inbox
+
+    def unsubscribe(self, inbox):
+        """Stop receiving on ``inbox`` (its messages stay)."""
+        self.node.destroy_subscription(inbox.subscription)
+
+    def publisher(self, topic, msg_type, qos=STREAM):
+        return self.node.create_publisher(msg_type, topic, qos)
+
+    def spin_once(self, timeout=0.05):
+        self.executor.spin_once(timeout_sec=timeout)
+
+    def spin_for(self, seconds):
+        deadline = time.monotonic() + seconds
+        while (left := deadline - time.monotonic()) > 0.0:
+            self.executor.spin_once(timeout_sec=min(left, 0.1))
+
+    def spin_until(self, predicate, timeout, poll=0.1):
+        """Spin until ``predicate()`` is true (returns True) or ``timeout`` s pass (False)."""
+        deadline = time.monotonic() + timeout
+        while not predicate():
+            left = deadline - time.monotonic()
+            if left <= 0.0:
+                return False
+            self.executor.spin_once(timeout_sec=min(left, poll))
+        return True
+
+    def wait_for_message(self, inbox, timeout, predicate=None, count=1):
+        """The first message (after the ``count``-th) in ``inbox`` satisfying ``predicate``.
+
+        Looks at messages already received too. None if none within ``timeout`` s.
+        """
+        state = {'i': 0}
+
+        def found():
+            msgs = inbox.messages
+            while state['i'] < len(msgs):
+                m = msgs[state['i']]
+                state['i'] += 1
+                if state['i'] >= count and (predicate is None or predicate(m)):
+                    state['hit'] = m
+                    return True
+            return False
+
+        return state['hit'] if self.spin_until(found, timeout) else None
+
+    def wait_for_subscribers(self, publisher, n=1, timeout=10.0):
+        return self.spin_until(lambda: publisher.get_subscription_count() >= n, timeout)
+
+    def wait_for_publishers(self, inbox, n=1, timeout=10.0):
+        return self.spin_until(lambda: inbox.subscription.get_publisher_count() >= n, timeout)
+
+    def close(self):
+        try:
+            self.executor.shutdown()
+        except Exception:  # noqa: BLE001 - teardown must go on
+            pass
+        self.node.destroy_node()
+        self.context.try_shutdown()
+
+
+# -- the graph of one test -----------------------------------------------------------------------
+
+class RosGraph:
+    """Processes and the test node of one test, on one domain; ``close`` ends everything."""
+
+    def __init__(self, log_dir, domain_id, env):
+        self.log_dir = Path(log_dir)
+        self.domain_id = domain_id
+        self.env = env
+        self.processes = []
+        self._test_node = None
+        self._counts = {}
+
+    def start(self, package, name, **kw):
+        """Start ``package``'s executable ``name`` (see NodeProcess for the keywords)."""
+        n = self._counts[name] = self._counts.get(name, 0) + 1
+        label = kw.pop('label', None) or (name if n == 1 else f'{name}_{n}')
+        proc = NodeProcess(package, name, env=self.env, log_dir=self.log_dir, label=label, **kw)
+        self.processes.append(proc)
+        return proc
+
+    def test_node(self, name='test_node', executor='events'):
+        """The test's rclpy node (created on first use)."""
+        if self._test_node is None:
+            self._test_node = TestNode(self.domain_id, name, executor)
+        return self._test_node
+
+    def stop(self, proc, **kw):
+        """Stop one process (SIGINT -> SIGTERM -> SIGKILL); its exit code."""
+        return proc.stop(**kw)
+
+    def stop_all(self):
+        """Stop every process started (newest first); {label: exit code}."""
+        codes = {}
+        for proc in reversed(self.processes):
+            codes[proc.label] = proc.stop()
+        return codes
+
+    def report(self):
+        return '\n'.join(p.report() for p in self.processes)
+
+    def close(self):
+        try:
+            self.stop_all()
+        finally:
+            if self._test_node is not None:
+                self._test_node.close()
+                self._test_node = None
+            if self.processes:
+                print(f'\n[ros_graph domain {self.domain_id}, logs in {self.log_dir}]')
+                print(self.report())

@@ -1,0 +1,145 @@
+"""ship_sim.ros.conversions (hand-computed frames) and ship_sim.ros.params (in-process node).
+
+Frames (DESIGN.md): x_E = y_N, y_E = x_N, yaw_ENU = pi/2 - psi_NED, v_FLU = -v_FRD,
+r_FLU = -r_FRD; Odometry pose in 'map' (ENU), twist in the body frame FLU.
+"""
+import math
+
+import pytest
+import rclpy
+from rclpy.context import Context
+from rclpy.parameter import Parameter
+
+from ship_sim.ros.conversions import (base_link_frame, make_odometry, msg_to_nanoseconds,
+                                      msg_to_time, odometry_to_ned, quaternion_to_yaw,
+                                      time_to_msg, yaw_to_quaternion)
+from ship_sim.ros.params import NodeParameters, ParameterError
+
+
+def test_odometry_from_ned_by_hand():
+    # Heading east (psi = 90 deg) at north 100, east 50; surge 5, sway 1 to starboard, turning
+    # to starboard at 0.1 rad/s.
+    msg = make_odometry(12.5, 100.0, 50.0, math.pi / 2, 5.0, 1.0, 0.1, 'vessel_3/base_link')
+    assert msg.header.frame_id == 'map' and msg.child_frame_id == 'vessel_3/base_link'
+    assert (msg.header.stamp.sec, msg.header.stamp.nanosec) == (12, 500_000_000)
+    p, q = msg.pose.pose.position, msg.pose.pose.orientation
+    assert (p.x, p.y, p.z) == (50.0, 100.0, 0.0)
+    # ENU yaw 0 (facing east): identity quaternion.
+    assert (q.x, q.y, q.z, q.w) == pytest.approx((0.0, 0.0, 0.0, 1.0), abs=1e-15)
+    tw = msg.twist.twist
+    assert (tw.linear.x, tw.linear.y, tw.angular.z) == (5.0, -1.0, -0.1)
+
+
+def test_odometry_heading_north_is_enu_yaw_90_deg():
+    msg = make_odometry(0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 'base_link')
+    q = msg.pose.pose.orientation
+    assert (q.z, q.w) == pytest.approx((math.sin(math.pi / 4), math.cos(math.pi / 4)))
+    assert quaternion_to_yaw(q) == pytest.approx(math.pi / 2)
+
+
+@pytest.mark.parametrize('psi', [-3.0, -1.0, 0.0, 0.5, 2.0, 3.1])
+def test_odometry_round_trip(psi):
+    msg = make_odometry(3.25, -7.0, 11.0, psi, 4.0, -0.3, 0.02, 'base_link')
+    o = odometry_to_ned(msg)
+    assert (o.t, o.north, o.east, o.u, o.v, o.r) == (3.25, -7.0, 11.0, 4.0, -0.3, 0.02)
+    assert o.psi == pytest.approx(psi, abs=1e-12)
+
+
+def test_yaw_quaternion_round_trip_and_roll_pitch_ignored():
+    for yaw in (-3.1, -1.0, 0.0, 1.0, 3.1):
+        assert quaternion_to_yaw(yaw_to_quaternion(yaw)) == pytest.approx(yaw, abs=1e-12)
+    # yaw 30 deg composed with a roll of 10 deg: the heading is still 30 deg.
+    cy, sy = math.cos(math.radians(15)), math.sin(math.radians(15))
+    cr, sr = math.cos(math.radians(5)), math.sin(math.radians(5))
+    q = (sr * cy, sr * sy, cr * sy, cr * cy)   # q_yaw * q_roll (ZYX)
+    assert quaternion_to_yaw(q) == pytest.approx(math.radians(30), abs=1e-12)
+
+
+def test_time_conversion_rounds_to_whole_nanoseconds():
+    m = time_to_msg(0.3)
+    assert (m.sec, m.nanosec) == (0, 300_000_000)
+    m = time_to_msg(1.9999999999)
+    assert (m.sec, m.nanosec) == (2, 0)
+    m = time_to_msg(7 * 0.1)                      # 0.7000000000000001
+    assert (m.sec, m.nanosec) == (0, 700_000_000)
+    assert msg_to_time(time_to_msg(123.456)) == pytest.approx(123.456, abs=1e-9)
+    assert msg_to_nanoseconds(time_to_msg(5.000000001)) == 5_000_000_001
+
+
+def test_base_link_frame():
+    assert base_link_frame('/vessel_0') == 'vessel_0/base_link'
+    assert base_link_frame('/fleet/vessel_2') == 'fleet/vessel_2/base_link'
+    assert base_link_frame('/') == 'base_link'
+
+
+# -- params ----------------------------------------------------------------------------------
+
+@pytest.fixture
+def make_node():
+    ctx = Context()
+    rclpy.init(context=ctx, domain_id=99)   # no communication happens; the id is irrelevant
+    nodes = []
+
+    def make(**overrides):
+        node = rclpy.create_node(f'params_test_{len(nodes)}', context=ctx,
+                                 parameter_overrides=[Parameter(k, value=v)
+                                                      for k, v in overrides.items()])
+        nodes.append(node)
+        return node, NodeParameters(node)
+
+    yield make
+    for node in nodes:
+        node.destroy_node()
+    ctx.try_shutdown()
+
+
+def test_start_values_are_checked(make_node):
+    node, p = make_node(dt=0.05)
+    assert p.declare('dt', 0.1, 'step', lo=1e-3, hi=1.0, unit='s') == 0.05
+    assert p.declare('mode', 'a', 'mode', choices=('a', 'b')) == 'a'
+    d = node.describe_parameter('dt')
+    assert d.floating_point_range[0].from_value == 1e-3
+    assert d.floating_point_range[0].to_value == 1.0
+    assert 'step' in d.description
+
+
+@pytest.mark.parametrize('name, default, value, kw, needles', [
+    ('dt', 0.1, 5.0, dict(lo=1e-3, hi=1.0), ("'dt'", '5.0', '[0.001, 1.0]')),
+    ('dt', 0.1, math.nan, dict(lo=1e-3, hi=1.0), ("'dt'", 'nan')),
+    ('gain', 0.1, math.inf, dict(), ("'gain'", 'inf', 'finite')),
+    ('mode', 'a', 'c', dict(choices=('a', 'b')), ("'mode'", "'c'", "'a', 'b'")),
+    ('steps', 5, -1, dict(lo=0), ("'steps'", '-1', '>= 0')),
+    ('rate', 10.0, 3.0, dict(check=lambda r: None if 10 % r == 0 else 'a divisor of 10'),
+     ("'rate'", '3.0', 'a divisor of 10')),
+    ('dt', 0.1, 1, dict(), ("'dt'", '1', 'DOUBLE')),          # static typing: write 1.0
+])
+def test_bad_start_value_raises_one_line(make_node, name, default, value, kw, needles):
+    node, p = make_node(**{name: value})
+    with pytest.raises(ParameterError) as err:
+        p.declare(name, default, 'description', **kw)
+    text = str(err.value)
+    assert '\n' not in text
+    for needle in needles:
+        assert needle in text, text
+
+
+def test_runtime_changes_are_validated(make_node):
+    node, p = make_node()
+    seen = []
+    p.declare('speedup', 1.0, 'x', lo=0.01, hi=100.0, on_change=seen.append)
+    p.declare('model', 'm', 'model', read_only=True)
+    p.declare('mode', 'a', 'mode', choices=('a', 'b'))
+    # Out of the descriptor's range: rclpy's own refusal (names parameter, value and range).
+    bad = node.set_parameters([Parameter('speedup', value=-2.0)])[0]
+    assert not bad.successful and 'speedup' in bad.reason and '-2.0' in bad.reason
+    # Other checks: our on-set callback, same message as at start.
+    bad = node.set_parameters([Parameter('mode', value='z')])[0]
+    assert not bad.successful and "'mode'" in bad.reason and "'a', 'b'" in bad.reason
+    assert node.get_parameter('mode').value == 'a'
+    assert node.get_parameter('speedup').value == 1.0 and seen == []
+    ok = node.set_parameters([Parameter('speedup', value=20.0)])[0]
+    assert ok.successful and seen == [20.0] and p.value('speedup') == 20.0
+    ro = node.set_parameters([Parameter('model', value='x')])[0]
+    assert not ro.successful and node.get_parameter('model').value == 'm'
+    # Parameters we did not declare (use_sim_time) are left to rclpy.
+    assert node.set_parameters([Parameter('use_sim_time', value=True)])[0].successful

@@ -41,8 +41,7 @@ rudder follows it with a first-order lag (rudder_time_constant) and its rate is 
 """
 import numpy as np
 
-from ..integrators import rk4_step
-from .base import ModelStateError, VesselModel
+from .constant_speed import ConstantSpeedModel, check_param  # noqa: F401 (re-export)
 
 # Preset values: Table 2.2 of seed 004 in the unified rudder sign (see the module docstring).
 # Rudder limits are our choice (the table has none): the mariner gets those of the MSS mariner
@@ -60,22 +59,9 @@ PRESET_NAMES = tuple(PRESETS)
 RUDDER_TIME_CONSTANT = 1.0
 
 
-def check_param(name, value, lo, hi, *, lo_open=False, nonzero=False):
-    """Return float(value) or raise ValueError naming the parameter, value and allowed range."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f'{name} = {value!r} is not a number') from None
-    lo_ok = v > lo if lo_open else v >= lo
-    if not (np.isfinite(v) and lo_ok and v <= hi and not (nonzero and v == 0.0)):
-        bracket = '(' if lo_open else '['
-        extra = ', nonzero' if nonzero else ''
-        raise ValueError(f'{name} = {value!r} is outside the allowed range '
-                         f'{bracket}{lo}, {hi}]{extra}')
-    return v
 
 
-class _NomotoBase(VesselModel):
+class _NomotoBase(ConstantSpeedModel):
     """Shared parts: parameters, rudder servo, kinematics, inputs, initial state."""
 
     source = 'Nomoto (1957); Fossen (2011) Ch. 7; presets: seed 004 Table 2.2'
@@ -122,37 +108,11 @@ class _NomotoBase(VesselModel):
         self._set_gains(p)
 
     # -- rudder servo and kinematics, shared by both orders ------------------------------------
-    def _rudder_rate(self, delta, delta_c):
-        dc = np.clip(delta_c, -self.rudder_max, self.rudder_max)
-        return np.clip((dc - delta) / self.rudder_time_constant,
-                       -self.rudder_rate_max, self.rudder_rate_max)
-
     def _kinematics(self, x, xdot):
         u, v, psi = x[..., self.IU], x[..., self.IV], x[..., self.IPSI]
         c, s = np.cos(psi), np.sin(psi)
         xdot[..., self.IX] = u * c - v * s
         xdot[..., self.IY] = u * s + v * c
-
-    def inputs(self, rudder_cmd, shaft_cmd=None):
-        """Unified rudder command (rad, + to port) -> native input [delta_c] (same sign)."""
-        if shaft_cmd is not None:
-            raise ValueError(f'{self.name} has no shaft input (got shaft_cmd={shaft_cmd!r})')
-        return np.asarray(rudder_cmd, dtype=float)[..., None] * self.RUDDER_SIGN
-
-    def initial_state(self, speed=None, north=0.0, east=0.0, psi=0.0, shaft=None):
-        x = np.zeros(self.n_states)
-        x[self.IU] = self.U if speed is None else float(speed)
-        x[self.IX], x[self.IY], x[self.IPSI] = north, east, psi
-        return x
-
-    def check_state(self, x, u=None):
-        super().check_state(x, u)
-        if u is not None and not np.all(np.isfinite(u)):
-            raise ModelStateError(f'{self.name}: input is not finite: {u}')
-
-    def step(self, x, u, h):
-        """One RK4 step of length h (s) with the input held (ship_sim.integrators)."""
-        return rk4_step(self.rhs, np.asarray(x, dtype=float), np.asarray(u, dtype=float), h)
 
     def nomoto_ab(self):
         """First-order Nomoto (a, b) in the unified sign: r_dot = a r + b delta (1/s, 1/s^2)."""

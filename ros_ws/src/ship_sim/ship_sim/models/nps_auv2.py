@@ -33,9 +33,7 @@ actual rudder like every other model.
 """
 import numpy as np
 
-from ..integrators import rk4_step
-from .base import ModelStateError, VesselModel
-from .nomoto import check_param
+from .constant_speed import ConstantSpeedModel, check_param
 
 FT = 0.3048  # m per ft
 
@@ -95,7 +93,7 @@ def nondimensional_nomoto_ab(a11, a12, a21, a22, b1, b2):
     return -c1 / c2, c3 / c2
 
 
-class NpsAuv2(VesselModel):
+class NpsAuv2(ConstantSpeedModel):
     """NPS AUV II sway/yaw model (seed 003). State [u, v, r, north, east, psi, delta]."""
 
     name = 'nps_auv2'
@@ -130,31 +128,8 @@ class NpsAuv2(VesselModel):
         xdot[..., 3] = su * c - v * s
         xdot[..., 4] = su * s + v * c
         xdot[..., 5] = r
-        dc = np.clip(u[..., 0], -self.rudder_max, self.rudder_max)
-        xdot[..., 6] = np.clip((dc - delta) / self.rudder_time_constant,
-                               -self.rudder_rate_max, self.rudder_rate_max)
+        xdot[..., 6] = self._rudder_rate(delta, u[..., 0])
         return xdot
-
-    def inputs(self, rudder_cmd, shaft_cmd=None):
-        """Unified rudder command (rad, + to port) -> native [delta_c] (same sign)."""
-        if shaft_cmd is not None:
-            raise ValueError(f'{self.name} has no shaft input (got shaft_cmd={shaft_cmd!r})')
-        return np.asarray(rudder_cmd, dtype=float)[..., None] * self.RUDDER_SIGN
-
-    def initial_state(self, speed=None, north=0.0, east=0.0, psi=0.0, shaft=None):
-        x = np.zeros(self.n_states)
-        x[self.IU] = self.U if speed is None else float(speed)
-        x[self.IX], x[self.IY], x[self.IPSI] = north, east, psi
-        return x
-
-    def check_state(self, x, u=None):
-        super().check_state(x, u)
-        if u is not None and not np.all(np.isfinite(u)):
-            raise ModelStateError(f'{self.name}: input is not finite: {u}')
-
-    def step(self, x, u, h):
-        """One RK4 step of length h (s) with the input held (ship_sim.integrators)."""
-        return rk4_step(self.rhs, np.asarray(x, dtype=float), np.asarray(u, dtype=float), h)
 
     def nondimensional_nomoto_ab(self):
         """The seed's (a, b) of eq. (2.11), time in L/U: about (-1.468, -2.859)."""

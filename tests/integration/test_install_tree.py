@@ -1,0 +1,85 @@
+"""The colcon install tree is what `ros2 run` and the ament index expect, for every package.
+
+`ros2 run P E` finds P through <prefix>/share/ament_index/resource_index/packages/P under
+AMENT_PREFIX_PATH and runs <prefix>/lib/P/E; package.xml must be a valid format-3 manifest.
+"""
+import ast
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+from catkin_pkg.package import parse_package
+
+REPO = Path(__file__).resolve().parents[2]
+SRC = REPO / 'ros_ws' / 'src'
+INSTALL = REPO / 'ros_ws' / 'install'
+PACKAGES = sorted(p.name for p in SRC.iterdir() if (p / 'package.xml').exists())
+
+
+def console_scripts(pkg):
+    """Executable names declared in setup.py's console_scripts (read, not executed)."""
+    tree = ast.parse((SRC / pkg / 'setup.py').read_text())
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Dict):
+            for k, v in zip(node.keys, node.values):
+                if isinstance(k, ast.Constant) and k.value == 'console_scripts':
+                    return [ast.literal_eval(e).split('=')[0].strip() for e in v.elts]
+    return []
+
+
+def test_all_four_packages_exist():
+    assert {'ship_sim', 'ship_guidance', 'ship_autopilot', 'ship_planner'} <= set(PACKAGES)
+
+
+@pytest.mark.parametrize('pkg', PACKAGES)
+def test_package_xml_is_valid_format_3(pkg):
+    manifest = parse_package(str(SRC / pkg / 'package.xml'))
+    manifest.validate()  # raises on an invalid manifest (e.g. a malformed maintainer e-mail)
+    assert manifest.package_format == 3
+    assert manifest.get_build_type() == 'ament_python'
+    assert manifest.name == pkg
+
+
+@pytest.mark.parametrize('pkg', PACKAGES)
+def test_install_tree_has_index_marker_manifest_and_executables(pkg):
+    prefix = INSTALL / pkg
+    assert (prefix / 'share' / 'ament_index' / 'resource_index' / 'packages' / pkg).exists()
+    assert (prefix / 'share' / pkg / 'package.xml').exists()
+    exes = console_scripts(pkg)
+    assert exes, f'{pkg} declares no console_scripts'
+    for exe in exes:
+        path = prefix / 'lib' / pkg / exe
+        assert path.exists() and os.access(path, os.X_OK), f'{path} missing (ros2 run {pkg} {exe})'
+
+
+#: One invalid parameter per executable: the node must refuse it with one line and exit 2.
+BAD_PARAMETER = {
+    'vessel_node': ('model', 'no_such_model'),
+    'guidance_node': ('law', 'no_such_law'),
+    'autopilot_node': ('controller', 'no_such_controller'),
+    'route_node': ('route_file', '/no/such/route.yaml'),
+    'follower_node': ('lookahead_m', '-1.0'),
+}
+
+
+@pytest.fixture(scope='module')
+def setup_bash_env():
+    """The environment `source install/setup.bash` gives (what a ROS 2 user runs nodes with)."""
+    out = subprocess.run(['bash', '-c', f'source {INSTALL}/setup.bash && env -0'],
+                         capture_output=True, text=True, check=True)
+    return dict(kv.split('=', 1) for kv in out.stdout.split('\0') if '=' in kv)
+
+
+@pytest.mark.parametrize('pkg', PACKAGES)
+def test_executables_run_and_refuse_a_bad_parameter_in_one_line(pkg, setup_bash_env):
+    env = dict(setup_bash_env, ROS_DOMAIN_ID='231', ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+    for exe in console_scripts(pkg):
+        assert exe in BAD_PARAMETER, f'add a bad parameter for {exe} to BAD_PARAMETER'
+        name, value = BAD_PARAMETER[exe]
+        proc = subprocess.run([str(INSTALL / pkg / 'lib' / pkg / exe), '--ros-args', '-p',
+                               f'{name}:={value}'], capture_output=True, text=True, env=env,
+                              timeout=60)
+        assert proc.returncode == 2, proc.stderr[-2000:]
+        lines = proc.stderr.strip().splitlines()
+        assert len(lines) == 1 and name in lines[0] and exe in lines[0], proc.stderr

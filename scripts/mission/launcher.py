@@ -173,8 +173,11 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
                             ['--ros-args', '-r', f'__ns:=/{spec.namespace}', '--params-file', f])
             vessel_params.append((spec, params['vessel_node'], plan))
         if record:
+            from ship_sim.models import model_class
+            limit = model_class(scenario.vessels[0].model).rudder_max
             group.start_argv('recorder', [sys.executable, RECORDER, run / 'bag', '--time-source',
-                                          'sim', '--exclude', r'^/(rosout|parameter_events)$'])
+                                          'sim', '--exclude', r'^/(rosout|parameter_events)$',
+                                          '--meta', f'mission.rudder_limit_rad={limit!r}'])
         monitor = Monitor(namespaces)
         monitor.spin(1.0)
         for spec, vparams, _plan in vessel_params:
@@ -226,9 +229,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
     metrics = None
     if analyse and record:
         from mission.report import analyse_bag
-        limits = {}
         metrics = analyse_bag(run / 'bag', run, settle_s=scenario.settle_s)
         metrics['run'] = summary
-        metrics.update(limits)
         progress(f'metrics and plots written to {run}')
     return run, metrics

@@ -1,0 +1,11 @@
+"""Mission tooling shared by the launcher and the analysis scripts (``from mission import ...``).
+
+- ``processes``: start/stop node processes from the colcon install.
+- ``recorder``: rosbag2 (MCAP) recording of a running graph (rclpy + rosbags).
+- ``bag``: read a bag back into numpy arrays per vessel namespace.
+- ``metrics``: path-following metrics (pure numpy).
+- ``plots``: PNG plots (matplotlib Agg).
+- ``report``: bag -> metrics.json + plots (used by run_mission.py and replay_bag.py).
+
+Submodules are imported on demand, so importing one does not pull in rclpy or matplotlib.
+"""

@@ -1,0 +1,256 @@
+"""Path-following metrics of one recorded run (pure numpy; no ROS).
+
+Inputs are the topic quantities (DESIGN.md): time t (s), ENU position x, y (m) and yaw (rad),
+rudder angles (rad, positive to port), heading command (ENU yaw, rad), cross-track error e (m,
+positive = vessel to starboard of the path) and the route as ENU waypoints. Every function
+returns plain floats, ints or None, so ``json.dump`` writes the result; key names carry units.
+
+Conventions of this module (so that runs compare with each other):
+
+- Settling: cross-track, heading and rudder statistics ignore the first ``settle_s`` seconds
+  after the first odometry sample (the approach to the path is a transient, not tracking
+  error). Default: ``DEFAULT_SETTLE_FRACTION`` (10 %) of the run's duration. The cut-off used
+  is reported as ``settle_s``.
+- Cumulative Gaussian reward, seed 000 (Martinsen, "Curved path following with deep RL")
+  eq. (8) and Table I: per step ``a exp(-e^2 / (2 sigma^2))`` with a = 1, sigma = 10 m, and 0
+  when the yaw error to the path, |psi - gamma_p|, exceeds pi/2 (the eq. 8 gate; applied when
+  the route is known). Table I sums the Gaussian term only (its title: "cumulative Gaussian
+  reward"), over the whole episode (no settling), episodes being 1000 s. The document does not
+  state its time step, so the sum depends on an assumed sampling: we resample e on a uniform
+  grid of ``reward_step_s`` (default 0.1 s, the step of the MSS simulations the seed runs) and
+  also report the sampling-free integral ``reward_gaussian_integral_s`` = sum * step, from
+  which the sum at any other step h follows as integral / h. An episode of ``T`` s with e = 0
+  scores T / step (10 000 for 1000 s at 0.1 s).
+- Completion: when the guidance's own finish flag is given (ship_guidance's progress topic,
+  column 'finished'), the first time it is set; otherwise the first time the vessel's
+  projection on the route polyline (last segment extended past the end) is within
+  ``finish_tolerance_m`` of the route's end, i.e. the remaining along-track distance reaches 0
+  (default tolerance 0 m). ``completion_source`` says which. Times are from the first odometry
+  sample. The route is taken as the polyline of its poses (arcs arrive split into short
+  chords, see ship_guidance.ros.path_msgs).
+"""
+import numpy as np
+
+DEFAULT_SETTLE_FRACTION = 0.10
+REWARD_SIGMA_M = 10.0   # seed 000 eq. (8): Gaussian standard deviation
+REWARD_STEP_S = 0.1     # assumed step of the seed's episodes (not stated in the document)
+SATURATION_RTOL = 1e-3  # |delta| >= limit * (1 - rtol) counts as saturated
+
+
+def wrap(a):
+    """Angle(s) to [-pi, pi)."""
+    return (np.asarray(a, dtype=float) + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def _f(x):
+    """numpy scalar -> JSON-able float (NaN/inf -> None)."""
+    x = float(x)
+    return x if np.isfinite(x) else None
+
+
+def rms(x):
+    x = np.asarray(x, dtype=float)
+    return float(np.sqrt(np.mean(x * x))) if x.size else float('nan')
+
+
+def settle_cutoff(t, settle_s=None, settle_fraction=DEFAULT_SETTLE_FRACTION):
+    """Absolute time (s) from which statistics count: t[0] + settle_s (default: a fraction of the run)."""
+    t = np.asarray(t, dtype=float)
+    if t.size == 0:
+        return 0.0
+    if settle_s is None:
+        settle_s = settle_fraction * (t[-1] - t[0])
+    if settle_s < 0:
+        raise ValueError(f'settle_s must be >= 0, got {settle_s}')
+    return float(t[0] + settle_s)
+
+
+# -- cross-track error -------------------------------------------------------------------------
+
+def cross_track_stats(t, e, t_from):
+    """RMS, max |e| and mean e (m) of the samples at t >= t_from."""
+    t, e = np.asarray(t, dtype=float), np.asarray(e, dtype=float)
+    sel = e[t >= t_from]
+    if sel.size == 0:
+        return {'xte_rms_m': None, 'xte_max_abs_m': None, 'xte_mean_m': None, 'xte_samples': 0}
+    return {'xte_rms_m': _f(rms(sel)), 'xte_max_abs_m': _f(np.max(np.abs(sel))),
+            'xte_mean_m': _f(np.mean(sel)), 'xte_samples': int(sel.size)}
+
+
+# -- route geometry -----------------------------------------------------------------------------
+
+def project_on_route(x, y, route_x, route_y, chunk=4096):
+    """Project positions on the route polyline (ENU).
+
+    Returns (s, e, gamma, length): along-track distance of the projection (m; on the first and
+    last segments the line is extended, so s < 0 before the start and s > length past the end),
+    signed cross-track error (m, positive to starboard of the path direction), path tangent yaw
+    (rad, ENU) at the projection, and the route length (m).
+    """
+    px, py = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    rx, ry = np.asarray(route_x, dtype=float), np.asarray(route_y, dtype=float)
+    keep = np.concatenate(([True], np.hypot(np.diff(rx), np.diff(ry)) > 0))  # drop repeated points
+    rx, ry = rx[keep], ry[keep]
+    if rx.size < 2:
+        raise ValueError('a route needs at least two distinct points')
+    dx, dy = np.diff(rx), np.diff(ry)
+    seg_len = np.hypot(dx, dy)
+    s0 = np.concatenate(([0.0], np.cumsum(seg_len)[:-1]))
+    length = float(seg_len.sum())
+    ux, uy = dx / seg_len, dy / seg_len
+    lo = np.zeros_like(seg_len)
+    hi = seg_len.copy()
+    lo[0], hi[-1] = -np.inf, np.inf  # extend the ends
+    s, e, gamma = (np.empty(px.size) for _ in range(3))
+    for a in range(0, px.size, chunk):  # bound memory: chunk x segments
+        qx = px[a:a + chunk, None] - rx[None, :-1]
+        qy = py[a:a + chunk, None] - ry[None, :-1]
+        along = np.clip(qx * ux + qy * uy, lo, hi)
+        dist2 = (qx - along * ux) ** 2 + (qy - along * uy) ** 2
+        k = np.argmin(dist2, axis=1)
+        rows = np.arange(k.size)
+        s[a:a + chunk] = s0[k] + along[rows, k]
+        # right of the direction (starboard) is positive: e = u x q . (-z)
+        e[a:a + chunk] = uy[k] * qx[rows, k] - ux[k] * qy[rows, k]
+        gamma[a:a + chunk] = np.arctan2(uy[k], ux[k])
+    return s, e, gamma, length
+
+
+def completion_time(t, s, length, finish_tolerance_m=0.0):
+    """First time (s, absolute) the remaining along-track distance length - s is <= the tolerance; None if never."""
+    t, s = np.asarray(t, dtype=float), np.asarray(s, dtype=float)
+    done = np.nonzero(length - s <= finish_tolerance_m)[0]
+    return float(t[done[0]]) if done.size else None
+
+
+# -- reward (seed 000) ----------------------------------------------------------------------------
+
+def gaussian_reward(t, e, yaw_error=None, sigma_m=REWARD_SIGMA_M, step_s=REWARD_STEP_S, episode_s=None):
+    """Cumulative Gaussian reward of seed 000, eq. (8) / Table I, on a uniform grid of ``step_s``.
+
+    e (m) is linearly interpolated at t0, t0 + step, ... (t0 = t[0]; the last grid point is <=
+    t[-1], or t0 + episode_s when given). ``yaw_error`` (rad, same times as e) zeroes the reward
+    where |yaw error| > pi/2. Returns the sum, the integral sum * step (s) and the grid used.
+    """
+    t, e = np.asarray(t, dtype=float), np.asarray(e, dtype=float)
+    if sigma_m <= 0 or step_s <= 0:
+        raise ValueError(f'sigma_m and step_s must be > 0, got {sigma_m}, {step_s}')
+    if t.size == 0:
+        return {'reward_gaussian_sum': None, 'reward_gaussian_integral_s': None, 'reward_steps': 0,
+                'reward_step_s': step_s, 'reward_sigma_m': sigma_m, 'reward_episode_s': 0.0}
+    end = t[-1] if episode_s is None else min(t[-1], t[0] + episode_s)
+    n = int(np.floor((end - t[0]) / step_s + 1e-9)) + 1
+    grid = t[0] + step_s * np.arange(n)
+    r = np.exp(-np.interp(grid, t, e) ** 2 / (2.0 * sigma_m ** 2))
+    if yaw_error is not None:  # interpolated unwrapped, so +-pi never averages to 0
+        yaw_grid = wrap(np.interp(grid, t, np.unwrap(np.asarray(yaw_error, dtype=float))))
+        r = np.where(np.abs(yaw_grid) <= np.pi / 2, r, 0.0)
+    total = float(r.sum())
+    return {'reward_gaussian_sum': total, 'reward_gaussian_integral_s': total * step_s, 'reward_steps': int(n),
+            'reward_step_s': float(step_s), 'reward_sigma_m': float(sigma_m),
+            'reward_episode_s': float(grid[-1] - grid[0] + step_s)}
+
+
+# -- rudder and heading -----------------------------------------------------------------------------
+
+def rudder_stats(t, delta, t_from, limit_rad=None, prefix='rudder'):
+    """Rudder usage after t_from: mean |delta|, RMS (rad), total variation per second (rad/s), saturation.
+
+    Total variation = sum |delta[k+1] - delta[k]| over the window, divided by its duration.
+    Saturated samples: |delta| >= limit (1 - 1e-3); None when no limit is given.
+    """
+    t, d = np.asarray(t, dtype=float), np.asarray(delta, dtype=float)
+    sel = t >= t_from
+    t, d = t[sel], d[sel]
+    out = {f'{prefix}_mean_abs_rad': None, f'{prefix}_rms_rad': None, f'{prefix}_max_abs_rad': None,
+           f'{prefix}_total_variation_rad_per_s': None, f'{prefix}_saturated_samples': None,
+           f'{prefix}_saturated_fraction': None, f'{prefix}_samples': int(d.size)}
+    if d.size == 0:
+        return out
+    out[f'{prefix}_mean_abs_rad'] = _f(np.mean(np.abs(d)))
+    out[f'{prefix}_rms_rad'] = _f(rms(d))
+    out[f'{prefix}_max_abs_rad'] = _f(np.max(np.abs(d)))
+    span = t[-1] - t[0]
+    out[f'{prefix}_total_variation_rad_per_s'] = _f(np.sum(np.abs(np.diff(d))) / span) if span > 0 else None
+    if limit_rad is not None:
+        sat = int(np.count_nonzero(np.abs(d) >= limit_rad * (1.0 - SATURATION_RTOL)))
+        out[f'{prefix}_saturated_samples'] = sat
+        out[f'{prefix}_saturated_fraction'] = sat / d.size
+    return out
+
+
+def heading_error_stats(t_cmd, yaw_cmd, t, yaw, t_from):
+    """Heading error yaw - command (rad, wrapped) at the command times after t_from.
+
+    The vessel yaw is unwrapped and interpolated at each command time.
+    """
+    t_cmd, yaw_cmd = np.asarray(t_cmd, dtype=float), np.asarray(yaw_cmd, dtype=float)
+    sel = (t_cmd >= t_from) & (t_cmd >= t[0]) & (t_cmd <= t[-1])
+    if not np.any(sel):
+        return {'heading_error_rms_rad': None, 'heading_error_max_abs_rad': None,
+                'heading_error_mean_rad': None, 'heading_error_samples': 0}
+    err = wrap(np.interp(t_cmd[sel], t, np.unwrap(yaw)) - yaw_cmd[sel])
+    return {'heading_error_rms_rad': _f(rms(err)), 'heading_error_max_abs_rad': _f(np.max(np.abs(err))),
+            'heading_error_mean_rad': _f(np.mean(err)), 'heading_error_samples': int(err.size)}
+
+
+# -- everything for one vessel ------------------------------------------------------------------------
+
+def vessel_metrics(t, x, y, yaw, *, xte=None, rudder=None, rudder_cmd=None, heading_cmd=None, route=None,
+                   settle_s=None, settle_fraction=DEFAULT_SETTLE_FRACTION, rudder_limit_rad=None,
+                   reward_sigma_m=REWARD_SIGMA_M, reward_step_s=REWARD_STEP_S, episode_s=None,
+                   finish_tolerance_m=0.0, finished=None, remaining=None):
+    """All metrics of one vessel as a JSON-able dict.
+
+    t, x, y, yaw: odometry (s, m, m, rad ENU). xte, rudder, rudder_cmd, heading_cmd: (t, values)
+    pairs or None. route: (route_x, route_y) ENU waypoints or None. finished, remaining: the
+    guidance's finish flag (0/1) and remaining distance (m) as (t, values), or None. The cross-track error and
+    reward use the recorded ``xte`` (the guidance's own); without it, the error is computed
+    from the route geometry (``xte_source`` says which).
+    """
+    t, x, y, yaw = (np.asarray(a, dtype=float) for a in (t, x, y, yaw))
+    if t.size < 2:
+        raise ValueError('need at least two odometry samples')
+    t_from = settle_cutoff(t, settle_s, settle_fraction)
+    out = {'duration_s': _f(t[-1] - t[0]), 'start_time_s': _f(t[0]), 'settle_s': _f(t_from - t[0]),
+           'odom_samples': int(t.size),
+           'distance_travelled_m': _f(np.sum(np.hypot(np.diff(x), np.diff(y))))}
+    geo = None
+    if route is not None and len(route[0]) >= 2:
+        s, e_geo, gamma, length = project_on_route(x, y, route[0], route[1])
+        geo = (s, e_geo, wrap(yaw - gamma))
+        t_done = completion_time(t, s, length, finish_tolerance_m)
+        out.update({'route_length_m': _f(length), 'finished': t_done is not None,
+                    'completion_source': 'route',
+                    'time_to_complete_s': _f(t_done - t[0]) if t_done is not None else None,
+                    'remaining_at_end_m': _f(max(0.0, length - s[-1])),
+                    'path_yaw_error_max_abs_rad': _f(np.max(np.abs(geo[2][t >= t_from]), initial=0.0))})
+    if finished is not None and len(finished[0]):
+        flag_t, flag = np.asarray(finished[0], dtype=float), np.asarray(finished[1], dtype=float)
+        done = np.nonzero(flag >= 0.5)[0]
+        out.update({'finished': bool(done.size), 'completion_source': 'guidance',
+                    'time_to_complete_s': _f(flag_t[done[0]] - t[0]) if done.size else None})
+    if remaining is not None and len(remaining[0]):
+        out['remaining_at_end_m'] = _f(np.asarray(remaining[1], dtype=float)[-1])
+    if xte is not None and len(xte[0]):
+        t_e, e, source = np.asarray(xte[0], dtype=float), np.asarray(xte[1], dtype=float), 'topic'
+    elif geo is not None:
+        t_e, e, source = t, geo[1], 'route'
+    else:
+        t_e, e, source = None, None, None
+    out['xte_source'] = source
+    if e is not None:
+        out.update(cross_track_stats(t_e, e, t_from))
+        # gate of eq. (8): yaw error to the path at the error's sample times
+        yaw_err = wrap(np.interp(t_e, t, np.unwrap(geo[2]))) if geo is not None else None
+        out.update(gaussian_reward(t_e, e, yaw_err, reward_sigma_m, reward_step_s, episode_s))
+    if geo is not None:
+        out['xte_route_rms_m'] = _f(rms(geo[1][t >= t_from]))
+    if rudder is not None:
+        out.update(rudder_stats(rudder[0], rudder[1], t_from, rudder_limit_rad, 'rudder'))
+    if rudder_cmd is not None:
+        out.update(rudder_stats(rudder_cmd[0], rudder_cmd[1], t_from, rudder_limit_rad, 'rudder_cmd'))
+    if heading_cmd is not None:
+        out.update(heading_error_stats(heading_cmd[0], heading_cmd[1], t, yaw, t_from))
+    out['rudder_limit_rad'] = _f(rudder_limit_rad) if rudder_limit_rad is not None else None
+    return out

@@ -1,0 +1,67 @@
+#!/usr/bin/env python3
+"""Regenerate metrics.json and the plots of a recorded mission from its bag.
+
+    scripts/replay_bag.py BAG_DIR [--out DIR] [--settle S] [--rudder-limit-deg D]
+        [--reward-step S] [--episode S] [--progress-topic NAME] [--no-plots]
+
+Writes into --out (default: the directory that holds the bag). Definitions of the metrics:
+scripts/mission/metrics.py. Exit codes: 0 done, 2 not a bag / nothing to analyse.
+"""
+import argparse
+import math
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from mission import metrics  # noqa: E402
+from mission.bag import BagError  # noqa: E402
+from mission.report import analyse_bag  # noqa: E402
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    p.add_argument('bag', help='rosbag2 directory (with metadata.yaml)')
+    p.add_argument('--out', default=None, help='output directory (default: the bag\'s parent)')
+    p.add_argument('--settle', type=float, default=None, metavar='S',
+                   help='seconds excluded at the start (default: 10 %% of the run)')
+    p.add_argument('--rudder-limit-deg', type=float, default=None,
+                   help='rudder limit for saturation counts and plots (default: from the bag, else none)')
+    p.add_argument('--reward-step', type=float, default=metrics.REWARD_STEP_S, metavar='S',
+                   help='step of the cumulative Gaussian reward (seed 000 Table I), s')
+    p.add_argument('--episode', type=float, default=None, metavar='S',
+                   help='sum the reward over the first S seconds only (seed 000: 1000)')
+    p.add_argument('--progress-topic', default=None, help='relative name of the progress topic')
+    p.add_argument('--no-plots', action='store_true')
+    args = p.parse_args(argv)
+    if args.settle is not None and args.settle < 0:
+        p.error(f'--settle must be >= 0, got {args.settle}')
+    if args.reward_step <= 0:
+        p.error(f'--reward-step must be > 0, got {args.reward_step}')
+    limit = math.radians(args.rudder_limit_deg) if args.rudder_limit_deg is not None else None
+    topics = {'progress': args.progress_topic} if args.progress_topic else None
+    try:
+        result = analyse_bag(args.bag, args.out, settle_s=args.settle, rudder_limit_rad=limit, topics=topics,
+                             reward_step_s=args.reward_step, episode_s=args.episode, make_pngs=not args.no_plots)
+    except BagError as err:
+        print(f'replay_bag: {err}', file=sys.stderr)
+        return 2
+    out = Path(args.out) if args.out else Path(args.bag).resolve().parent
+    for ns, m in result['vessels'].items():
+        if 'error' in m:
+            print(f'{ns}: {m["error"]}')
+            continue
+        missing = f' (missing topics: {", ".join(m["missing_topics"])})' if m['missing_topics'] else ''
+        print(f'{ns}: xte rms {_fmt(m.get("xte_rms_m"))} m, max {_fmt(m.get("xte_max_abs_m"))} m, '
+              f'reward {_fmt(m.get("reward_gaussian_sum"))} @ {m.get("reward_step_s")} s, '
+              f'time to complete {_fmt(m.get("time_to_complete_s"))} s{missing}')
+    print(f'wrote {out / "metrics.json"}' + (f' and {len(result.get("plots", []))} plots' if not args.no_plots else ''))
+    return 0
+
+
+def _fmt(x):
+    return 'n/a' if x is None else f'{x:.2f}'
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,107 @@
+"""scripts/mission/recorder.py as a real process against a test node publishing a tiny graph.
+
+The test node latches a route *before* the recorder starts (a late recorder must still get it,
+through transient_local), then publishes /clock, odom and rudder for N steps. The recorder is
+stopped with SIGINT, as the launcher stops it, and must leave a complete bag: every message,
+exact Odometry stamps, rudder log times from /clock (sim time), the route's offered QoS.
+"""
+import re
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from geometry_msgs.msg import PoseStamped
+from nav_msgs.msg import Odometry, Path as PathMsg
+from rosgraph_msgs.msg import Clock
+from std_msgs.msg import Float64
+
+from mission.bag import read_bag
+from ship_sim.ros.qos import LATCHED, STREAM
+
+RECORDER = Path(__file__).resolve().parents[2] / 'scripts' / 'mission' / 'recorder.py'
+NS = '/vessel_0'
+STEP_NS = 100_000_000
+N = 200
+
+
+def _wait_for(path, pattern, timeout, proc):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        text = path.read_text(errors='replace') if path.exists() else ''
+        if re.search(pattern, text):
+            return True
+        if proc.poll() is not None:
+            return False
+        time.sleep(0.05)
+    return False
+
+
+@pytest.mark.timeout(60)
+def test_recorder_process_records_a_late_latched_route_and_every_step(ros_graph, tmp_path):
+    tn = ros_graph.test_node()
+    route_pub = tn.publisher(f'{NS}/route', PathMsg, LATCHED)
+    path = PathMsg()
+    path.header.frame_id = 'map'
+    for x in (0.0, 100.0, 250.0):
+        ps = PoseStamped()
+        ps.pose.position.x, ps.pose.orientation.w = x, 1.0
+        path.poses.append(ps)
+    route_pub.publish(path)  # before the recorder exists
+    clock_pub = tn.publisher('/clock', Clock, STREAM)
+    odom_pub = tn.publisher(f'{NS}/odom', Odometry, STREAM)
+    rudder_pub = tn.publisher(f'{NS}/rudder', Float64, STREAM)
+
+    bag = tmp_path / 'run' / 'bag'
+    out = tmp_path / 'recorder.out'
+    with open(out, 'wb') as fout:
+        rec = subprocess.Popen([sys.executable, str(RECORDER), str(bag)], env=ros_graph.env, stdout=fout,
+                               stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL, start_new_session=True)
+    try:
+        for topic in ('/clock', f'{NS}/odom', f'{NS}/rudder', f'{NS}/route'):
+            assert _wait_for(out, f'recording {re.escape(topic)} ', 20.0, rec), out.read_text()
+        for pub in (clock_pub, odom_pub, rudder_pub):
+            assert tn.wait_for_subscribers(pub, timeout=10.0)
+        for k in range(1, N + 1):
+            c = Clock()
+            c.clock.sec, c.clock.nanosec = divmod(k * STEP_NS, 1_000_000_000)
+            clock_pub.publish(c)
+            o = Odometry()
+            o.header.stamp = c.clock
+            o.header.frame_id, o.child_frame_id = 'map', 'vessel_0/base_link'
+            o.pose.pose.position.x, o.pose.pose.orientation.w = 0.5 * k, 1.0
+            odom_pub.publish(o)
+            rudder_pub.publish(Float64(data=0.001 * k))
+            tn.spin_once(0.0)
+            time.sleep(0.002)
+        tn.spin_for(1.0)  # let reliable delivery finish
+        rec.send_signal(signal.SIGINT)
+        assert rec.wait(timeout=10.0) == 0, out.read_text()
+    finally:
+        if rec.poll() is None:
+            rec.kill()
+            rec.wait()
+    text = out.read_text()
+    assert re.search(r'recorded \{.*"/vessel_0/odom": %d' % N, text), text
+
+    data = read_bag(bag)
+    v = data.vessels[NS]
+    steps = np.arange(1, N + 1)
+    np.testing.assert_array_equal(v.t, steps * STEP_NS / 1e9)
+    np.testing.assert_array_equal(v.x, 0.5 * steps)
+    np.testing.assert_array_equal(v.rudder.v, 0.001 * steps)
+    # sim-time log stamps: /clock and rudder are separate subscriptions, so at most one step apart
+    assert np.max(np.abs(v.rudder.t - v.t)) <= STEP_NS / 1e9 + 1e-9
+    assert v.route is not None and list(v.route.x) == [0.0, 100.0, 250.0]
+
+    meta = yaml.safe_load((bag / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
+    topics = {t['topic_metadata']['name']: t for t in meta['topics_with_message_count']}
+    assert topics[f'{NS}/odom']['message_count'] == N
+    assert topics['/clock']['message_count'] == N
+    assert topics[f'{NS}/route']['message_count'] == 1
+    assert topics[f'{NS}/route']['topic_metadata']['offered_qos_profiles'][0]['durability'] == 'transient_local'
+    assert '/rosout' not in topics

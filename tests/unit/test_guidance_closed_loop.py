@@ -172,3 +172,24 @@ def test_resume_mid_route_and_start_on_a_corner():
     out = g.update(500.0, 30.0, 0.0, 1.0)
     assert out.leg_index == 0
     assert (out.s, out.cross_track) == pytest.approx((500.0, 30.0))
+
+
+@pytest.mark.parametrize('clockwise', [True, False])
+def test_curvature_lead_cancels_the_autopilot_lag_on_arcs(clockwise):
+    """With the turn-rate lead psi_c += (2 zeta U / omega_n) kappa the steady state on an arc
+    satisfies e = d tan((2 zeta U / omega_n) (1/(R + |e|) - 1/R)), whose only solution is
+    e = 0: plain LOS then keeps no offset on the arc (without the lead it keeps pd_arc_offset)."""
+    d, radius = 2.0 * L, 1500.0
+    route = tangent_arc_route(clockwise, radius)
+    no_lead = pd_arc_offset(d, radius, U, ZETA, WN)
+    g = Guidance(route, 'los', d, zeta=ZETA, omega_n=WN, speed=U, curvature_lead=True)
+    log = simulate(g, 0.0, 0.0, 0.0, route.length / U)
+    late = log[(log[:, S_] > 2000.0 + 0.6 * route.legs[1].length)
+               & (log[:, S_] < route.length - 50.0)]
+    assert len(late) > 100
+    assert np.all(np.abs(late[:, EG_]) < 0.02 * no_lead)
+
+
+def test_curvature_lead_needs_the_autopilot_parameters():
+    with pytest.raises(ValueError, match='curvature_lead'):
+        Guidance(tangent_arc_route(True), 'los', 2.0 * L, curvature_lead=True)

@@ -28,6 +28,10 @@ How the route is followed:
   the integrator of Borhaug et al. (2008), frozen once finished. The integrator is kept across
   switches (a steady current needs a similar correction on the next leg) unless
   ``reset_integral_at_corners``.
+- Optional turn-rate lead (``curvature_lead``, needs the autopilot's zeta, omega_n and the
+  speed): psi_c += (2 zeta U / omega_n) kappa(s). On an arc the heading loop lags a turning
+  command by 2 zeta r / omega_n (its velocity error); the lead cancels it. Measured on the
+  flagship route (Mariner, d = 250 m, omega_n = 0.12 rad/s): RMS cross-track 28.7 -> 13.7 m.
 
 Stability check: given the paired PD autopilot's zeta and omega_n (rad/s) and the speed U (m/s)
 the constructor refuses a look-ahead at or below U / (2 zeta omega_n) for LOS, or
@@ -82,7 +86,7 @@ class Guidance:
     def __init__(self, route, law='los', lookahead=100.0, acceptance_radius=0.0, *,
                  integral_gain=0.5, corner_angle=math.radians(1.0), window=None,
                  zeta=None, omega_n=None, speed=None, allow_unstable=False,
-                 reset_integral_at_corners=False):
+                 reset_integral_at_corners=False, curvature_lead=False):
         if not isinstance(route, Route):
             raise ValueError('route must be a ship_guidance.path.Route, '
                              f'got {type(route).__name__}')
@@ -120,11 +124,26 @@ class Guidance:
                     + (f', sigma={self.integral_gain} m/s' if law == 'ilos' else '')
                     + '; seeds 001 eq. 34 / 003 eq. 3.5 in metres). Increase lookahead or pass '
                     'allow_unstable=True.')
+        # Turn-rate lead (s): a heading loop of damping zeta and frequency omega_n follows a
+        # heading ramp of rate r_d with a steady lag 2 zeta r_d / omega_n; on a path of
+        # curvature kappa at speed U, r_d = U kappa, so leading the command by that much removes
+        # the autopilot's share of the cross-track offset on arcs and curves.
+        self.curvature_lead = bool(curvature_lead)
+        if self.curvature_lead and self.critical_lookahead is None:
+            raise ValueError('curvature_lead needs the paired autopilot: give zeta, omega_n and '
+                             'speed')
+        self._lead = 2.0 * zeta * speed / omega_n if self.curvature_lead else 0.0
         # Smooth stretches between corners: first leg index of each.
         turn = np.abs(wrap_angle(route.start_angles[1:] - route.end_angles[:-1]))
         self._first = np.concatenate(([0], np.nonzero(turn > float(corner_angle))[0] + 1))
         self._last = np.concatenate((self._first[1:] - 1, [len(route.legs) - 1]))
         self.corner_legs = tuple(int(i) for i in self._first[1:])  # legs that start at a corner
+        # Per stretch, as Python floats for the per-step work: (start s, end s) and
+        # (last leg, its end north, its end east).
+        c = route.cumulative.tolist()
+        self._stretch_s = [(c[f], c[l + 1]) for f, l in zip(self._first.tolist(),
+                                                            self._last.tolist())]
+        self._stretch_end = [(l, *route.legs[l].end.tolist()) for l in self._last.tolist()]
         self.reset()
 
     def reset(self, s=None):
@@ -145,18 +164,16 @@ class Guidance:
         return int(np.searchsorted(self._first, leg, side='right') - 1)
 
     def _bounds(self, k):
-        c = self.route.cumulative
-        return c[self._first[k]], c[self._last[k] + 1]
+        return self._stretch_s[k]
 
     def _reached_end(self, k, proj, north, east):
         """Acceptance circle of the stretch's end point, or past the normal there. Both only
         count once the reference point has progressed close to the end (within pi R_acc of
         arc length, which any approach inside the circle satisfies, resp. clamped at the end),
         so a long arc whose end lies near its start does not switch at once."""
-        leg = int(self._last[k])
-        hi = self.route.cumulative[leg + 1]
-        end = self.route.legs[leg].end
-        if (math.hypot(north - end[0], east - end[1]) <= self.acceptance_radius
+        leg, end_n, end_e = self._stretch_end[k]
+        hi = self._stretch_s[k][1]
+        if (math.hypot(north - end_n, east - end_e) <= self.acceptance_radius
                 and hi - proj.s <= math.pi * self.acceptance_radius):
             return True
         return (proj.s >= hi - self.route.s_tol
@@ -166,7 +183,8 @@ class Guidance:
         """One guidance step at NED position (m) and heading psi (rad; only used for
         heading_error), dt (s) since the previous step (integrates ILOS). -> GuidanceOutput."""
         n, e, psi, dt = float(north), float(east), float(psi), float(dt)
-        if not all(math.isfinite(x) for x in (n, e, psi, dt)):
+        isfinite = math.isfinite
+        if not (isfinite(n) and isfinite(e) and isfinite(psi) and isfinite(dt)):
             raise ValueError(f'guidance update needs finite inputs, got north={north}, '
                              f'east={east}, psi={psi}, dt={dt}')
         if dt < 0.0:
@@ -205,7 +223,7 @@ class Guidance:
             psi_c = alpha - math.atan((err + sigma * self.integral) / d)
             if not self.finished:
                 self.integral += dt * d * err / ((err + sigma * self.integral) ** 2 + d * d)
-        psi_c = float(wrap_angle(psi_c))
+        psi_c = float(wrap_angle(psi_c + self._lead * proj.curvature))
         return GuidanceOutput(
             heading_cmd=psi_c, cross_track=err, s=proj.s, leg_index=proj.leg_index,
             distance_remaining=max(0.0, route.length - proj.s), finished=self.finished,

@@ -1,0 +1,41 @@
+"""Benchmark sections of ``scripts/bench.py`` (``make bench``); a registry, one module each.
+
+A section is a function ``run(quick: bool) -> dict`` returning a JSON-serialisable result:
+
+    {'title': str,                       # one line, printed above the table
+     'columns': [[key, header], ...],    # table columns, in order
+     'rows': [{key: value, ...}, ...],   # one row per measurement (numbers or short text)
+     'goals': [{'text': str, 'value': float, 'target': float, 'unit': str, 'met': bool}],
+     'notes': [str, ...],                # caveats (e.g. a model without the float path)
+     'failed': bool,                     # optional: part of it failed (numbers kept)
+     ...}                                # any extra figures (kept in the JSON only)
+
+``common.goal`` and ``common.format_section`` build and print these. A section that raises is
+reported as failed and the others still run. To add a section, write a module with such a
+function and add one line to ``SECTIONS`` below (name -> (module, function, description));
+modules are imported only when their section runs, so e.g. rclpy is loaded only for the ROS
+sections.
+"""
+import importlib
+
+#: Section name -> (module in this package, function, one-line description). Order = run order.
+SECTIONS = {
+    'models': ('models', 'run', 'single-vessel derivative and RK4 step cost per model'),
+    'batched': ('batched', 'run', 'batched RK4 throughput (vessel-steps/s) for the MSS ships'),
+    'node_jitter': ('node_jitter', 'run', 'odom inter-arrival jitter of a realtime vessel_node'),
+    'lockstep': ('lockstep', 'run', 'flagship graph in lockstep: real-time factor vs a bare '
+                 'relay'),
+    'realtime_latency': ('realtime_latency', 'run', 'flagship graph in realtime: odom -> '
+                         'rudder_cmd latency and missed steps'),
+    'closed_loop_inprocess': ('closed_loop_inprocess', 'run',
+                              'flagship loop with the pure modules in one process (no ROS)'),
+}
+
+
+def section_function(name):
+    """The ``run(quick)`` function of a registered section (ValueError for an unknown name)."""
+    try:
+        module, func, _ = SECTIONS[name]
+    except KeyError:
+        raise ValueError(f"unknown section {name!r}; allowed: {', '.join(SECTIONS)}") from None
+    return getattr(importlib.import_module(f'{__name__}.{module}'), func)

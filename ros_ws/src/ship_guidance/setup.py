@@ -23,6 +23,7 @@ setup(
     entry_points={
         'console_scripts': [
             'guidance_node = ship_guidance.guidance_node:main',
+            'follower_node = ship_guidance.follower_node:main',
         ],
     },
 )

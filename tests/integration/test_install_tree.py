@@ -60,6 +60,7 @@ BAD_PARAMETER = {
     'autopilot_node': ('controller', 'no_such_controller'),
     'route_node': ('route_file', '/no/such/route.yaml'),
     'follower_node': ('lookahead_m', '-1.0'),
+    'planner_node': ('clearance_m', '.nan'),
 }
 
 

@@ -24,6 +24,7 @@ setup(
     entry_points={
         'console_scripts': [
             'route_node = ship_planner.route_node:main',
+            'planner_node = ship_planner.planner_node:main',
         ],
     },
 )

@@ -4,13 +4,13 @@
 Starts every node as its own process from the colcon install (run `make build` first, or use
 `make demo SCENARIO=...`), records a bag, and writes metrics and plots to runs/<name>-<time>/
 (runs/latest points there). Exit code 0 on success, 1 if a node failed or the run timed out,
-2 for an invalid scenario, 130 on Ctrl-C.
+2 for an invalid scenario (checked before anything starts), 130 on Ctrl-C or SIGTERM.
 """
 import argparse
 import json
 import sys
 
-from mission.launcher import MissionFailed, run_scenario
+from mission.launcher import MissionFailed, check_scenario, install_stop_handlers, run_scenario
 from mission.scenario import ScenarioError, load_scenario
 
 
@@ -26,6 +26,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     try:
         scenario = load_scenario(args.scenario)
+        check_scenario(scenario)
     except ScenarioError as exc:
         print(f'run_mission: {exc}', file=sys.stderr)
         return 2
@@ -34,6 +35,7 @@ def main(argv=None):
     if args.stepping:
         scenario.stepping = args.stepping
     kw = {'runs_root': args.runs} if args.runs else {}
+    install_stop_handlers()   # Ctrl-C and SIGTERM stop every node, exit 130
     try:
         run, metrics = run_scenario(scenario, domain_id=args.domain_id,
                                     record=False if args.no_record else None,

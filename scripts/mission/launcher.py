@@ -1,18 +1,24 @@
 """Run a scenario as a graph of node processes (no `ros2 launch`): start, watch, stop, analyse.
 
 For each vessel namespace: route_node, guidance_node, autopilot_node and, last, vessel_node
-(in lockstep it publishes step 0 only once its odom subscribers are all there). A recorder
+(in lockstep it publishes step 0 only once its odom subscribers are all there). In a platoon
+(mission.platoon) a follower runs follower_node in place of guidance_node, steering at its
+predecessor's odom; every vessel_node is started after all the other nodes and waits for its
+own subscribers, which include the followers of that vessel. A recorder
 process writes every topic to an MCAP bag. The launcher's own rclpy node follows /clock,
 cross-track errors and route completion to print progress and to decide when the run is over:
 every vessel has completed its route, or the simulators reached duration_s. A node that exits
-early fails the run: everything is stopped and the exit code is non-zero. Ctrl-C stops
-everything too (exit 130). Afterwards the bag is turned into metrics.json and PNG plots.
+early fails the run: everything is stopped and the exit code is non-zero. Ctrl-C or SIGTERM
+stops everything too (exit 130; ``install_stop_handlers``, as run_mission.py does).
+Afterwards the bag is turned into metrics.json and PNG plots.
 
 Run folder: runs/<scenario>-<timestamp>/ with params/ (one ROS parameter file per node),
 logs/ (one log per process), bag/ (rosbag2 MCAP), metrics.json, *.png; runs/latest points at it.
 """
+import fcntl
 import math
 import os
+import signal
 import sys
 import time
 from datetime import datetime
@@ -21,11 +27,17 @@ from pathlib import Path
 import yaml
 
 from mission.processes import INSTALL, PY_SITE, REPO, ProcessGroup, install_env
-from mission.scenario import start_pose
+from mission.scenario import ScenarioError, start_pose
 
 RECORDER = Path(__file__).resolve().parent / 'recorder.py'
+# One lock file per ROS_DOMAIN_ID, shared with tests/integration/harness.py (DomainLease), so a
+# run never shares its domain with another run or an integration test on this machine.
+DOMAIN_LOCKS = Path('/tmp/shipnav_ros_domain_locks')
+DOMAIN_IDS = range(1, 102)  # Fast DDS ports stay below Linux's ephemeral range up to 101
 NODES = (('route_node', 'ship_planner'), ('guidance_node', 'ship_guidance'),
          ('autopilot_node', 'ship_autopilot'))
+FOLLOWER_NODES = (('route_node', 'ship_planner'), ('follower_node', 'ship_guidance'),
+                  ('autopilot_node', 'ship_autopilot'))
 
 
 class MissionFailed(RuntimeError):
@@ -37,6 +49,64 @@ def use_install_tree():
     for pkg in sorted(INSTALL.glob('*/' + PY_SITE)):
         if str(pkg) not in sys.path:
             sys.path.insert(0, str(pkg))
+
+
+_stop_signals = []
+
+
+def _on_stop_signal(signum, frame):
+    _stop_signals.append(signal.Signals(signum).name)
+
+
+def install_stop_handlers():
+    """SIGINT (Ctrl-C) and SIGTERM (kill, timeout, CI cancel) end a run at its next check.
+
+    The handler only takes note: an exception raised inside an rclpy call (where a signal
+    usually lands) comes out as a RuntimeError from pybind11, not a KeyboardInterrupt. The
+    nodes run in their own sessions, so without a SIGTERM handler they would be orphaned."""
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, _on_stop_signal)
+
+
+def check_scenario(scenario):
+    """What load_scenario cannot check without the packages: model names and route files, and
+    for a platoon the stability of every look-ahead (mission.platoon.check_stability; its
+    warnings go to scenario.platoon.warnings).
+
+    Raises ScenarioError (one line naming the file and the key) before anything starts."""
+    use_install_tree()
+    from ship_planner.route_files import RouteError, load_route
+    from ship_sim.models import MODEL_NAMES
+    platoon = scenario.platoon
+    for i, spec in enumerate(scenario.vessels):
+        where = (f'{scenario.file}: vessels.{spec.namespace}.' if platoon is None
+                 else f'{scenario.file}: platoon.vessels[{i}] ({spec.namespace}).')
+        if spec.model not in MODEL_NAMES:
+            raise ScenarioError(f'{where}model: unknown model {spec.model!r}; one of '
+                                f'{", ".join(MODEL_NAMES)}')
+        try:
+            load_route(spec.route_file)
+        except RouteError as exc:
+            key = f'{where}route' if platoon is None else f'{scenario.file}: platoon.route'
+            raise ScenarioError(f'{key}: {exc}') from None
+    if platoon is not None:
+        from mission.platoon import check_lead, check_stability
+        check_lead(scenario)
+        check_stability(scenario)
+
+
+def lease_domain_id():
+    """A free ROS_DOMAIN_ID, locked (flock) for the life of this process."""
+    DOMAIN_LOCKS.mkdir(parents=True, exist_ok=True)
+    for i in range(len(DOMAIN_IDS)):
+        did = DOMAIN_IDS[(os.getpid() + i) % len(DOMAIN_IDS)]
+        fd = os.open(DOMAIN_LOCKS / f'{did}.lock', os.O_CREAT | os.O_RDWR, 0o666)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            return did  # fd stays open: the lock is released when this process ends
+        except OSError:
+            os.close(fd)
+    raise MissionFailed(f'no free ROS_DOMAIN_ID in {DOMAIN_IDS} (locks in {DOMAIN_LOCKS})')
 
 
 def make_run_dir(scenario, root):
@@ -55,8 +125,16 @@ def make_run_dir(scenario, root):
     return run
 
 
+def vessel_nodes(spec):
+    """(executable, package) of the nodes started before a vessel's vessel_node."""
+    return NODES if spec.predecessor is None else FOLLOWER_NODES
+
+
 def node_parameters(scenario, spec, index, record):
-    """{node executable: parameters} for one vessel, scenario values first, then the glue."""
+    """{node executable: parameters} for one vessel, scenario values first, then the glue.
+
+    A platoon follower gets 'follower_node' (mission.platoon.follower_parameters) instead of
+    'guidance_node'; every platoon vessel_node also waits for the followers of its vessel."""
     from ship_planner.route_files import load_route
     plan = load_route(spec.route_file)
     x, y, yaw = start_pose(spec, plan.route)
@@ -68,8 +146,9 @@ def node_parameters(scenario, spec, index, record):
         'publish_rate': 1.0 / scenario.dt_s, 'stepping_mode': scenario.stepping,
         'speedup': scenario.speedup, 'clock_master': index == 0, 'max_steps': steps,
         'lockstep_timeout': scenario.lockstep_timeout_s,
-        # guidance + autopilot (+ the recorder) must all hear step 0.
-        'lockstep_odom_subscribers': 2 + int(record),
+        # guidance + autopilot (+ the recorder) (+ the followers) must all hear step 0.
+        'lockstep_odom_subscribers': (2 + int(record)) if scenario.platoon is None else
+        scenario.platoon.odom_subscribers(spec.namespace, record),
     }
     if spec.speed is not None:
         vessel['initial_speed'] = spec.speed
@@ -82,14 +161,19 @@ def node_parameters(scenario, spec, index, record):
             vessel[param] = cur[key]
     vessel.update(spec.vessel_params)
     sim_time = {'use_sim_time': True}
-    return {
+    params = {
         'vessel_node': {**vessel, 'use_sim_time': False},
         'route_node': {**sim_time, 'route_file': str(spec.route_file)},
-        'guidance_node': {**sim_time, **spec.guidance_params},
         'autopilot_node': {**sim_time, 'vessel_model': spec.model,
                            'pairing': 'sequence' if lockstep else 'latest',
                            **spec.autopilot_params},
-    }, plan
+    }
+    if spec.predecessor is None:
+        params['guidance_node'] = {**sim_time, **spec.guidance_params}
+    else:
+        from mission.platoon import follower_parameters
+        params['follower_node'] = follower_parameters(scenario, spec)
+    return params, plan
 
 
 def write_params(run, namespace, node, params):
@@ -106,10 +190,12 @@ class Monitor:
         from rclpy.qos import QoSProfile, ReliabilityPolicy
         from rosgraph_msgs.msg import Clock
         from std_msgs.msg import Bool, Float64
-        from ship_sim.ros.qos import LATCHED, STREAM
+        from ship_sim.ros.qos import LATCHED
         self.rclpy = rclpy
         self.context = rclpy.context.Context()
-        rclpy.init(context=self.context)
+        from rclpy.signals import SignalHandlerOptions
+        # No rclpy signal handlers: the launcher's own (install_stop_handlers) end the run.
+        rclpy.init(context=self.context, signal_handler_options=SignalHandlerOptions.NO)
         self.node = rclpy.create_node('mission_monitor', context=self.context)
         from rclpy.executors import SingleThreadedExecutor
         self.executor = SingleThreadedExecutor(context=self.context)
@@ -119,9 +205,12 @@ class Monitor:
         self.complete = {ns: False for ns in namespaces}
         self.node.create_subscription(Clock, '/clock', self._on_clock,
                                       QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))
+        # Display only: the latest value is enough, and a reliable queue of every step of every
+        # vessel would keep this executor busy (a platoon publishes thousands per second).
+        latest = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
         for ns in namespaces:
             self.node.create_subscription(Float64, f'/{ns}/cross_track_error',
-                                          lambda m, ns=ns: self.xte.__setitem__(ns, m.data), STREAM)
+                                          lambda m, ns=ns: self.xte.__setitem__(ns, m.data), latest)
             self.node.create_subscription(Bool, f'/{ns}/route_complete',
                                           lambda m, ns=ns: self.complete.__setitem__(ns, m.data),
                                           LATCHED)
@@ -140,6 +229,25 @@ class Monitor:
         self.rclpy.try_shutdown(context=self.context)
 
 
+def _wait_for_step0(proc, vparams, monitor, group):
+    """Wait until the lockstep simulator ``proc`` has published its step 0 (its log says so),
+    so that a follower started next never waits for a predecessor that has not begun: its
+    first wait would run out and the run would no longer be deterministic. Returns early if a
+    process has exited (the run loop reports it)."""
+    from mission.platoon import STEP0_LINE
+    limit = float(vparams.get('lockstep_start_timeout', 30.0)) + 15.0
+    deadline = time.monotonic() + limit
+    while STEP0_LINE not in proc.output():
+        if group.failed():
+            return
+        if _stop_signals:
+            raise KeyboardInterrupt(_stop_signals[0])
+        if time.monotonic() > deadline:
+            raise MissionFailed(f'{proc.label} did not publish step 0 within {limit:.0f} s; its '
+                                f'log ({proc.log_path}) ends with:\n{_tail(proc)}')
+        monitor.spin(0.05)
+
+
 def _tail(proc, n=8):
     lines = proc.output().strip().splitlines()
     return '\n'.join('    ' + ln for ln in lines[-n:])
@@ -151,13 +259,19 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
     use_install_tree()
     record = scenario.record if record is None else record
     run = make_run_dir(scenario, runs_root)
-    domain_id = domain_id if domain_id is not None else 1 + os.getpid() % 100
+    domain_id = domain_id if domain_id is not None else lease_domain_id()
     env = install_env(domain_id=domain_id)
     os.environ['ROS_DOMAIN_ID'] = str(domain_id)
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
     namespaces = [v.namespace for v in scenario.vessels]
     (run / 'scenario.yaml').write_text(scenario.file.read_text())
     progress(f'run folder {run} (ROS_DOMAIN_ID={domain_id}, {scenario.stepping})')
+    if scenario.platoon is not None:
+        chain = ', '.join(f'{s.namespace} <- {s.predecessor}' for s in scenario.vessels
+                          if s.predecessor)
+        progress(f'platoon of {len(namespaces)}: {chain}')
+        for w in scenario.platoon.warnings:
+            progress(f'  warning: {w}')
 
     group = ProcessGroup(env, run / 'logs')
     monitor = None
@@ -167,26 +281,41 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         vessel_params = []
         for i, spec in enumerate(scenario.vessels):
             params, plan = node_parameters(scenario, spec, i, record)
-            for exe, pkg in NODES:
+            for exe, pkg in vessel_nodes(spec):
                 f = write_params(run, spec.namespace, exe, params[exe])
                 group.start(f'{spec.namespace}/{exe}', pkg, exe,
                             ['--ros-args', '-r', f'__ns:=/{spec.namespace}', '--params-file', f])
             vessel_params.append((spec, params['vessel_node'], plan))
         if record:
-            from ship_sim.models import model_class
-            limit = model_class(scenario.vessels[0].model).rudder_max
+            from ship_sim.models import make_model
+            # The instance's limit (some models set it in __init__), as a plain float so that
+            # repr gives a number (repr of a numpy float is 'np.float64(...)').
+            limit = float(make_model(scenario.vessels[0].model).rudder_max)
+            # A platoon's followers run behind the master's /clock: wall log times, which
+            # mission.report maps onto each vessel's own odometry stamps.
+            source = 'sim' if scenario.platoon is None else 'wall'
             group.start_argv('recorder', [sys.executable, RECORDER, run / 'bag', '--time-source',
-                                          'sim', '--exclude', r'^/(rosout|parameter_events)$',
+                                          source, '--exclude', r'^/(rosout|parameter_events)$',
                                           '--meta', f'mission.rudder_limit_rad={limit!r}'])
         monitor = Monitor(namespaces)
         monitor.spin(1.0)
+        simulators = {}
+        if scenario.platoon is not None:   # every predecessor's simulator before its followers'
+            from mission.platoon import start_order
+            rank = {ns: i for i, ns in enumerate(start_order(scenario.platoon))}
+            vessel_params.sort(key=lambda item: rank[item[0].namespace])
         for spec, vparams, _plan in vessel_params:
+            if spec.predecessor is not None and scenario.stepping == 'lockstep':
+                _wait_for_step0(simulators[spec.predecessor], vparams, monitor, group)
             f = write_params(run, spec.namespace, 'vessel_node', vparams)
-            group.start(f'{spec.namespace}/vessel_node', 'ship_sim', 'vessel_node',
-                        ['--ros-args', '-r', f'__ns:=/{spec.namespace}', '--params-file', f])
+            simulators[spec.namespace] = group.start(
+                f'{spec.namespace}/vessel_node', 'ship_sim', 'vessel_node',
+                ['--ros-args', '-r', f'__ns:=/{spec.namespace}', '--params-file', f])
         last_print = 0.0
         while True:
             monitor.spin(0.2)
+            if _stop_signals:
+                raise KeyboardInterrupt(_stop_signals[0])
             dead = group.failed()
             vessels_done = [p for p in dead if p.label.endswith('/vessel_node') and p.returncode == 0]
             crashed = [p for p in dead if p not in vessels_done]
@@ -229,7 +358,11 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
     metrics = None
     if analyse and record:
         from mission.report import analyse_bag
-        metrics = analyse_bag(run / 'bag', run, settle_s=scenario.settle_s)
+        platoon = None
+        if scenario.platoon is not None:
+            platoon = {f'/{s.namespace}': f'/{s.predecessor}' if s.predecessor else None
+                       for s in scenario.vessels}
+        metrics = analyse_bag(run / 'bag', run, settle_s=scenario.settle_s, platoon=platoon)
         metrics['run'] = summary
         progress(f'metrics and plots written to {run}')
     return run, metrics

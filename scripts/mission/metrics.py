@@ -254,3 +254,34 @@ def vessel_metrics(t, x, y, yaw, *, xte=None, rudder=None, rudder_cmd=None, head
         out.update(heading_error_stats(heading_cmd[0], heading_cmd[1], t, yaw, t_from))
     out['rudder_limit_rad'] = _f(rudder_limit_rad) if rudder_limit_rad is not None else None
     return out
+
+
+# -- platoons ----------------------------------------------------------------------------------
+
+def gap_error_stats(t, gap_error, t_from):
+    """RMS, mean and max |.| (m) of a follower's gap error (gap - spacing, > 0 = too far behind)
+    at t >= t_from; NaN samples (the follower in route_fallback) are left out and counted."""
+    t, g = np.asarray(t, dtype=float), np.asarray(gap_error, dtype=float)
+    sel = g[t >= t_from]
+    ok = sel[np.isfinite(sel)]
+    if ok.size == 0:
+        return {'gap_error_rms_m': None, 'gap_error_mean_m': None, 'gap_error_max_abs_m': None,
+                'gap_error_samples': 0, 'gap_error_undefined_samples': int(sel.size)}
+    return {'gap_error_rms_m': _f(rms(ok)), 'gap_error_mean_m': _f(np.mean(ok)),
+            'gap_error_max_abs_m': _f(np.max(np.abs(ok))), 'gap_error_samples': int(ok.size),
+            'gap_error_undefined_samples': int(sel.size - ok.size)}
+
+
+def string_ratios(values, predecessors):
+    """String-stability measure of a platoon: each follower's value (e.g. its peak |cross-track
+    error|) divided by its predecessor's. values: {vessel: float or None}; predecessors:
+    {vessel: predecessor or None}. Returns {follower: ratio or None}; a ratio above 1 means the
+    deviation grew from the predecessor to the follower (seed 001's string stability asks
+    that it does not: the error of vessel i bounded by that of vessel i-1)."""
+    out = {}
+    for ns, pred in predecessors.items():
+        if pred is None:
+            continue
+        a, b = values.get(ns), values.get(pred)
+        out[ns] = _f(a / b) if a is not None and b is not None and b > 0.0 else None
+    return out

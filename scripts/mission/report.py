@@ -4,9 +4,31 @@ Reads the bag with ``mission.bag``, computes ``mission.metrics.vessel_metrics`` 
 draws ``mission.plots``. The rudder limit for the saturation count and the plot comes from the
 argument, else from the bag's custom_data key ``mission.rudder_limit_rad`` (the launcher can
 store it with the recorder's ``--meta``), else it is left out.
+
+Platoons (``platoon`` = {namespace: predecessor namespace or None}, from the launcher):
+- times: only the clock master publishes /clock and the followers run behind it in sim time, so
+  neither a /clock-based log time nor a wall time says when a follower's unstamped message was
+  due. Each vessel's unstamped topics (and the followers' gap_error) are therefore timed by the
+  vessel's OWN odometry: exactly by sequence when the topic has as many messages as the odom
+  (mission.bag), else (the recorder dropped messages: a reliable keep-last publisher drops the
+  oldest ones for a reader that lags too far) by ``_steps_by_log_time``;
+- each vessel's record ends at its own route completion (the guidance's finish flag, else the
+  first odometry past the route's end, ``_completion``): the
+  graph runs on until the last vessel completes, and past the route's end a follower's law is
+  not meaningful (its arc length is clamped at the end), so every metric and plot covers a
+  vessel from its start to its own finish;
+- ``metrics['platoon']``: per follower the gap error (gap - spacing, from its gap_error topic,
+  up to its predecessor's completion: the gap is an arc-length difference, and the route's arc
+  length ends there) and the string-stability measure: the ratio of its peak |cross-track
+  error| after settling to its predecessor's (mission.metrics.string_ratios; > 1 = the
+  deviation grew down the string), the same for the RMS; plots gap_error.png and
+  platoon_string.png.
 """
+import dataclasses
 import json
 from pathlib import Path
+
+import numpy as np
 
 from mission import bag as bagmod
 from mission import metrics, plots
@@ -15,16 +37,19 @@ RUDDER_LIMIT_KEY = 'mission.rudder_limit_rad'
 
 
 def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, topics=None, namespaces=None,
-                reward_step_s=metrics.REWARD_STEP_S, episode_s=None, make_pngs=True):
+                reward_step_s=metrics.REWARD_STEP_S, episode_s=None, make_pngs=True, platoon=None):
     """Write ``metrics.json`` and the plots for ``bag_dir`` into ``out_dir`` (default: the bag's parent).
 
     Returns the metrics dict: {'bag', 'time_source', 'topics': {topic: {type, count}},
     'vessels': {namespace: vessel_metrics(...) + 'missing_topics'}, 'plots': [file names]}.
+    ``platoon``: {namespace: predecessor namespace or None} for a platoon run (module docstring);
+    adds 'platoon' to the result.
     Raises ``mission.bag.BagError`` when the path is not a bag or has no vessel odometry.
     """
     bag_dir = Path(bag_dir)
     out = Path(out_dir) if out_dir is not None else bag_dir.resolve().parent
     data = bagmod.read_bag(bag_dir, topics=topics, namespaces=namespaces)
+    gaps, ends = _prepare_platoon(bag_dir, data, platoon) if platoon else (None, None)
     if rudder_limit_rad is None and RUDDER_LIMIT_KEY in data.custom_data:
         rudder_limit_rad = float(data.custom_data[RUDDER_LIMIT_KEY])
     result = {'bag': str(bag_dir), 'time_source': data.time_source,
@@ -45,10 +70,14 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
             finished=_progress_column(v, 'finished'), remaining=_progress_column(v, 'remaining_m'))
         m['missing_topics'] = v.missing
         result['vessels'][ns] = m
+    if platoon:
+        result['platoon'] = platoon_metrics(result['vessels'], gaps, platoon, settle_s, ends)
     out.mkdir(parents=True, exist_ok=True)
     if make_pngs:
         settle_shown = next((m.get('settle_s') for m in result['vessels'].values() if m.get('settle_s')), None)
         result['plots'] = [p.name for p in plots.make_plots(data.vessels, out, rudder_limit_rad, settle_shown)]
+        if platoon:
+            result['plots'] += [p.name for p in plot_platoon(gaps, result['platoon'], out, settle_shown)]
     with open(out / 'metrics.json', 'w') as f:
         json.dump(result, f, indent=2, sort_keys=False, allow_nan=False)
     return result
@@ -59,3 +88,203 @@ def _progress_column(vessel, label):
     if label in vessel.progress_labels and len(vessel.progress.t):
         return vessel.progress.t, vessel.progress.v[:, vessel.progress_labels.index(label)]
     return None
+
+
+# -- platoons -------------------------------------------------------------------------------------
+
+SERIES = ('rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_error', 'progress')
+
+
+def _prepare_platoon(bag_dir, data, platoon):
+    """Time the platoon's unstamped topics by each vessel's own odometry, read the followers'
+    gap errors, and end every vessel's record at its own completion (module docstring).
+    Returns ({follower namespace: Series of gap_error},
+             {namespace: (completion sim time or None, its source)})."""
+    names = {**bagmod.DEFAULT_TOPICS, 'gap_error': 'gap_error'}
+    wanted = {f'{ns}/{rel}': (ns, key) for ns in platoon for key, rel in names.items()
+              if key != 'route'}
+    reader = bagmod._open(bag_dir)
+    try:
+        conns = [c for c in reader.connections if c.topic in wanted]
+        log = {c.topic: [] for c in conns}
+        raw = {c.topic: [] for c in conns if wanted[c.topic][1] in ('odom', 'gap_error')}
+        for conn, t_ns, msg in reader.messages(connections=conns):
+            log[conn.topic].append(t_ns)
+            if conn.topic in raw:
+                raw[conn.topic].append(msg)
+    finally:
+        reader.close()
+    gaps = {}
+    for ns, v in list(data.vessels.items()):
+        if ns not in platoon or f'{ns}/odom' not in log:
+            continue
+        odom_log = np.asarray(log[f'{ns}/odom'], dtype=np.int64)
+        odom_t = bagmod.decode_odometry(raw[f'{ns}/odom'])['t']
+
+        def own_time(topic):
+            return _steps_by_log_time(np.asarray(log[topic], dtype=np.int64), odom_log, odom_t)
+
+        changes, timing = {}, dict(v.timing)
+        for key in SERIES:
+            series, topic = getattr(v, key), f'{ns}/{names[key]}'
+            if len(series.t) and timing.get(names[key]) != 'odom sequence' and topic in log:
+                changes[key] = bagmod.Series(own_time(topic), series.v)
+                timing[names[key]] = 'own odom (log time)'
+        v = dataclasses.replace(v, timing=timing, **changes)
+        topic = f'{ns}/gap_error'
+        if platoon[ns] is not None and topic in raw:
+            g = bagmod.decode_float64(raw[topic])
+            exact = len(g) == len(v.t)
+            gaps[ns] = bagmod.Series(v.t.copy() if exact else own_time(topic), g)
+            v.timing['gap_error'] = 'odom sequence' if exact else 'own odom (log time)'
+        data.vessels[ns] = v
+    ends = {ns: _completion(data.vessels[ns]) for ns in platoon if ns in data.vessels}
+    for ns, (t_end, _) in ends.items():
+        if t_end is not None:
+            data.vessels[ns] = _until(data.vessels[ns], t_end)
+        # The gap is measured along the route: once the predecessor has passed the route's end
+        # its arc length is clamped there and the gap means nothing more.
+        cut = min((t for t in (t_end, ends.get(platoon[ns], (None,))[0]) if t is not None),
+                  default=None)
+        if ns in gaps and cut is not None:
+            keep = gaps[ns].t <= cut
+            gaps[ns] = bagmod.Series(gaps[ns].t[keep], gaps[ns].v[keep])
+    return gaps, ends
+
+
+def _steps_by_log_time(msg_log, odom_log, odom_t):
+    """Sim times of a vessel's unstamped messages (one per step, in order, some dropped) from
+    the recorder's log times and the vessel's own odometry (log times, stamps; some dropped).
+
+    The log time, interpolated between the odom messages logged around it, estimates the step
+    each message answers; but a lagging recorder handles its subscriptions in bursts, so the
+    estimate scatters by many steps both ways. What is certain: message n answers step
+    j(n) = n + D(n), where D, the number of its messages dropped so far, never decreases. So D
+    is the non-decreasing least-squares fit (pool adjacent violators) of the estimates minus n,
+    rounded; exact when nothing was dropped. Step j is at odom_t[0] + j h, h the step period."""
+    n = np.arange(msg_log.size)
+    if n.size == 0:
+        return np.zeros(0)
+    h = float(np.median(np.diff(odom_t))) if odom_t.size > 1 else 1.0
+    est = (np.interp(msg_log - odom_log[0], odom_log - odom_log[0], odom_t) - odom_t[0]) / h
+    drops = np.maximum(np.rint(_non_decreasing_fit(est - n)), 0.0)
+    k_odom = np.rint((odom_t - odom_t[0]) / h).astype(np.int64)
+    last = max(int(k_odom[-1]), n.size - 1)
+    steps = np.minimum(n + drops, last - (n.size - 1 - n)).astype(np.int64)
+    # the odom's own stamp where that step's odom was recorded (exact), else the step grid
+    pos = np.minimum(np.searchsorted(k_odom, steps), k_odom.size - 1)
+    return np.where(k_odom[pos] == steps, odom_t[pos], odom_t[0] + h * steps)
+
+
+def _non_decreasing_fit(y):
+    """Least-squares non-decreasing fit of y (pool adjacent violators), same length."""
+    means, sizes = [], []
+    for v in np.asarray(y, dtype=float).tolist():
+        m, k = v, 1
+        while means and means[-1] > m:
+            m = (means[-1] * sizes[-1] + m * k) / (sizes[-1] + k)
+            k += sizes.pop()
+            means.pop()
+        means.append(m)
+        sizes.append(k)
+    return np.repeat(means, sizes)
+
+
+def _completion(v):
+    """(sim time (s), source) of the vessel's route completion: the first progress message with
+    the finish flag set ('guidance'), else (the recorder missed the last messages of a run that
+    was stopped at once) the first odometry past the route's end ('route'); (None, None)."""
+    col = _progress_column(v, 'finished')
+    if col is not None:
+        done = np.nonzero(np.asarray(col[1]) >= 0.5)[0]
+        if done.size:
+            return float(col[0][done[0]]), 'guidance'
+    if v.route is not None and len(v.route.x) >= 2 and len(v.t):
+        s, _, _, length = metrics.project_on_route(v.x, v.y, v.route.x, v.route.y)
+        t_done = metrics.completion_time(v.t, s, length)
+        if t_done is not None:
+            return t_done, 'route'
+    return None, None
+
+
+def _until(v, t_end):
+    """The vessel's record up to and including sim time t_end."""
+    k = v.t <= t_end
+    cut = {key: getattr(v, key)[k] for key in ('t', 'x', 'y', 'yaw', 'u', 'v', 'r')}
+    for key in SERIES:
+        s = getattr(v, key)
+        keep = s.t <= t_end
+        cut[key] = bagmod.Series(s.t[keep], s.v[keep])
+    return dataclasses.replace(v, **cut)
+
+
+def platoon_metrics(vessel_metrics, gaps, platoon, settle_s=None, ends=None):
+    """{'predecessor', 'string_peak_ratio', 'string_rms_ratio', per-follower gap statistics}.
+
+    vessel_metrics: the per-vessel metrics (already cut at each vessel's completion); gaps:
+    {follower: Series}; platoon: {vessel: predecessor or None}; ends: {vessel: (completion
+    sim time, source)} from ``_completion`` (default: the per-vessel metrics' completion)."""
+    peak = {ns: m.get('xte_max_abs_m') for ns, m in vessel_metrics.items()}
+    rms_ = {ns: m.get('xte_rms_m') for ns, m in vessel_metrics.items()}
+    peak_ratio = metrics.string_ratios(peak, platoon)
+    rms_ratio = metrics.string_ratios(rms_, platoon)
+    out = {}
+    for ns, pred in platoon.items():
+        m = vessel_metrics.get(ns, {})
+        row = {'predecessor': pred, 'xte_peak_m': peak.get(ns), 'xte_rms_m': rms_.get(ns),
+               'time_to_complete_s': m.get('time_to_complete_s'),
+               'completion_source': m.get('completion_source')}
+        t_end, source = (ends or {}).get(ns, (None, None))
+        if t_end is not None:
+            row['time_to_complete_s'] = t_end - (m.get('start_time_s') or 0.0)
+            row['completion_source'] = source
+        if pred is not None:
+            row.update({'string_peak_ratio': peak_ratio.get(ns),
+                        'string_rms_ratio': rms_ratio.get(ns)})
+            g = gaps.get(ns)
+            if g is not None and len(g.t):
+                t_from = metrics.settle_cutoff(g.t, settle_s)
+                row.update(metrics.gap_error_stats(g.t, g.v, t_from))
+            else:
+                row['gap_error_samples'] = 0
+        out[ns] = row
+    return out
+
+
+def plot_platoon(gaps, rows, out_dir, settle_s=None):
+    """gap_error.png (each follower's gap error vs time) and platoon_string.png (peak and RMS
+    cross-track error of each vessel, in platoon order, with the ratio to the predecessor)."""
+    import matplotlib.pyplot as plt
+    out = Path(out_dir)
+    fig, ax = plt.subplots(figsize=(9, 4))
+    t0 = min((g.t[0] for g in gaps.values() if len(g.t)), default=0.0)
+    plots._shade_settle(ax, t0, settle_s)
+    for colour, (ns, g) in zip(plots._colours(len(rows))[1:], gaps.items()):
+        if len(g.t):
+            ax.plot(g.t - t0, g.v, color=colour, lw=1.2, label=f'{ns} (after {rows[ns]["predecessor"]})')
+    ax.axhline(0.0, color='k', lw=0.8)
+    ax.set_xlabel('time (s)')
+    ax.set_ylabel('gap - spacing (m), + = too far behind')
+    ax.set_title('Platoon gap error (along the route)')
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc='best', fontsize=8)
+    files = [plots._save(fig, out / 'gap_error.png')]
+
+    names = list(rows)
+    peak = [rows[n]['xte_peak_m'] or 0.0 for n in names]
+    rms_ = [rows[n]['xte_rms_m'] or 0.0 for n in names]
+    fig, ax = plt.subplots(figsize=(max(5.0, 1.3 * len(names) + 2), 4))
+    x = np.arange(len(names))
+    ax.bar(x - 0.2, peak, 0.4, label='peak |xte| after settling')
+    ax.bar(x + 0.2, rms_, 0.4, label='RMS xte after settling')
+    for i, n in enumerate(names):
+        r = rows[n].get('string_peak_ratio')
+        if r is not None:
+            ax.annotate(f'x{r:.2f}', (x[i] - 0.2, peak[i]), ha='center', va='bottom', fontsize=8)
+    ax.set_xticks(x, [n.strip('/') for n in names])
+    ax.set_ylabel('cross-track error (m)')
+    ax.set_title('Along the string (labels: peak ratio to the predecessor)')
+    ax.grid(True, axis='y', alpha=0.3)
+    ax.legend(loc='best', fontsize=8)
+    files.append(plots._save(fig, out / 'platoon_string.png'))
+    return files

@@ -28,6 +28,11 @@ Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes 
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
 the graph together (model, start pose, stepping mode, pairing, rates). Errors name the file and
 the key.
+
+A platoon (a string of vessels, each steering at its predecessor) is written as a `platoon:`
+section instead of `vessels:`; its schema and checks are in mission.platoon. Its vessels come out
+as the same VesselSpec list (with `predecessor` and `spacing` set for the followers), so the
+rest of the launcher and the analysis treat both alike.
 """
 import math
 from dataclasses import dataclass, field
@@ -36,7 +41,7 @@ from pathlib import Path
 import yaml
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
-            'settle_s', 'vessels', 'record', 'lockstep_timeout_s'}
+            'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s'}
 VESSEL_KEYS = {'model', 'route', 'start', 'speed_mps', 'current', 'vessel', 'guidance',
                'autopilot', 'model_params'}
 STEPPING = ('lockstep', 'realtime')
@@ -57,6 +62,10 @@ class VesselSpec:
     vessel_params: dict = field(default_factory=dict)
     guidance_params: dict = field(default_factory=dict)
     autopilot_params: dict = field(default_factory=dict)
+    # Platoon followers only (mission.platoon): the predecessor's namespace and the set gap (m).
+    # A follower runs follower_node (its `guidance` block holds follower_node parameters).
+    predecessor: str = None
+    spacing: float = None
 
 
 @dataclass
@@ -73,6 +82,7 @@ class Scenario:
     record: bool
     lockstep_timeout_s: float
     vessels: list
+    platoon: object = None   # mission.platoon.Platoon for a `platoon:` scenario
 
 
 def _need(cond, file, key, what):
@@ -110,36 +120,29 @@ def load_scenario(path):
     _need(isinstance(data.get('name'), str) and data['name'], path, 'name', 'a non-empty string')
     stepping = data.get('stepping', 'lockstep')
     _need(stepping in STEPPING, path, 'stepping', f"one of {', '.join(STEPPING)}, got {stepping!r}")
-    vessels = data.get('vessels')
-    _need(isinstance(vessels, dict) and vessels, path, 'vessels', 'a mapping namespace -> vessel')
-    specs = []
-    for ns, v in vessels.items():
-        where = f'vessels.{ns}.'
-        _need(isinstance(ns, str) and ns.isidentifier(), path, f'vessels.{ns}',
-              'namespace must be a plain name like vessel_0')
-        _need(isinstance(v, dict), path, where[:-1], 'must be a mapping')
-        _unknown(v, VESSEL_KEYS, path, where)
-        _need(isinstance(v.get('model'), str), path, where + 'model', 'a model name')
-        _need(isinstance(v.get('route'), str), path, where + 'route', 'a route file')
-        route = (path.parent / v['route']).resolve()
-        _need(route.exists(), path, where + 'route', f'{route} does not exist')
-        start = v.get('start', {}) or {}
-        _need(isinstance(start, dict), path, where + 'start', 'a mapping')
-        absolute = {'x_m', 'y_m', 'yaw_deg'}
-        relative = {'along_m', 'cross_m', 'heading_deg'}
-        _need(set(start) <= absolute | relative and not (set(start) & absolute
-                                                         and set(start) & relative),
-              path, where + 'start', f'either {sorted(absolute)} or {sorted(relative)}')
-        for k in start:
-            _number(start, k, path, 0.0, where=where + 'start.')
-        speed = v.get('speed_mps')
-        if speed is not None:
-            speed = _number(v, 'speed_mps', path, None, lo=0.0, hi=50.0, where=where)
-        for key in ('current', 'vessel', 'guidance', 'autopilot'):
-            _need(isinstance(v.get(key, {}) or {}, dict), path, where + key, 'a mapping')
-        specs.append(VesselSpec(ns, v['model'], route, dict(start), speed,
-                                dict(v.get('current') or {}), dict(v.get('vessel') or {}),
-                                dict(v.get('guidance') or {}), dict(v.get('autopilot') or {})))
+    lockstep_timeout = _number(data, 'lockstep_timeout_s', path, 10.0, lo=0.1)
+    _need(not ('vessels' in data and 'platoon' in data), path, 'platoon',
+          "give either 'vessels' (independent vessels) or 'platoon' (a string), not both")
+    platoon = None
+    if 'platoon' in data:
+        from mission.platoon import parse_platoon
+        platoon, specs = parse_platoon(data['platoon'], path, lockstep_timeout)
+    else:
+        vessels = data.get('vessels')
+        _need(isinstance(vessels, dict) and vessels, path, 'vessels',
+              'a mapping namespace -> vessel')
+        specs = []
+        for ns, v in vessels.items():
+            where = f'vessels.{ns}.'
+            _need(isinstance(ns, str) and ns.isidentifier(), path, f'vessels.{ns}',
+                  'namespace must be a plain name like vessel_0')
+            _need(isinstance(v, dict), path, where[:-1], 'must be a mapping')
+            _unknown(v, VESSEL_KEYS, path, where)
+            _need(isinstance(v.get('model'), str), path, where + 'model', 'a model name')
+            _need(isinstance(v.get('route'), str), path, where + 'route', 'a route file')
+            route = (path.parent / v['route']).resolve()
+            _need(route.exists(), path, where + 'route', f'{route} does not exist')
+            specs.append(parse_vessel(ns, v, route, path, where))
     return Scenario(
         file=path, name=data['name'], source=str(data.get('source', '')),
         description=str(data.get('description', '')),
@@ -148,8 +151,30 @@ def load_scenario(path):
         dt_s=_number(data, 'dt_s', path, 0.1, lo=1e-3, hi=10.0),
         settle_s=_number(data, 'settle_s', path, 0.0, lo=0.0),
         record=bool(data.get('record', True)),
-        lockstep_timeout_s=_number(data, 'lockstep_timeout_s', path, 10.0, lo=0.1),
-        vessels=specs)
+        lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon)
+
+
+def parse_vessel(ns, v, route, path, where):
+    """VesselSpec of one checked vessel mapping ``v`` (its keys already known to be allowed) with
+    the resolved ``route`` file; ``where`` prefixes the keys in error messages."""
+    _need(isinstance(v.get('model'), str), path, where + 'model', 'a model name')
+    start = v.get('start', {}) or {}
+    _need(isinstance(start, dict), path, where + 'start', 'a mapping')
+    absolute = {'x_m', 'y_m', 'yaw_deg'}
+    relative = {'along_m', 'cross_m', 'heading_deg'}
+    _need(set(start) <= absolute | relative and not (set(start) & absolute
+                                                     and set(start) & relative),
+          path, where + 'start', f'either {sorted(absolute)} or {sorted(relative)}')
+    for k in start:
+        _number(start, k, path, 0.0, where=where + 'start.')
+    speed = v.get('speed_mps')
+    if speed is not None:
+        speed = _number(v, 'speed_mps', path, None, lo=0.0, hi=50.0, where=where)
+    for key in ('current', 'vessel', 'guidance', 'autopilot'):
+        _need(isinstance(v.get(key, {}) or {}, dict), path, where + key, 'a mapping')
+    return VesselSpec(ns, v['model'], route, dict(start), speed,
+                      dict(v.get('current') or {}), dict(v.get('vessel') or {}),
+                      dict(v.get('guidance') or {}), dict(v.get('autopilot') or {}))
 
 
 def start_pose(spec, route):

@@ -347,7 +347,10 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         sim_t = monitor.t if monitor else 0.0
         if monitor is not None:
             monitor.close()
-        codes = group.stop()
+        # Simulators first (nothing new is published), then give the recorder time to write
+        # what it still has queued, then everything else.
+        codes = group.stop(first=lambda p: p.label.endswith('/vessel_node'),
+                           settle=1.0 if record else 0.0)
         wall = time.monotonic() - t_wall0
         summary = {'scenario': str(scenario.file), 'outcome': outcome, 'sim_time_s': sim_t,
                    'wall_time_s': wall, 'real_time_factor': sim_t / wall if wall > 0 else None,

@@ -130,10 +130,28 @@ class ProcessGroup:
         """Processes that have exited (during a run, any exit of a node is a failure)."""
         return [p for p in self.procs if p.returncode is not None]
 
-    def stop(self, grace=5.0):
-        """SIGINT, then SIGTERM, then SIGKILL; returns {label: exit code}."""
+    def stop(self, grace=5.0, first=None, settle=0.0):
+        """SIGINT, then SIGTERM, then SIGKILL; returns {label: exit code}.
+
+        ``first``: a predicate on processes to stop before the others (e.g. the simulators, so
+        nothing new is published), then wait ``settle`` seconds (e.g. for a recorder to drain
+        its queue) before stopping the rest.
+        """
+        if first is not None:
+            self._signal_all([p for p in self.procs if first(p)], grace)
+            if settle > 0.0:
+                time.sleep(settle)
+        self._signal_all(self.procs, grace)
+        codes = {}
+        for p in self.procs:
+            codes[p.label] = p.returncode
+            p.close()
+        return codes
+
+    @staticmethod
+    def _signal_all(procs, grace):
         for sig, wait in ((signal.SIGINT, grace), (signal.SIGTERM, 2.0), (signal.SIGKILL, 2.0)):
-            alive = [p for p in reversed(self.procs) if p.returncode is None]
+            alive = [p for p in reversed(procs) if p.returncode is None]
             if not alive:
                 break
             for p in alive:
@@ -141,11 +159,6 @@ class ProcessGroup:
             deadline = time.monotonic() + wait
             for p in alive:
                 p.wait(max(0.0, deadline - time.monotonic()))
-        codes = {}
-        for p in self.procs:
-            codes[p.label] = p.returncode
-            p.close()
-        return codes
 
     def __enter__(self):
         return self

@@ -293,3 +293,149 @@ def test_gain_near_the_routh_limit_is_large():
     d = 1.1 * u / (2 * zeta * w)
     peak = platoon_gain(zeta, w, d, u, np.linspace(0.8, 1.2, 4001) * w).max()
     assert peak > 10.0
+
+
+# ---------------------------------------------------------------- extensions: integral, aim,
+# turn-rate lead, past the route's end
+
+def run_in_current(f, pred_offset, current_south, speed=8.0, duration=2000.0, dt=1.0,
+                   heading_lag=10.0, route_angle=math.pi / 2):
+    """Follower f on EAST_ROUTE, kinematic: heading follows the command with a first-order lag
+    (s), velocity = speed along the heading + a current setting south (to starboard of the
+    route) at current_south (m/s). Predecessor on a parallel line pred_offset m to starboard
+    (south), moving east at the follower's steady along-path speed. -> (own e, output)."""
+    along = math.sqrt(speed ** 2 - current_south ** 2)
+    north, east, psi = -60.0, 0.0, route_angle
+    for k in range(int(duration / dt)):
+        t = k * dt
+        f.add_predecessor(t, -pred_offset, 400.0 + along * t, route_angle, along, 0.0)
+        out = f.update(t, north, east, psi)
+        psi += dt * float(wrap(out.heading_cmd - psi)) / heading_lag
+        north += dt * (speed * math.cos(psi) - current_south)
+        east += dt * speed * math.sin(psi)
+    return out.route.cross_track, out
+
+
+def wrap(a):
+    return (a + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def crab_offset(d, current, speed):
+    """LOS steady offset d V / sqrt(U^2 - V^2) (m) in a cross current V at speed U."""
+    return d * current / math.sqrt(speed ** 2 - current ** 2)
+
+
+@pytest.mark.parametrize('pred_offset', [0.0, 20.0])
+def test_document_law_keeps_the_current_offset_on_top_of_the_predecessors(pred_offset):
+    """001 eq. 31 has no integral: in a steady cross current V the follower settles
+    d V / sqrt(U^2 - V^2) downstream of its predecessor, so offsets add up down the string."""
+    d, v = 400.0, 0.5
+    f = follower(min_lookahead=d, max_lookahead=d)
+    e, out = run_in_current(f, pred_offset, v)
+    assert out.mode == FOLLOW and out.lookahead == d
+    assert e == pytest.approx(pred_offset + crab_offset(d, v, 8.0), abs=0.05)   # 25.05 m more
+
+
+@pytest.mark.parametrize('aim', ['predecessor', 'path'])
+@pytest.mark.parametrize('pred_offset', [0.0, 20.0])
+def test_integral_action_drives_the_own_cross_track_to_zero(aim, pred_offset):
+    d, v, u, sigma = 400.0, 0.5, 8.0, 2.0   # sigma = U / 4: critically damped
+    f = follower(min_lookahead=d, max_lookahead=d, aim=aim, integral_gain=sigma)
+    e, out = run_in_current(f, pred_offset, v, speed=u)
+    assert abs(e) < 0.05
+    # the integral holds the crab angle asin(V / U): sigma e_int - (e_p if aiming at the
+    # predecessor) = d tan(asin(V / U)) = d V / sqrt(U^2 - V^2)
+    held = sigma * out.integral - (pred_offset if aim == 'predecessor' else 0.0)
+    assert held == pytest.approx(crab_offset(d, v, u), abs=0.05)
+
+
+def test_path_aim_without_integral_ignores_the_predecessors_offset():
+    """aim 'path' is LOS toward the route with d = the gap: the offset is the vessel's own."""
+    d, v = 400.0, 0.5
+    e, _ = run_in_current(follower(min_lookahead=d, max_lookahead=d, aim='path'), 35.0, v)
+    assert e == pytest.approx(crab_offset(d, v, 8.0), abs=0.05)
+
+
+def test_path_aim_is_ilos_with_the_gap_as_look_ahead():
+    f = follower(aim='path', integral_gain=1.5)
+    f.integral = 4.0                                # e_int (s): sigma e_int = 6 m
+    f.add_predecessor(0.0, -50.0, 600.0, math.pi / 2, 8.0, 0.0)   # e_p = 50: ignored
+    out = f.update(0.0, -30.0, 100.0, math.pi / 2)                # e_f = 30, gap 500
+    assert out.heading_cmd == pytest.approx(math.pi / 2 - math.atan(36.0 / 500.0), abs=1e-12)
+    # predecessor aim with the same integral: alpha - atan((e_f - e_p + sigma e_int) / d)
+    g = follower(aim='predecessor', integral_gain=1.5)
+    g.integral = 4.0
+    g.add_predecessor(0.0, -50.0, 600.0, math.pi / 2, 8.0, 0.0)
+    out = g.update(0.0, -30.0, 100.0, math.pi / 2)
+    assert out.heading_cmd == pytest.approx(math.pi / 2 - math.atan(-14.0 / 500.0), abs=1e-12)
+
+
+def test_bad_extension_options_are_refused():
+    with pytest.raises(ValueError, match='aim'):
+        follower(aim='leader')
+    with pytest.raises(ValueError, match='integral_gain'):
+        follower(integral_gain=-1.0)
+    with pytest.raises(ValueError, match='curvature_lead'):
+        follower(curvature_lead=True)
+    # the integral raises the stability limit to (U + 4 zeta^2 sigma) / (2 zeta omega_n)
+    ilos_limit = (7.7175 + 4 * 0.8 ** 2 * 2.0) / (2 * 0.8 * 0.04795563)   # 167.3 m
+    with pytest.raises(ValueError, match='min_lookahead'):
+        follower(min_lookahead=0.99 * ilos_limit, integral_gain=2.0, **MARINER)
+    follower(min_lookahead=1.01 * ilos_limit, integral_gain=2.0, **MARINER)
+
+
+@pytest.mark.parametrize('aim', ['predecessor', 'path'])
+def test_curvature_lead_on_an_arc(aim):
+    """psi_c += (2 zeta U / omega_n) kappa, kappa = +1/R on a clockwise arc (guidance.py)."""
+    r = 1000.0
+    route = Route([Arc((0.0, 0.0), (1000.0, 1000.0), (0.0, 1000.0), clockwise=True),
+                   Line((1000.0, 1000.0), (1000.0, 3000.0))])
+    zeta, w, u = 0.8, 0.12, 7.7175
+
+    def cmd(lead, s_own, s_pred):
+        f = follower(route, spacing=500.0, aim=aim, zeta=zeta, omega_n=w, speed=u,
+                     curvature_lead=lead)
+        pn, pe, _ = route.point_at(s_pred)
+        f.add_predecessor(0.0, float(pn), float(pe), 0.0, u, 0.0)
+        n, e, _ = route.point_at(s_own)
+        return f.update(0.0, float(n) - 3.0, float(e)).heading_cmd
+
+    assert cmd(True, 300.0, 800.0) - cmd(False, 300.0, 800.0) == pytest.approx(
+        2 * zeta * u / (w * r), abs=1e-12)
+    # on the straight leg there is no lead
+    assert cmd(True, 1700.0, 2200.0) == pytest.approx(cmd(False, 1700.0, 2200.0), abs=1e-12)
+
+
+def test_past_the_end_the_follower_goes_straight_and_the_gap_is_real():
+    """A quarter arc then 1 km east, ending at (1000, 1000): the follower and its predecessor
+    both pass the end; the follower keeps the end tangent (no turn back once it is d beyond
+    the end), and the gap is the distance along it (not the clamped s_p - s_f = 0)."""
+    route = Route([Arc((0.0, -1000.0), (1000.0, 0.0), (0.0, 0.0), clockwise=True),
+                   Line((1000.0, 0.0), (1000.0, 1000.0))])       # ends at (1000, 1000), east
+    for aim, sigma in (('predecessor', 0.0), ('path', 2.0)):
+        f = follower(route, spacing=400.0, aim=aim, integral_gain=sigma)
+        u, dt = 8.0, 0.5
+        north, east, psi = 1000.0, 700.0, math.pi / 2       # 300 m before the end, on the path
+        for k in range(int(300.0 / dt)):                     # 2.4 km: far past the end
+            t = k * dt
+            f.add_predecessor(t, 1000.0, 1100.0 + u * t, math.pi / 2, u, 0.0)   # 400 m ahead
+            out = f.update(t, north, east, psi)
+            assert out.heading_cmd == pytest.approx(math.pi / 2, abs=1e-9)
+            assert out.gap == pytest.approx(400.0, abs=1e-6)
+            # arc pi/2 x 1000 m, then the line and its extension: east - 0
+            assert out.s == pytest.approx(math.pi / 2 * 1000.0 + east, abs=1e-6)
+            psi = out.heading_cmd                             # perfect heading
+            north += dt * u * math.cos(psi)
+            east += dt * u * math.sin(psi)
+        assert east > 2500.0 and north == pytest.approx(1000.0, abs=1e-6)
+        assert out.route.finished
+
+
+def test_extended_arc_length_before_the_start_and_inside():
+    route = Route([Line((0.0, 0.0), (1000.0, 0.0))])
+    f = follower(route)
+    f.add_predecessor(0.0, 300.0, 5.0, 0.0, 8.0, 0.0)
+    out = f.update(0.0, -150.0, 7.0)         # 150 m before the start
+    assert out.s == pytest.approx(-150.0) and out.gap == pytest.approx(450.0)
+    # the aim point is d = 450 m ahead of the follower along the extended route: the predecessor
+    assert out.heading_cmd == pytest.approx(math.atan2(5.0 - 7.0, 450.0), abs=1e-12)

@@ -51,6 +51,46 @@ bracket is smallest at nu = 0 for zeta^2 >= 1/2, else at nu^2 = w^2 (1 - 2 zeta^
 0.8 that is 5.12 d*, 3.2 ship lengths with omega_n L / U = 1. ``FollowerGuidance.warnings``
 says when the spacing is below it.
 
+Extensions (ours; all off by default, which is the document's law above):
+- Arc length beyond the route's ends. The closest point is clamped at s = 0 and s = L (and at a
+  stretch's ends near corners, guidance.Guidance); there the reference is the tangent line, so
+  the arc length is extended along it: s_x = s + t(s) . (p - P(s)) (``extended_arc_length``;
+  zero correction where the closest point is a foot of the normal). The gap s_p,x - s_f,x then
+  stays the real along-path distance past the end, and the aim point s_f,x + d keeps moving
+  ahead, so a follower passing the end goes on straight along the end tangent instead of
+  turning back once it is d_min beyond the end (with s_f clamped the aim point stopped at
+  L + d). Curvature on the extension is 0.
+- Integral action (``integral_gain`` sigma > 0, Borhaug et al. 2008 as guidance.py's 'ilos'):
+  the aim point is shifted by -sigma e_int along the path normal and
+      e_int' = d e_f / (d^2 + (e_f - o)^2),   o the aim point's offset (below),
+  so a steady state needs e_f = 0 on the follower's OWN cross-track. In a steady cross current
+  V (across the path) with speed U through the water, the document's law settles at
+      e_f - e_p = d V / sqrt(U^2 - V^2)          (los.los_current_offset with d = the gap)
+  and every follower adds that to its predecessor's offset; the integral removes it.
+- Aim (``aim``): 'predecessor' (default, the document): o = e_p - sigma e_int, the point
+  A = P(s_f + d) + o n(s_f + d); on a straight leg psi_c = alpha - atan((e_f - e_p + sigma
+  e_int) / d). 'path': ILOS toward the path with the look-ahead d = the clipped gap,
+      psi_c = alpha(s_f) - atan((e_f + sigma e_int) / d),   o = -sigma e_int,
+  i.e. guidance.py's ILOS law with the predecessor setting only d (and the speed). Why 'path'
+  is the one to use when the followers must keep to the route: (1) with the predecessor aim a
+  follower's cross-track still answers its predecessor's through a band-pass (kinematic
+  level: (U/d) s / (s^2 + (U/d) s + U sigma / d^2), peak 1, more with the autopilot's lag), so
+  the leader's transients still travel down the string; with 'path' the lateral coupling is
+  gone (each follower's error is its own), and only the gap couples the vessels. (2) On an arc
+  of radius R a point d ahead ON the path lies d^2 / (2 R) inside the tangent; pursuing it
+  settles R (1 - cos(d / R)) inside the arc (53 m for d 400 m, R 1500 m), which an integral
+  of time constant ~2 d / U only partly removes on a 200 s arc; the tangent form has no such
+  offset. What 'path' gives up: the followers no longer copy a leader that leaves the route
+  on purpose (the document's point of steering at the predecessor). The linearised
+  (kinematic) error dynamics of 'path' are e'' + (U/d) e' + (U sigma / d^2) e = 0, critically
+  damped for sigma = U / 4 (time constant 2 d / U); the stability limit becomes
+  (U + 4 zeta^2 sigma) / (2 zeta omega_n) (los.critical_lookahead), checked for d_min.
+- Turn-rate lead (``curvature_lead``, needs zeta, omega_n, speed): psi_c += (2 zeta U /
+  omega_n) kappa(s_f), as guidance.py: the heading loop lags a command turning at U kappa by
+  2 zeta U kappa / omega_n.
+The integral is frozen in route_fallback (plain LOS there, as before) and kept across corners
+and past the route's end (the current still acts on the extension).
+
 Spacing (our design; the document keeps the speeds constant). A speed command with the
 predecessor's speed along the path as feedforward and a PI on the gap error:
     e_g = g - g_ref   (> 0: too far behind)
@@ -95,6 +135,8 @@ SPACING_KI = SPACING_KP ** 2 / 4.0
 MAX_SPEED_CORRECTION = 1.0
 #: Default bound on the predecessor samples kept (the follower lagging that many in time).
 TRACK_MAX_SAMPLES = 20000
+#: What a follower steers at (module docstring): the document's law, or ILOS toward the path.
+AIMS = ('predecessor', 'path')
 
 
 # ---------------------------------------------------------------- the law (001 eq. 31)
@@ -120,6 +162,17 @@ def aim_point(route, s, lookahead, offset):
     ca, sa = math.cos(a), math.sin(a)
     # tangent (ca, sa); starboard normal (-sa, ca) in (north, east)
     return n + extra * ca - offset * sa, e + extra * sa + offset * ca, a
+
+
+def extended_arc_length(route, out, north, east):
+    """Arc length (m) of (north, east) with the route continued along its end (start) tangent:
+    s + t . (p - P(s)) for a guidance.GuidanceOutput ``out`` (its s, path_angle). Equals out.s
+    where the reference point is the foot of the normal; beyond a clamped end it adds the
+    distance along the tangent there (negative before the start). Returns (s_x, along) (m)."""
+    pn, pe, _ = route.point_at(out.s)
+    a = out.path_angle
+    along = math.cos(a) * (north - float(pn)) + math.sin(a) * (east - float(pe))
+    return out.s + along, along
 
 
 def no_amplification_spacing(zeta, omega_n, speed=1.0):
@@ -268,8 +321,10 @@ class FollowerOutput:
     command); mode: 'follow' | 'route_fallback'; mode_changed: differs from the previous step;
     reason: why the mode is route_fallback ('' when following); gap: s_p - s_f (m); gap_error:
     gap - spacing (m, > 0 too far behind); lookahead: the d used (m); speed_cmd: commanded speed
-    (m/s); pred_cross_track: e_p (m); pred_age: age of the predecessor data (s). Quantities not
-    defined in the current mode are NaN."""
+    (m/s); pred_cross_track: e_p (m); pred_age: age of the predecessor data (s); integral:
+    e_int (s, 0 without integral action); s: the follower's arc length extended past the
+    route's ends (m, ``extended_arc_length``). Quantities not defined in the current mode are
+    NaN."""
     heading_cmd: float
     route: GuidanceOutput
     mode: str
@@ -281,6 +336,8 @@ class FollowerOutput:
     speed_cmd: float
     pred_cross_track: float
     pred_age: float
+    integral: float = 0.0
+    s: float = math.nan
 
 
 class FollowerGuidance:
@@ -293,16 +350,24 @@ class FollowerGuidance:
     SpacingController); zeta, omega_n (rad/s), speed (m/s): the paired autopilot and speed for
     the stability check (all three or none); allow_unstable: accept d_min or the fallback
     look-ahead at or below U / (2 zeta omega_n); track: a PredecessorTrack to use (kept across
-    route changes by the node), default a new one. Raises ValueError naming the parameter.
+    route changes by the node), default a new one; aim 'predecessor' | 'path', integral_gain
+    sigma (m/s, >= 0, 0 = none), curvature_lead (needs zeta, omega_n, speed): the extensions of
+    the module docstring (defaults: the document's law). Raises ValueError naming the parameter.
     """
 
     def __init__(self, route, spacing, *, min_lookahead, fallback_lookahead, max_lookahead=None,
                  predecessor_timeout=5.0, acceptance_radius=0.0, spacing_kp=SPACING_KP,
                  spacing_ki=SPACING_KI, max_speed_correction=MAX_SPEED_CORRECTION,
-                 zeta=None, omega_n=None, speed=None, allow_unstable=False, track=None):
+                 zeta=None, omega_n=None, speed=None, allow_unstable=False, track=None,
+                 aim='predecessor', integral_gain=0.0, curvature_lead=False):
         if not isinstance(route, Route):
             raise ValueError('route must be a ship_guidance.path.Route, '
                              f'got {type(route).__name__}')
+        if aim not in AIMS:
+            raise ValueError(f'aim must be one of {AIMS}, got {aim!r}')
+        _check('integral_gain', integral_gain)
+        self.aim = aim
+        self.integral_gain = float(integral_gain)
         _check('min_lookahead', min_lookahead, positive=True)
         _check('fallback_lookahead', fallback_lookahead, positive=True)
         _check('predecessor_timeout', predecessor_timeout, positive=True)
@@ -327,6 +392,13 @@ class FollowerGuidance:
                              f'zeta={zeta}, omega_n={omega_n}, speed={speed}')
         if all(given):
             self._check_stability(zeta, omega_n, speed, allow_unstable)
+        self.curvature_lead = bool(curvature_lead)
+        if self.curvature_lead and not all(given):
+            raise ValueError('curvature_lead needs the paired autopilot: give zeta, omega_n and '
+                             'speed')
+        # Turn-rate lead (s), as guidance.Guidance: the heading loop's lag behind a command
+        # turning at U kappa is 2 zeta U kappa / omega_n.
+        self._lead = 2.0 * zeta * speed / omega_n if self.curvature_lead else 0.0
         if self.spacing.spacing < self.min_lookahead:
             self.warnings.append(
                 f'spacing {self.spacing.spacing:.1f} m is below min_lookahead '
@@ -339,9 +411,13 @@ class FollowerGuidance:
         self.reset()
 
     def _check_stability(self, zeta, omega_n, speed, allow_unstable):
-        loops = [VesselLoop(zeta, omega_n, d, speed, name)
-                 for name, d in (('min_lookahead', self.min_lookahead),
-                                 ('fallback_lookahead', self.fallback_lookahead))]
+        # With integral action the limit is ILOS's (U + 4 zeta^2 sigma) / (2 zeta omega_n)
+        # (los.critical_lookahead), i.e. the LOS limit at the speed U + 4 zeta^2 sigma; the
+        # fallback is plain LOS.
+        u_follow = speed + 4.0 * zeta ** 2 * self.integral_gain
+        loops = [VesselLoop(zeta, omega_n, d, u, name)
+                 for name, d, u in (('min_lookahead', self.min_lookahead, u_follow),
+                                    ('fallback_lookahead', self.fallback_lookahead, speed))]
         checks = check_platoon(loops)
         self.critical_lookahead = checks[0].critical
         self.no_amplification_spacing = no_amplification_spacing(zeta, omega_n, speed)
@@ -362,6 +438,7 @@ class FollowerGuidance:
         self._own.reset()
         self._pred.reset()
         self.spacing.reset()
+        self.integral = 0.0   # e_int (s)
         self._t_prev = None
         self.mode = None
         self.speed_cmd = math.nan
@@ -393,21 +470,34 @@ class FollowerGuidance:
             mode, reason = FOLLOW, ''
         changed = mode != self.mode
         self.mode = mode
+        s_f, beyond = extended_arc_length(self.route, own, n, e)
         if mode == FALLBACK:
             return FollowerOutput(own.heading_cmd, own, mode, changed, reason, nan, nan,
                                   self.fallback_lookahead, self.speed_cmd, nan,
-                                  nan if sample is None else sample.age)
+                                  nan if sample is None else sample.age, self.integral, s_f)
         p = self._pred.update(sample.north, sample.east, 0.0, dt)
-        gap = p.s - own.s
+        s_p, _ = extended_arc_length(self.route, p, sample.north, sample.east)
+        gap = s_p - s_f
         d = max(gap, self.min_lookahead)
         if self.max_lookahead is not None:
             d = min(d, self.max_lookahead)
-        an, ae, _ = aim_point(self.route, own.s, d, p.cross_track)
-        psi_c = float(wrap_angle(math.atan2(ae - e, an - n)))
+        ef, sigma = own.cross_track, self.integral_gain
+        if self.aim == 'predecessor':
+            offset = p.cross_track - sigma * self.integral
+            an, ae, _ = aim_point(self.route, s_f, d, offset)
+            psi_c = math.atan2(ae - e, an - n)
+        else:
+            offset = -sigma * self.integral
+            psi_c = own.path_angle - math.atan((ef - offset) / d)
+        if sigma > 0.0:
+            self.integral += dt * d * ef / ((ef - offset) ** 2 + d * d)
+        # Beyond a clamped end the reference is the (straight) tangent line.
+        kappa = own.curvature if abs(beyond) <= self.route.s_tol else 0.0
+        psi_c = float(wrap_angle(psi_c + self._lead * kappa))
         along = sample.v_north * math.cos(p.path_angle) + sample.v_east * math.sin(p.path_angle)
         self.speed_cmd, gap_error = self.spacing.update(gap, along, dt)
         return FollowerOutput(psi_c, own, mode, changed, reason, gap, gap_error, d,
-                              self.speed_cmd, p.cross_track, sample.age)
+                              self.speed_cmd, p.cross_track, sample.age, self.integral, s_f)
 
 
 def _check(name, value, positive=False):

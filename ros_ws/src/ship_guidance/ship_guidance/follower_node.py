@@ -4,7 +4,10 @@ The law (ship_guidance.follower, seed 001 Figure 8 / eq. 31): steer at the prede
 the gap d ahead along the route at its own cross-track, psi_c = alpha - atan((e - e_p) / d) on a
 straight leg; keep the along-path gap at `spacing_m` with a speed command; follow the route with
 plain LOS (look-ahead `lookahead_m`, the name guidance_node uses) while the predecessor's odometry
-is stale.
+is stale. Options (ship_guidance.follower's docstring; off by default): `integral_gain` > 0 adds
+integral action on the own cross-track error (steady offsets, e.g. a cross current, go to zero
+instead of adding up down the string), `aim: path` steers with ILOS toward the route with the
+look-ahead = the gap instead of at the predecessor, `curvature_lead` leads the command on curves.
 
 Runs in the follower's namespace (/vessel_i); relative topics. QoS ship_sim.ros.qos.
 Subscribes
@@ -47,7 +50,7 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from std_msgs.msg import Bool, Float64, String
 
-from ship_guidance.follower import (FALLBACK, FOLLOW, MAX_SPEED_CORRECTION, SPACING_KI,
+from ship_guidance.follower import (AIMS, FALLBACK, FOLLOW, MAX_SPEED_CORRECTION, SPACING_KI,
                                     SPACING_KP, FollowerGuidance, PredecessorTrack,
                                     speed_to_shaft)
 from ship_guidance.path import Line, Route
@@ -117,6 +120,15 @@ class FollowerNode(Node):
                           lo=0.0, hi=100.0, unit='m/s', **ro)
         allow = p.declare('allow_unstable', False, 'accept look-aheads below the stability '
                           'limit', **ro)
+        aim = p.declare('aim', 'predecessor', "steer at the predecessor (seed 001 eq. 31) or "
+                        'ILOS toward the path with look-ahead = gap (ship_guidance.follower)',
+                        choices=AIMS, **ro)
+        sigma = p.declare('integral_gain', 0.0, 'integral action on the own cross-track error '
+                          '(Borhaug ILOS gain sigma; 0: none, the document\'s law)', lo=0.0,
+                          hi=100.0, unit='m/s', **ro)
+        lead = p.declare('curvature_lead', False, 'lead the heading command by 2 zeta U kappa '
+                         '/ omega_n on curves (needs autopilot_zeta, autopilot_omega_n, speed)',
+                         **ro)
         if self.shaft_control and not (self.n_nom > 0.0 and self.u_nom > 0.0):
             raise ParameterError('shaft_nominal_rpm', message='shaft_control needs '
                                  'shaft_nominal_rpm and speed_at_nominal_rpm > 0 (got '
@@ -130,11 +142,16 @@ class FollowerNode(Node):
             raise ParameterError('autopilot_zeta', message='the stability check needs '
                                  'autopilot_zeta, autopilot_omega_n and speed all > 0 '
                                  f'(got {zeta}, {omega}, {speed}); set all three or none')
+        if lead and not all(checks):
+            raise ParameterError('curvature_lead', message='curvature_lead needs '
+                                 'autopilot_zeta, autopilot_omega_n and speed > 0 (got '
+                                 f'{zeta}, {omega}, {speed})')
         self.track = PredecessorTrack()
         self.config = dict(spacing=spacing, min_lookahead=d_min, fallback_lookahead=d_fb,
                            max_lookahead=d_max or None, predecessor_timeout=timeout,
                            acceptance_radius=acc, spacing_kp=kp, spacing_ki=ki,
-                           max_speed_correction=dumax, allow_unstable=allow, track=self.track)
+                           max_speed_correction=dumax, allow_unstable=allow, track=self.track,
+                           aim=aim, integral_gain=sigma, curvature_lead=lead)
         if all(checks):
             self.config.update(zeta=zeta, omega_n=omega, speed=speed)
         self.timeout = timeout
@@ -175,7 +192,9 @@ class FollowerNode(Node):
         self.get_logger().info(
             f'follower of {self.pred_topic}: spacing {spacing:g} m, look-ahead in '
             f'[{d_min:g}, {d_max or math.inf:g}] m, fallback LOS {d_fb:g} m, timeout '
-            f'{timeout:g} s, {self.stepping}'
+            f'{timeout:g} s, {self.stepping}, aim {aim}'
+            + (f', integral gain {sigma:g} m/s' if sigma else '')
+            + (', turn-rate lead' if lead else '')
             + (f', stability limit {probe.critical_lookahead:.1f} m'
                if probe.critical_lookahead else ''))
 

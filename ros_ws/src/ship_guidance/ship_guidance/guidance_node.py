@@ -16,10 +16,19 @@ The look-ahead is given in metres or, if `lookahead_ship_lengths` > 0, in ship l
 If the paired autopilot's `autopilot_zeta`, `autopilot_omega_n` and the `speed` are given,
 a look-ahead below the stability limit d > U / (2 zeta omega_n) is refused unless
 `allow_unstable` is true.
+
+Law `course` (course-change experiments, seed 004 sec. 5.2, Figs. 5.7-5.11): the heading
+command follows the time schedule `course_schedule_deg` = [t0, course0, t1, course1, ...] (sim time
+in s, strictly increasing; course in degrees, NED, clockwise from north) and ignores the
+route's geometry: course_i from t_i on, course0 before t0. cross_track_error and progress
+still refer to the route (followed with LOS, for the metrics), but `route_complete` is never
+reported: a course experiment ends at its duration.
 """
+import bisect
 import math
 
 from nav_msgs.msg import Odometry, Path
+from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.node import Node
 from std_msgs.msg import Bool, Float64, Float64MultiArray, MultiArrayDimension
 
@@ -32,13 +41,36 @@ from ship_sim.ros.qos import LATCHED, STREAM
 from ship_sim.ros.run import run_node
 
 PROGRESS_LABELS = ('s_m', 'remaining_m', 'leg', 'finished', 'path_yaw_rad', 'curvature_1pm')
+COURSE_LAW = 'course'
+
+
+def parse_course_schedule(values):
+    """[t0, c0_deg, t1, c1_deg, ...] -> (times (s), NED courses (rad)); ValueError says why not."""
+    values = list(values or [])
+    if not values or len(values) % 2:
+        raise ValueError('needs pairs [t0, course0_deg, t1, course1_deg, ...], got '
+                         f'{len(values)} values')
+    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+               for v in values):
+        raise ValueError(f'needs finite numbers, got {values}')
+    times = [float(t) for t in values[0::2]]
+    if any(b <= a for a, b in zip(times, times[1:])):
+        raise ValueError(f'times must increase strictly, got {times}')
+    return times, [math.radians(c) for c in values[1::2]]
+
+
+def course_at(times, courses, t):
+    """The scheduled course (rad) at sim time t: the last course whose time is <= t, else the first."""
+    return courses[max(bisect.bisect_right(times, t) - 1, 0)]
 
 
 class GuidanceNode(Node):
     def __init__(self):
         super().__init__('guidance_node')
         p = self.params = NodeParameters(self)
-        self.law = p.declare('law', 'ilos', 'guidance law', choices=LAWS, read_only=True)
+        self.law = p.declare('law', 'ilos', 'guidance law (course: follow course_schedule_deg)',
+                             choices=LAWS + (COURSE_LAW,), read_only=True)
+        self.schedule = self._declare_course_schedule()
         self.lookahead_m = p.declare('lookahead_m', 500.0, 'LOS look-ahead distance', lo=1e-3,
                                      hi=1e6, unit='m', read_only=True)
         self.lookahead_l = p.declare('lookahead_ship_lengths', 0.0,
@@ -61,6 +93,9 @@ class GuidanceNode(Node):
                           lo=0.0, hi=100.0, unit='m/s', read_only=True)
         self.allow_unstable = p.declare('allow_unstable', False, 'accept a look-ahead below the '
                                         'stability limit', read_only=True)
+        self.curvature_lead = p.declare('curvature_lead', False, 'lead the heading command by '
+                                        '2 zeta U kappa / omega_n on curves (needs the autopilot '
+                                        'parameters of the stability check)', read_only=True)
         uses_lengths = self.lookahead_l > 0.0 or acc_l > 0.0
         if uses_lengths and self.ship_length <= 0.0:
             raise ParameterError('ship_length_m', self.ship_length,
@@ -90,6 +125,24 @@ class GuidanceNode(Node):
         self.m_progress.layout.dim = [MultiArrayDimension(label=','.join(PROGRESS_LABELS),
                                                           size=len(PROGRESS_LABELS), stride=1)]
 
+    def _declare_course_schedule(self):
+        """(times, courses) for the course law, None otherwise. A list parameter (not
+        NodeParameters, which takes scalars), dynamically typed so integers are accepted too."""
+        desc = ParameterDescriptor(
+            description='law course: [t0, course0_deg, t1, course1_deg, ...], sim time (s) and '
+            'NED course (deg, clockwise from north) from that time on', dynamic_typing=True,
+            read_only=True)
+        values = self.declare_parameter('course_schedule_deg', [], desc).value
+        if self.law != COURSE_LAW:
+            if values:
+                raise ParameterError('course_schedule_deg', values, f'empty unless law is '
+                                     f'{COURSE_LAW!r} (law is {self.law!r})')
+            return None
+        try:
+            return parse_course_schedule(values)
+        except (TypeError, ValueError) as exc:
+            raise ParameterError('course_schedule_deg', values, str(exc)) from None
+
     def _validate_lookahead(self):
         """Refuse an unstable look-ahead at start (a dummy route carries the check)."""
         from ship_guidance.path import Line, Route
@@ -100,9 +153,12 @@ class GuidanceNode(Node):
             raise ParameterError(name, message=f'{name}: {exc}') from None
 
     def _make_guidance(self, route):
-        return Guidance(route, law=self.law, lookahead=self.lookahead,
+        # The course law still follows the route with LOS for cross_track_error and progress.
+        law = 'los' if self.law == COURSE_LAW else self.law
+        return Guidance(route, law=law, lookahead=self.lookahead,
                         acceptance_radius=self.acceptance, integral_gain=self.sigma,
-                        allow_unstable=self.allow_unstable, **self.stability)
+                        allow_unstable=self.allow_unstable,
+                        curvature_lead=self.curvature_lead, **self.stability)
 
     def _on_route(self, msg):
         try:
@@ -117,7 +173,9 @@ class GuidanceNode(Node):
         self.get_logger().info(f'route received: {len(route.legs)} legs, {route.length:.1f} m, '
                                f'law {self.law}, look-ahead {self.lookahead:.1f} m')
         if self.odom_sub is None:
-            self.odom_sub = self.create_subscription(Odometry, 'odom', self._on_odom, STREAM)
+            # raw: odometry_to_ned reads the CDR bytes (rclpy's conversion costs ~20x more).
+            self.odom_sub = self.create_subscription(Odometry, 'odom', self._on_odom, STREAM,
+                                                     raw=True)
 
     def _on_odom(self, msg):
         o = odometry_to_ned(msg)
@@ -132,11 +190,12 @@ class GuidanceNode(Node):
             self._publish(self.m_heading.data, self.m_xte.data, self.m_progress.data)
             return
         self.t_prev = o.t
-        yaw_cmd = float(psi_to_yaw(out.heading_cmd))
+        psi_c = course_at(*self.schedule, o.t) if self.schedule else out.heading_cmd
+        yaw_cmd = float(psi_to_yaw(psi_c))
         progress = [out.s, out.distance_remaining, float(out.leg_index), float(out.finished),
                     float(psi_to_yaw(out.path_angle)), -out.curvature]
         self._publish(yaw_cmd, out.cross_track, progress)
-        if out.finished and not self.completed:
+        if out.finished and not self.completed and not self.schedule:
             self.completed = True
             self.pub_complete.publish(Bool(data=True))
             self.get_logger().info(f'route complete at t = {o.t:.1f} s')

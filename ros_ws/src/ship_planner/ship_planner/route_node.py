@@ -4,7 +4,8 @@ Parameters (see config/route.yaml):
   route_file      path of a route file (.yaml route or .wpt waypoint table); a relative path
                   is looked up in the working directory, then in share/ship_planner/config/routes
   length_unit_m   metres per table unit for .wpt tables (0: the table's own unit)
-  max_arc_step_m  longest sub-arc between two Path poses (m)
+  max_arc_step_m  longest sub-arc between two Path poses (m); sub-arcs also turn by at most
+                  0.1 rad so small-radius arcs stay round in plots
   watch_period_s  how often the file is checked for changes (s, 0: never)
 
 The route is republished when `route_file` (or another parameter) is changed at runtime or the
@@ -25,6 +26,14 @@ from ship_sim.ros.qos import LATCHED
 from ship_sim.ros.run import run_node
 
 DEFAULT_ROUTE = 'example_enu.yaml'
+#: Sub-arcs of the Path turn by at most this much (rad), so plots of small-radius arcs stay round.
+MAX_ARC_TURN = 0.1
+
+
+def arc_step(route, max_step):
+    """Sub-arc length for the Path: at most max_step (m) and MAX_ARC_TURN of turn on any arc."""
+    radii = [leg.radius for leg in route.legs if leg.kind == 'arc']
+    return min([max_step] + [MAX_ARC_TURN * r for r in radii])
 
 
 def resolve_route_file(name):
@@ -90,7 +99,7 @@ class RouteNode(Node):
             return
         self._mtime = os.path.getmtime(path)
         msg = route_to_path_msg(plan.route, self.get_clock().now().to_msg(),
-                                self.params.value('max_arc_step_m'))
+                                arc_step(plan.route, self.params.value('max_arc_step_m')))
         self.pub.publish(msg)
         self.get_logger().info(
             f"route '{plan.name}' from {path}: {len(plan.route.legs)} legs, "

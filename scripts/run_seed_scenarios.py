@@ -1,0 +1,563 @@
+#!/usr/bin/env python3
+"""Run the seed scenarios one after another and tabulate their metrics against the seeds' claims.
+
+    scripts/run_seed_scenarios.py                      every scenarios/*_000|003|004.yaml
+    scripts/run_seed_scenarios.py --quick              the same with durations cut to a quarter
+    scripts/run_seed_scenarios.py --only course_change --only quarter_circle
+    scripts/run_seed_scenarios.py scenarios/figure_eight_003.yaml 'scenarios/curved_*.yaml'
+
+Each scenario goes through mission.launcher.run_scenario (one process per node, lockstep, a
+bag), all on one ROS_DOMAIN_ID leased for the batch (DomainLease). The bag is then analysed
+with mission.report.analyse_bag (the run folder's metrics.json and plots, whole run), given the
+rudder limit of the vessel model so that saturation is counted. Everything lands in one batch
+folder, runs/seeds-<time>/ (runs/seeds-latest points at it): one run folder per scenario,
+results.json (per run: scenario, spec summary, outcome, the table's metrics of vessel_0; the
+claim checks) and results.md, the table that is also printed. A failed run is recorded as such
+and the batch goes on; a run whose bag came out incomplete is run once more (``--retries``).
+Exit code 1 if any run failed, 130 on Ctrl-C (the table of the runs so far is still written).
+``--reanalyse BATCH_DIR`` recomputes the table of an earlier batch from its bags.
+
+The table's metrics are mission.metrics.vessel_metrics over [start + settle_s, the time the
+guidance declared the route finished] (or the end of the run): the launcher stops the nodes a
+few sim seconds after route_complete, and that tail is cut (``metrics_to_finish``). Extras:
+- ``ref_xte_*``: the cross-track error against a REFERENCE path other than the route followed.
+  Seed 003 approximates a quarter circle by straight legs; the figure of merit is the distance
+  from the circle itself, not from the legs (REFERENCE_ROUTES below; the scenario schema has no
+  key for it), from the odometry.
+- ``rudder_max_abs_from_leg_rad``: the largest rudder angle from a given leg on
+  (RUDDER_FROM_LEG; the figure eight's arcs after its one sharp corner).
+- ``guidance_finished_s``, ``bag_end_s``, ``tail_after_finish_s``: when the guidance declared
+  the route finished, where the bag ends, and the cut tail (s after the first odometry).
+The seeds' claims become checks on the rows (``claim_checks``): reproduced yes / NO, or n/a
+when a run it needs is missing or failed.
+
+Units in the table: metres, degrees, seconds; reward = mission.metrics cumulative Gaussian reward
+(seed 000 eq. 8, sigma 10 m, sampled every 0.1 s, whole run).
+"""
+import argparse
+import fcntl
+import fnmatch
+import glob
+import json
+import math
+import os
+import sys
+import time
+from datetime import datetime
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from mission.launcher import MissionFailed, run_scenario, use_install_tree
+from mission.processes import REPO
+from mission.scenario import ScenarioError, load_scenario
+
+SCENARIO_DIR = REPO / 'scenarios'
+DEFAULT_GLOBS = ('*_003.yaml', '*_004.yaml', '*_000.yaml')
+QUICK_FACTOR = 0.25          # --quick: duration and settle_s times this
+QUICK_MIN_DURATION_S = 20.0
+#: scenario name -> reference route (relative to scenarios/) for the ref_xte_* extras
+REFERENCE_ROUTES = {f'quarter_circle_{n}_003': 'routes/quarter_circle_arc_003.wpt'
+                    for n in ('03pts', '05pts', '07pts', '13pts', 'arc')}
+#: scenario name -> first leg index from which the rudder maximum is also reported
+#: (figure eight: leg 2, the arcs after the 90 deg corner at (15, 0) L)
+RUDDER_FROM_LEG = {'figure_eight_003': 2}
+#: seed 000 Table I, LOS row: cumulative Gaussian reward per ship and current (m/s)
+TABLE_I_LOS = {'mariner': {0.0: 161, 0.9: 499}, 'container': {0.0: 807, 0.9: 829},
+               'tanker': {0.0: 65, 0.9: 62}}
+GROUPS = (  # (name prefix, heading in the table)
+    ('quarter_circle_', 'Seed 003: quarter circle, arc guidance vs straight legs (NPS AUV II)'),
+    ('figure_eight_', 'Seed 003: figure eight with arc guidance (NPS AUV II)'),
+    ('course_change_', 'Seed 004: course changes, PD vs fuzzy PID (Mariner)'),
+    ('route_following_', 'Seed 004: waypoint route following, LOS + PD vs fuzzy PID'),
+    ('curved_path_', 'Seed 000: curved path following, LOS vs ILOS, currents 0 and 0.9 m/s'),
+)
+
+
+class DomainLease:
+    """An exclusive ROS_DOMAIN_ID for the whole batch, and one nobody is using right now.
+
+    Other graphs on this machine (tests, other launchers) with the same domain id would mix
+    their messages into ours (seen: a foreign route, rudder commands and odometry in a bag).
+    The lock protocol is that of tests/integration/harness.py (flock on LOCK_DIR/<id>.lock, ids
+    1..101), so the batch and the integration tests never share an id; a leased id on which a
+    probe node still discovers other nodes (a launcher that does not lease) is skipped.
+    """
+    LOCK_DIR = Path('/tmp/shipnav_ros_domain_locks')
+    IDS = range(1, 102)  # Fast DDS ports stay below Linux's ephemeral range up to 101
+
+    def __init__(self, probe_s=1.5):
+        self.LOCK_DIR.mkdir(parents=True, exist_ok=True)
+        ids = list(self.IDS)
+        start = (os.getpid() * 13) % len(ids)
+        self.domain_id, self._fd = None, None
+        for i in range(len(ids)):
+            did = ids[(start + i) % len(ids)]
+            fd = os.open(self.LOCK_DIR / f'{did}.lock', os.O_CREAT | os.O_RDWR, 0o666)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                os.close(fd)
+                continue
+            if _domain_is_quiet(did, probe_s):
+                self.domain_id, self._fd = did, fd
+                return
+            os.close(fd)
+        raise RuntimeError(f'no free and quiet ROS_DOMAIN_ID in {self.IDS}')
+
+    def close(self):
+        if self._fd is not None:
+            os.close(self._fd)
+            self._fd = None
+
+
+def _domain_is_quiet(domain_id, probe_s):
+    """True if a probe node on ``domain_id`` (localhost discovery) sees no other node."""
+    import rclpy
+    os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    ctx = rclpy.context.Context()
+    rclpy.init(context=ctx, domain_id=domain_id)
+    try:
+        node = rclpy.create_node('seed_batch_domain_probe', context=ctx)
+        end = time.monotonic() + probe_s
+        while time.monotonic() < end:
+            others = [n for n, _ in node.get_node_names_and_namespaces()
+                      if n != 'seed_batch_domain_probe']
+            if others:
+                return False
+            time.sleep(0.1)
+        node.destroy_node()
+        return True
+    finally:
+        rclpy.try_shutdown(context=ctx)
+
+
+def find_scenarios(patterns, only):
+    """Scenario files from files/globs (default: the seed scenarios), filtered by --only substrings
+    or globs on the scenario file's stem."""
+    files = []
+    for pat in patterns or [str(SCENARIO_DIR / g) for g in DEFAULT_GLOBS]:
+        hits = sorted(glob.glob(pat)) or ([pat] if Path(pat).exists() else [])
+        if not hits:
+            raise SystemExit(f'run_seed_scenarios: no scenario matches {pat!r}')
+        files += [Path(h) for h in hits if Path(h) not in files]
+    if only:
+        files = [f for f in files if any(o in f.stem or fnmatch.fnmatch(f.stem, o) for o in only)]
+    return files
+
+
+def rudder_limit(spec):
+    """Rudder angle limit (rad) of a vessel spec: its rudder_max_deg override, else the model's."""
+    from ship_sim.models import make_model
+    override = float(spec.vessel_params.get('rudder_max_deg', 0.0) or 0.0)
+    # The instance's limit: some models (nps_auv2) set theirs in the constructor only.
+    return math.radians(override) if override else float(make_model(spec.model).rudder_max)
+
+
+def _cut(series, t_end):
+    """A (t, v) series restricted to t <= t_end; None if empty (vessel_metrics: not recorded)."""
+    t, v = series
+    keep = t <= t_end
+    return type(series)(t[keep], v[keep]) if np.any(keep) else None
+
+
+def finish_time(v):
+    """Sim time (s) at which the guidance declared the route finished (progress topic), or None."""
+    t, rows = v.progress
+    if 'finished' not in v.progress_labels or not len(t):
+        return None
+    done = np.nonzero(rows[:, v.progress_labels.index('finished')] > 0.5)[0]
+    return float(t[done[0]]) if done.size else None
+
+
+def metrics_to_finish(bag_dir, namespace, settle_s, rudder_limit_rad, ref_route=None,
+                      rudder_from_leg=None):
+    """mission.metrics.vessel_metrics over [start, route finished] (or the whole run if it never
+    finishes), plus the ref_* and rudder-after-leg extras. The launcher stops the nodes only
+    after it hears route_complete, so a run goes on for up to a few seconds of sim time past the
+    end of the route (the vessel on the last leg's extension); cutting there makes runs of
+    different routes comparable (003: 35 s manoeuvres, a 10 s tail would dilute them)."""
+    from mission import bag as bagmod
+    from mission.metrics import cross_track_stats, project_on_route, vessel_metrics
+    v = bagmod.read_bag(bag_dir, namespaces=[namespace]).vessels[namespace]
+    t_fin = finish_time(v)
+    t_end = v.t[-1] if t_fin is None else t_fin
+    keep = v.t <= t_end
+    t, x, y, yaw = v.t[keep], v.x[keep], v.y[keep], v.yaw[keep]
+    cut = {k: _cut(getattr(v, k), t_end)
+           for k in ('rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_error')}
+    m = vessel_metrics(t, x, y, yaw, xte=cut['cross_track_error'], rudder=cut['rudder'],
+                       rudder_cmd=cut['rudder_cmd'], heading_cmd=cut['heading_cmd'],
+                       route=(v.route.x, v.route.y) if v.route is not None else None,
+                       settle_s=settle_s, rudder_limit_rad=rudder_limit_rad)
+    m['guidance_finished_s'] = None if t_fin is None else t_fin - v.t[0]
+    m['bag_end_s'] = float(v.t[-1] - v.t[0])
+    # Steps the recorder lost (lockstep odometry comes every step: a gap is a lost message).
+    steps = np.diff(v.t) / np.median(np.diff(v.t))
+    m['bag_missing_odom'] = int(np.sum(np.maximum(np.round(steps) - 1.0, 0.0)))
+    m['tail_after_finish_s'] = float(v.t[-1] - t_end)
+    t_from = v.t[0] + (settle_s or 0.0)
+    if ref_route is not None:
+        from ship_planner.route_files import load_route
+        north, east, _ = load_route(ref_route).route.to_poses(max_arc_step=0.05)
+        _, e, _, _ = project_on_route(x, y, east, north)
+        st = cross_track_stats(t, e, t_from)
+        m.update({'ref_route': str(ref_route), 'ref_xte_rms_m': st['xte_rms_m'],
+                  'ref_xte_max_abs_m': st['xte_max_abs_m'], 'ref_xte_mean_m': st['xte_mean_m']})
+    rudder = cut['rudder']
+    if rudder_from_leg is not None and len(v.progress.t) and rudder is not None:
+        leg = np.interp(rudder.t, v.progress.t, v.progress.v[:, v.progress_labels.index('leg')])
+        sel = leg >= rudder_from_leg - 1e-9
+        m['rudder_from_leg'] = rudder_from_leg
+        m['rudder_max_abs_from_leg_rad'] = (float(np.max(np.abs(rudder.v[sel])))
+                                            if np.any(sel) else None)
+    return m
+
+
+def spec_summary(scenario):
+    s = scenario.vessels[0]
+    return {'model': s.model, 'law': s.guidance_params.get('law', 'ilos'),
+            'controller': s.autopilot_params.get('controller', 'pd'),
+            'current_mps': float(s.current.get('speed_mps', 0.0)),
+            'lookahead_m': s.guidance_params.get('lookahead_m'),
+            'duration_s': scenario.duration_s, 'dt_s': scenario.dt_s, 'settle_s': scenario.settle_s}
+
+
+def analyse_run(scenario, run, make_pngs=True):
+    """The run folder's metrics.json + plots (whole run, as run_mission.py writes them) and,
+    returned, the table's metrics (up to the end of the route, with the extras)."""
+    from mission.report import analyse_bag
+    limit = rudder_limit(scenario.vessels[0])
+    analyse_bag(run / 'bag', run, settle_s=scenario.settle_s, rudder_limit_rad=limit,
+                make_pngs=make_pngs)
+    ref = REFERENCE_ROUTES.get(scenario.name)
+    return metrics_to_finish(run / 'bag', f'/{scenario.vessels[0].namespace}', scenario.settle_s,
+                             limit, ref_route=SCENARIO_DIR / ref if ref else None,
+                             rudder_from_leg=RUDDER_FROM_LEG.get(scenario.name))
+
+
+def reanalyse(batch):
+    """Recompute the metrics of every run of an earlier batch (its results.json) from the bags."""
+    old = json.loads((batch / 'results.json').read_text())
+    results = []
+    for r in old['runs']:
+        if r.get('run_dir') and (Path(r['run_dir']) / 'bag').exists():
+            scenario = load_scenario(r['file'])
+            scenario.settle_s = r['spec']['settle_s']   # as run (--quick scales it)
+            scenario.duration_s = r['spec']['duration_s']
+            try:
+                r['metrics'] = analyse_run(scenario, Path(r['run_dir']), make_pngs=False)
+            except Exception as exc:  # noqa: BLE001 - recorded, the others go on
+                r['metrics'], r['error'] = None, f'{type(exc).__name__}: {exc}'
+            problem = bag_problem(r, scenario) if r['metrics'] else None
+            if problem:
+                r['outcome'], r['error'] = 'bag incomplete', problem
+        results.append(r)
+    return results, old
+
+
+def bag_problem(result, scenario):
+    """None if the bag holds the whole run, else what is missing. The launcher signals every
+    process at once when a run ends, and a recorder that lags the lockstep graph (a loaded
+    machine) loses what it had not yet written: the bag then ends early. Under load it also
+    loses messages within a run (seen: 216 of 5001 odometry messages)."""
+    m, run = result.get('metrics') or {}, result.get('run') or {}
+    end = m.get('bag_end_s')
+    if end is None:
+        return 'no odometry in the bag'
+    if run.get('outcome') == 'completed' and m.get('guidance_finished_s') is None:
+        return f'the bag ends at {end:.1f} s, before the route was finished'
+    if run.get('outcome') == 'duration reached' and end < scenario.duration_s - 2 * scenario.dt_s:
+        return f'the bag ends at {end:.1f} s of {scenario.duration_s:.0f} s'
+    if m.get('bag_missing_odom'):
+        return f'the bag misses {m["bag_missing_odom"]} odometry messages (steps) of the run'
+    return None
+
+
+def run_one(path, batch_dir, quick, wall_timeout_s, verbose, domain_id, retries=1):
+    """Run + analyse one scenario; returns its result dict (never raises for a failed run).
+    A run whose bag came out incomplete is run again, up to ``retries`` times."""
+    scenario = load_scenario(path)
+    if quick:
+        scenario.duration_s = max(QUICK_MIN_DURATION_S, scenario.duration_s * QUICK_FACTOR)
+        scenario.settle_s = scenario.settle_s * QUICK_FACTOR
+    t0 = time.monotonic()
+
+    def progress(line):
+        if verbose or not line.startswith('  t ='):
+            print(f'  {line}', flush=True)
+    for attempt in range(retries + 1):
+        result = {'scenario': scenario.name, 'file': str(path), 'source': scenario.source,
+                  'spec': spec_summary(scenario), 'outcome': 'failed', 'metrics': None,
+                  'attempts': attempt + 1}
+        try:
+            run, _ = run_scenario(scenario, runs_root=batch_dir, record=True, analyse=False,
+                                  progress=progress, wall_timeout_s=wall_timeout_s,
+                                  domain_id=domain_id)
+            result['run_dir'] = str(run)
+            summary = yaml.safe_load((run / 'run.json').read_text())  # the launcher writes YAML
+            result['outcome'] = summary['outcome']
+            result['run'] = summary
+            result['metrics'] = analyse_run(scenario, run)
+        except MissionFailed as exc:
+            result['error'] = str(exc)
+            print(f'  FAILED: {exc}', flush=True)
+            break
+        except Exception as exc:  # noqa: BLE001 - analysis errors are recorded, the batch goes on
+            result['error'] = f'{type(exc).__name__}: {exc}'
+            result['outcome'] = 'analysis failed'
+            print(f'  ANALYSIS FAILED: {result["error"]}', flush=True)
+            break
+        problem = bag_problem(result, scenario)
+        if problem is None:
+            break
+        result['outcome'] = 'bag incomplete'
+        result['error'] = problem
+        print(f'  BAG INCOMPLETE: {problem}' + ('; running it again' if attempt < retries else ''),
+              flush=True)
+    result['wall_s'] = time.monotonic() - t0
+    return result
+
+
+# -- claims --------------------------------------------------------------------------------------
+
+def _m(rows, name, key):
+    """metrics[key] of the run called name; None if absent or failed."""
+    r = rows.get(name)
+    return (r.get('metrics') or {}).get(key) if r else None
+
+
+def _all(values):
+    return None if any(v is None for v in values) else all(values)
+
+
+def _lt(a, b):
+    return None if a is None or b is None else a < b
+
+
+def claim_checks(rows):
+    """[(claim, verdict True/False/None, evidence text)] for the seed claims the batch can test."""
+    out = []
+    pts = ('03pts', '05pts', '07pts', '13pts')
+    arc = 'quarter_circle_arc_003'
+    if arc in rows:
+        for key, what in (('ref_xte_rms_m', 'tracks the circle closer (RMS distance)'),
+                          ('rudder_total_variation_rad_per_s', 'with less rudder activity '
+                           '(total variation)')):
+            pairs = [(p, _m(rows, f'quarter_circle_{p}_003', key)) for p in pts]
+            a = _m(rows, arc, key)
+            verdict = _all([_lt(a, v) for _, v in pairs])
+            unit = (lambda x: x, 'm') if key.endswith('_m') else (_deg, 'deg/s')
+            ev = f'arc {_fmt(unit[0](a), 3)}; ' + ', '.join(f'{p} {_fmt(unit[0](v), 3)}'
+                                                           for p, v in pairs) + f' {unit[1]}'
+            out.append((f'003 Figs. 14-27: the 2-point arc {what} than 3/5/7/13-point legs',
+                        verdict, ev))
+        refs = [_m(rows, f'quarter_circle_{p}_003', 'ref_xte_rms_m') for p in pts]
+        mono = _all([_lt(b, a) for a, b in zip(refs, refs[1:])]) if None not in refs else None
+        out.append(('003 Ch. IV.A: more points track the circle more closely (RMS distance '
+                    'falls 3 -> 13)', mono, ', '.join(f'{p} {_fmt(v)}' for p, v in zip(pts, refs))))
+    if 'figure_eight_003' in rows:
+        mx = _m(rows, 'figure_eight_003', 'rudder_max_abs_from_leg_rad')
+        mx_all = _m(rows, 'figure_eight_003', 'rudder_max_abs_rad')
+        done = _m(rows, 'figure_eight_003', 'guidance_finished_s')
+        out.append(('003 Figs. 28-29: the figure eight is completed and the rudder stays off its '
+                    '0.4 rad limit on the arcs (legs after the 90 deg corner)',
+                    None if mx is None else done is not None and mx < 0.4 * (1 - 1e-3),
+                    f'max abs rudder after the corner {_fmt(mx, 3)} rad, over the run '
+                    f'{_fmt(mx_all, 3)} rad (the 90 deg corner), finished at {_fmt(done, 0)} s'))
+    for ang in (30, 45, 60, 90):
+        pd = _m(rows, f'course_change_{ang}_pd_004', 'heading_error_mean_rad')
+        fz = _m(rows, f'course_change_{ang}_fuzzy_004', 'heading_error_mean_rad')
+        if pd is None and fz is None:
+            continue
+        ok = None if pd is None or fz is None else abs(fz) < abs(pd)
+        out.append((f'004 Fig. 5.7-5.11, {ang} deg: the fuzzy PID removes the steady heading '
+                    'error the PD keeps (smaller mean error over the last 100 s)', ok,
+                    f'PD {_fmt(_deg(pd), 2)} deg, fuzzy PID {_fmt(_deg(fz), 2)} deg'))
+    for ship in ('mariner', 'tanker'):
+        names = [f'route_following_{ship}_{c}_004' for c in ('pd', 'fuzzy')]
+        if not any(n in rows for n in names):
+            continue
+        fin = [_m(rows, n, 'guidance_finished_s') for n in names]
+        out.append((f'004 route following ({ship}): both autopilots complete the route',
+                    None if not all(n in rows for n in names) else all(f is not None for f in fin),
+                    ', '.join(f'{n.split("_")[3]} at {_fmt(f, 0)} s' for n, f in zip(names, fin))))
+        xte = [_m(rows, n, 'xte_rms_m') for n in names]
+        out.append((f'004 route following ({ship}): the fuzzy PID tracks the route at least as '
+                    'closely as the PD (RMS cross-track error)',
+                    None if None in xte else xte[1] <= xte[0],
+                    f'PD {_fmt(xte[0], 1)} m, fuzzy PID {_fmt(xte[1], 1)} m'))
+    for cur, tag in ((0.0, '0'), (0.9, '09')):
+        ours = {ship: _m(rows, f'curved_path_{ship}_current{tag}_los_000', 'reward_gaussian_sum')
+                for ship in TABLE_I_LOS}
+        if all(v is None for v in ours.values()):
+            continue
+        seed = {ship: TABLE_I_LOS[ship][cur] for ship in TABLE_I_LOS}
+        rank = (None if None in ours.values() else
+                sorted(ours, key=ours.get) == sorted(seed, key=seed.get))
+        out.append((f'000 Table I, LOS at {cur} m/s: the three ships rank as in the paper '
+                    '(absolute values depend on the unpublished curve, start and time step)', rank,
+                    ', '.join(f'{ship} {_fmt(ours[ship], 0)} (paper {seed[ship]})'
+                              for ship in TABLE_I_LOS)))
+    return out
+
+
+# -- table ---------------------------------------------------------------------------------------
+
+def _deg(x):
+    return None if x is None else math.degrees(x)
+
+
+def _fmt(x, nd=2):
+    if x is None:
+        return '-'
+    if isinstance(x, bool):
+        return 'yes' if x else 'no'
+    return f'{x:.{nd}f}'
+
+
+COLUMNS = (  # header, function(result) -> text
+    ('scenario', lambda r: r['scenario']),
+    ('model', lambda r: r['spec']['model']),
+    ('guidance', lambda r: r['spec']['law']),
+    ('autopilot', lambda r: r['spec']['controller']),
+    ('current m/s', lambda r: _fmt(r['spec']['current_mps'], 1)),
+    ('xte RMS m', lambda r: _fmt(_get(r, 'xte_rms_m'), 2)),
+    ('xte max m', lambda r: _fmt(_get(r, 'xte_max_abs_m'), 2)),
+    ('ref. RMS / max m', lambda r: (f"{_fmt(_get(r, 'ref_xte_rms_m'), 3)} / "
+                                    f"{_fmt(_get(r, 'ref_xte_max_abs_m'), 3)}")
+     if _get(r, 'ref_xte_rms_m') is not None else ''),
+    ('mean abs rudder deg', lambda r: _fmt(_deg(_get(r, 'rudder_mean_abs_rad')), 2)),
+    ('max abs rudder deg', lambda r: _fmt(_deg(_get(r, 'rudder_max_abs_rad')), 1)),
+    ('rudder TV deg/s', lambda r: _fmt(_deg(_get(r, 'rudder_total_variation_rad_per_s')), 3)),
+    ('sat. %', lambda r: _fmt(None if _get(r, 'rudder_saturated_fraction') is None
+                             else 100 * _get(r, 'rudder_saturated_fraction'), 1)),
+    ('heading err. mean deg', lambda r: _fmt(_deg(_get(r, 'heading_error_mean_rad')), 2)),
+    ('finished at s', lambda r: _fmt(_get(r, 'guidance_finished_s'), 0)),
+    ('reward', lambda r: _fmt(_get(r, 'reward_gaussian_sum'), 0)),
+    ('outcome', lambda r: r['outcome']),
+    ('wall s', lambda r: _fmt(r.get('wall_s'), 0)),
+)
+
+
+def _get(r, key):
+    return (r.get('metrics') or {}).get(key)
+
+
+def markdown(results, claims, header):
+    lines = [header, '']
+    lines.append('Statistics from settle_s (scenario file) to the route\'s end (guidance '
+                 'finished) or the end of the run; reward from the start (seed 000 eq. 8, '
+                 'sigma 10 m, 0.1 s grid). xte = the guidance\'s cross-track error; ref. = '
+                 'distance from the reference circle (003); rudder = actual rudder angle; TV = '
+                 'total variation per second; sat. = share of samples at the limit; heading err. '
+                 '= yaw - command (ENU: negative = to starboard of the command).')
+    lines.append('')
+    grouped = {}
+    for r in results:
+        title = next((t for p, t in GROUPS if r['scenario'].startswith(p)), 'Other scenarios')
+        grouped.setdefault(title, []).append(r)
+    for title, rows in grouped.items():
+        lines += [f'### {title}', '', '| ' + ' | '.join(h for h, _ in COLUMNS) + ' |',
+                  '|' + '---|' * len(COLUMNS)]
+        lines += ['| ' + ' | '.join(f(r) for _, f in COLUMNS) + ' |' for r in rows]
+        lines.append('')
+    if claims:
+        lines += ['### Seed claims', '', '| claim | reproduced | evidence |', '|---|---|---|']
+        verdict = {True: 'yes', False: 'NO', None: 'n/a'}
+        lines += [f'| {c} | {verdict[v]} | {e} |' for c, v, e in claims]
+        lines.append('')
+    return '\n'.join(lines)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('scenarios', nargs='*', help='scenario files or globs (default: the seed '
+                    'scenarios, scenarios/*_00{0,3,4}.yaml)')
+    ap.add_argument('--only', action='append', default=[], metavar='PATTERN',
+                    help='keep scenarios whose name contains PATTERN or matches it as a glob '
+                    '(repeatable)')
+    ap.add_argument('--quick', action='store_true', help=f'durations x{QUICK_FACTOR} '
+                    f'(at least {QUICK_MIN_DURATION_S:.0f} s) for development; claims may fail')
+    ap.add_argument('--runs', default=str(REPO / 'runs'), help='parent folder of the batch folder')
+    ap.add_argument('--wall-timeout', type=float, default=600.0,
+                    help='fail a run after this many wall seconds (default 600)')
+    ap.add_argument('--domain-id', type=int, default=None, help='ROS_DOMAIN_ID for every run '
+                    '(default: a leased one on which no other node is seen)')
+    ap.add_argument('--retries', type=int, default=1, help='run a scenario again when its bag '
+                    'came out incomplete, at most this many times (default 1)')
+    ap.add_argument('--verbose', action='store_true', help='show the launchers\' progress lines')
+    ap.add_argument('--list', action='store_true', help='list the scenarios and exit')
+    ap.add_argument('--reanalyse', metavar='BATCH_DIR', help='recompute the table of an earlier '
+                    'batch from its bags (no runs)')
+    args = ap.parse_args(argv)
+    if args.reanalyse:
+        use_install_tree()
+        batch = Path(args.reanalyse)
+        results, old = reanalyse(batch)
+        claims = claim_checks({r['scenario']: r for r in results})
+        table = markdown(results, claims, f'## Seed scenarios (re-analysed): {len(results)} runs '
+                         f'of {batch.name}')
+        write_results(batch, results, claims, table, old.get('quick'), old.get('wall_time_s'))
+        return 0
+
+    files = find_scenarios(args.scenarios, args.only)
+    if args.list:
+        print('\n'.join(str(f) for f in files))
+        return 0
+    try:
+        for f in files:
+            load_scenario(f)   # refuse a bad file before anything runs
+    except ScenarioError as exc:
+        print(f'run_seed_scenarios: {exc}', file=sys.stderr)
+        return 2
+    use_install_tree()
+    stamp = datetime.now().strftime('%Y%m%d-%H%M%S')
+    batch = Path(args.runs) / f'seeds{"-quick" if args.quick else ""}-{stamp}'
+    batch.mkdir(parents=True)
+    latest = Path(args.runs) / 'seeds-latest'
+    if latest.is_symlink() or latest.exists():
+        latest.unlink()
+    latest.symlink_to(batch.name)
+    print(f'{len(files)} scenarios -> {batch}' + (' (quick)' if args.quick else ''), flush=True)
+
+    results, code, t0 = [], 0, time.monotonic()
+    lease = DomainLease() if args.domain_id is None else None
+    domain_id = args.domain_id if lease is None else lease.domain_id
+    print(f'ROS_DOMAIN_ID {domain_id}' + (' (leased, quiet)' if lease else ''), flush=True)
+    try:
+        for i, f in enumerate(files, 1):
+            print(f'[{i}/{len(files)}] {f.stem}', flush=True)
+            r = run_one(f, batch, args.quick, args.wall_timeout, args.verbose, domain_id,
+                        args.retries)
+            results.append(r)
+            if r['outcome'] not in ('completed', 'duration reached'):
+                code = 1
+    except KeyboardInterrupt:
+        print('run_seed_scenarios: interrupted; writing what ran so far', file=sys.stderr)
+        code = 130
+    finally:
+        if lease is not None:
+            lease.close()
+    wall = time.monotonic() - t0
+    claims = claim_checks({r['scenario']: r for r in results})
+    header = (f'## Seed scenarios{" (quick: durations x%g)" % QUICK_FACTOR if args.quick else ""}'
+              f': {len(results)} runs in {wall:.0f} s wall ({stamp})')
+    write_results(batch, results, claims, markdown(results, claims, header), args.quick, wall)
+    return code
+
+
+def write_results(batch, results, claims, table, quick, wall):
+    (batch / 'results.md').write_text(table + '\n')
+    with open(batch / 'results.json', 'w') as fh:
+        json.dump({'batch': str(batch), 'quick': quick, 'wall_time_s': wall, 'runs': results,
+                   'claims': [{'claim': c, 'reproduced': v, 'evidence': e} for c, v, e in claims]},
+                  fh, indent=2, allow_nan=False, default=str)
+    print()
+    print(table)
+    print(f'written: {batch / "results.md"}, {batch / "results.json"}')
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,217 @@
+"""The shipped scenario files and what the seed batch relies on (cheap: no ROS graph is started).
+
+- every scenarios/*.yaml loads (mission.scenario.load_scenario), its route loads, and the
+  launcher can derive the node parameters from it;
+- every seed scenario cites an existing seed document, asks for a look-ahead above the
+  stability limit of its paired autopilot (seeds 001 eq. 34 / 003 eq. 3.5 in metres) with the
+  autopilot's real omega_n, and runs long enough to finish its route at the model's trim speed;
+- the 004 course-change files step the course by the angle their name says, from the route's
+  course; the 003 files give the NPS AUV II's 0.4 rad limit to the autopilot;
+- guidance_node's course law: the schedule parser and lookup (hand-computed values);
+- run_seed_scenarios: scenario selection and the claim checks on hand-made rows.
+"""
+import math
+import pathlib
+import re
+
+import pytest
+import yaml
+
+from mission.launcher import node_parameters
+from mission.scenario import load_scenario
+from ship_guidance.los import critical_lookahead
+from ship_planner.route_files import load_route
+from ship_sim.simulator import VesselSimulator
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SEEDS = ROOT.parent / 'shared' / 'seeds'
+FILES = sorted((ROOT / 'scenarios').glob('*.yaml'))
+SEED_FILES = [f for f in FILES if re.search(r'_00[0-4]\.yaml$', f.name)]
+GAINS = yaml.safe_load((ROOT / 'ros_ws/src/ship_autopilot/ship_autopilot/data/'
+                        'autopilot_gains.yaml').read_text())['models']
+
+
+def ids(files):
+    return [f.stem for f in files]
+
+
+@pytest.mark.parametrize('path', FILES, ids=ids(FILES))
+def test_scenario_and_its_route_load(path):
+    scenario = load_scenario(path)
+    assert scenario.vessels
+    for i, spec in enumerate(scenario.vessels):
+        plan = load_route(spec.route_file)
+        assert plan.route.length > 0.0
+        params, _ = node_parameters(scenario, spec, i, record=True)
+        assert params['vessel_node']['model'] == spec.model
+        assert params['vessel_node']['max_steps'] == round(scenario.duration_s / scenario.dt_s)
+
+
+def test_the_seed_scenarios_are_there():
+    names = {f.stem for f in SEED_FILES}
+    assert {'figure_eight_003', 'quarter_circle_arc_003', 'quarter_circle_03pts_003',
+            'quarter_circle_13pts_003', 'route_following_mariner_pd_004',
+            'route_following_tanker_fuzzy_004', 'curved_path_tanker_current09_ilos_000'} <= names
+    for ang in (30, 45, 60, 90):
+        assert {f'course_change_{ang}_pd_004', f'course_change_{ang}_fuzzy_004'} <= names
+    for ship in ('mariner', 'container', 'tanker'):
+        for cur in ('0', '09'):
+            assert f'curved_path_{ship}_current{cur}_los_000' in names
+
+
+@pytest.mark.parametrize('path', SEED_FILES, ids=ids(SEED_FILES))
+def test_seed_scenario_cites_an_existing_seed_document(path):
+    scenario = load_scenario(path)
+    seed = path.stem[-3:]
+    cited = re.findall(r'seeds/(\d{3}_[0-9a-f]+\.txt)', scenario.source)
+    assert cited, f'{path.name}: source names no seed document'
+    assert all((SEEDS / c).exists() for c in cited)
+    assert any(c.startswith(seed) for c in cited), f'{path.name} cites {cited}, not seed {seed}'
+    assert scenario.description
+
+
+@pytest.mark.parametrize('path', SEED_FILES, ids=ids(SEED_FILES))
+def test_lookahead_is_above_the_stability_limit_of_the_paired_autopilot(path):
+    spec = load_scenario(path).vessels[0]
+    g = spec.guidance_params
+    # The check must be switched on (the node refuses an unstable look-ahead only then) ...
+    assert all(g.get(k) for k in ('autopilot_zeta', 'autopilot_omega_n', 'speed'))
+    # ... with the autopilot that really runs: the gain table's design for this model.
+    assert g['autopilot_omega_n'] == pytest.approx(GAINS[spec.model]['omega_n'], rel=1e-6)
+    assert g['autopilot_zeta'] == pytest.approx(GAINS[spec.model]['zeta'])
+    assert g['speed'] == pytest.approx(VesselSimulator(spec.model).speed_water(), rel=2e-3)
+    d = g.get('lookahead_m') or g['lookahead_ship_lengths'] * g['ship_length_m']
+    sigma = g.get('integral_gain', 0.5) if g.get('law', 'ilos') == 'ilos' else 0.0
+    assert d > critical_lookahead(g['autopilot_zeta'], g['autopilot_omega_n'], g['speed'], sigma)
+
+
+# Not the fixed-length experiments: 300 s course changes (004), 1000 s episodes (000).
+ROUTE_RUNS = [f for f in SEED_FILES if not f.stem.startswith(('course_change_', 'curved_path_'))]
+
+
+@pytest.mark.parametrize('path', ROUTE_RUNS, ids=ids(ROUTE_RUNS))
+def test_route_runs_are_long_enough_to_finish(path):
+    scenario = load_scenario(path)
+    spec = scenario.vessels[0]
+    route = load_route(spec.route_file).route
+    trim_speed = VesselSimulator(spec.model).speed_water()
+    assert route.length / trim_speed < scenario.duration_s
+
+
+COURSE_FILES = [f for f in SEED_FILES if f.stem.startswith('course_change_')]
+
+
+@pytest.mark.parametrize('path', COURSE_FILES, ids=ids(COURSE_FILES))
+def test_course_change_steps_by_the_angle_in_its_name(path):
+    scenario = load_scenario(path)
+    spec = scenario.vessels[0]
+    angle = float(re.match(r'course_change_(\d+)_', path.stem).group(1))
+    _, _, path_angle = load_route(spec.route_file).route.point_at(0.0)
+    sched = spec.guidance_params['course_schedule_deg']
+    assert sched[0] == 0.0 and len(sched) == 2            # the step comes at t = 0 (004 Figs.)
+    assert spec.start.get('heading_deg', 0.0) == 0.0       # starting on the route's course
+    assert sched[1] - math.degrees(path_angle) == pytest.approx(angle)
+    assert scenario.duration_s >= 300.0                    # 004 Figs. 5.8-5.11 span 300 s
+    assert scenario.settle_s < scenario.duration_s
+
+
+def test_course_change_pairs_differ_only_in_the_controller():
+    for pd in [f for f in COURSE_FILES if '_pd_' in f.stem]:
+        fz = pd.with_name(pd.name.replace('_pd_', '_fuzzy_'))
+        a, b = (yaml.safe_load(f.read_text()) for f in (pd, fz))
+        assert a['vessels']['vessel_0']['autopilot'] == {'controller': 'pd'}
+        assert b['vessels']['vessel_0']['autopilot'] == {'controller': 'fuzzy_pid'}
+        for d in (a, b):
+            for key in ('name', 'source', 'description'):
+                d.pop(key)
+            d['vessels']['vessel_0'].pop('autopilot')
+        assert a == b
+
+
+@pytest.mark.parametrize('path', [f for f in SEED_FILES if f.stem.endswith('_003')],
+                         ids=ids([f for f in SEED_FILES if f.stem.endswith('_003')]))
+def test_auv_scenarios_pass_the_vehicle_rudder_limits_to_the_autopilot(path):
+    spec = load_scenario(path).vessels[0]
+    assert spec.model == 'nps_auv2'
+    ap = spec.autopilot_params
+    assert math.radians(ap['rudder_max_deg']) == pytest.approx(0.4)   # 003: |DR| <= 0.4 rad
+    assert math.radians(ap['rudder_rate_max_deg']) == pytest.approx(1.0)
+    from ship_sim.models import make_model
+    model = make_model('nps_auv2')
+    assert model.rudder_max == pytest.approx(0.4) and model.rudder_rate_max == pytest.approx(1.0)
+    # 003's arc law leads the tangent by d / (2R); the turn-rate lead is our equivalent
+    # (2 zeta U / omega_n within 10 % of d / 2 for this vehicle and look-ahead).
+    g = spec.guidance_params
+    assert g['curvature_lead'] is True
+    d = g['lookahead_ship_lengths'] * g['ship_length_m']
+    lead = 2 * g['autopilot_zeta'] * g['speed'] / g['autopilot_omega_n']
+    assert lead == pytest.approx(d / 2, rel=0.1)
+
+
+# -- guidance_node: the course law's schedule -----------------------------------------------------
+
+def test_course_schedule_parse_and_lookup():
+    from ship_guidance.guidance_node import course_at, parse_course_schedule
+    times, courses = parse_course_schedule([0.0, 90.0, 50, 120, 100.0, -45.0])
+    assert times == [0.0, 50.0, 100.0]
+    assert courses == pytest.approx([math.pi / 2, 2 * math.pi / 3, -math.pi / 4])
+    assert course_at(times, courses, -5.0) == pytest.approx(math.pi / 2)   # before t0: course0
+    assert course_at(times, courses, 49.99) == pytest.approx(math.pi / 2)
+    assert course_at(times, courses, 50.0) == pytest.approx(2 * math.pi / 3)  # from t1 on
+    assert course_at(times, courses, 1e6) == pytest.approx(-math.pi / 4)
+
+
+@pytest.mark.parametrize('bad', [[], [0.0], [0.0, 10.0, 5.0], [0.0, 10.0, 0.0, 20.0],
+                                 [10.0, 0.0, 5.0, 1.0], [0.0, float('nan')], [0.0, True],
+                                 ['0', '10']])
+def test_course_schedule_refuses_bad_values(bad):
+    from ship_guidance.guidance_node import parse_course_schedule
+    with pytest.raises(ValueError):
+        parse_course_schedule(bad)
+
+
+# -- run_seed_scenarios ---------------------------------------------------------------------------
+
+def test_runner_selects_the_seed_scenarios_and_filters():
+    import run_seed_scenarios as rs
+    chosen = rs.find_scenarios([], [])
+    assert {f.stem for f in chosen} == {f.stem for f in SEED_FILES}
+    only = rs.find_scenarios([], ['course_change_3', 'quarter_circle_*pts_003'])
+    assert {f.stem for f in only} == {'course_change_30_pd_004', 'course_change_30_fuzzy_004',
+                                     'quarter_circle_03pts_003', 'quarter_circle_05pts_003',
+                                     'quarter_circle_07pts_003', 'quarter_circle_13pts_003'}
+    for ref in rs.REFERENCE_ROUTES.values():
+        assert (ROOT / 'scenarios' / ref).exists()
+
+
+def _row(**metrics):
+    return {'metrics': metrics}
+
+
+def test_runner_claim_checks_on_hand_made_rows():
+    import run_seed_scenarios as rs
+    rows = {
+        'course_change_30_pd_004': _row(heading_error_mean_rad=math.radians(-1.0)),
+        'course_change_30_fuzzy_004': _row(heading_error_mean_rad=math.radians(0.2)),
+        'course_change_45_pd_004': _row(heading_error_mean_rad=math.radians(-1.0)),
+        'course_change_45_fuzzy_004': _row(heading_error_mean_rad=math.radians(-0.8)),
+        'course_change_60_pd_004': _row(heading_error_mean_rad=math.radians(-1.0)),
+        'course_change_90_pd_004': _row(heading_error_mean_rad=math.radians(-1.0)),
+        'course_change_90_fuzzy_004': _row(heading_error_mean_rad=math.radians(1.5)),
+        # Table I at 0.9 m/s ranks container (829) > mariner (499) > tanker (62)
+        'curved_path_mariner_current09_los_000': _row(reward_gaussian_sum=900.0),
+        'curved_path_container_current09_los_000': _row(reward_gaussian_sum=1000.0),
+        'curved_path_tanker_current09_los_000': _row(reward_gaussian_sum=10.0),
+        # ... and at 0 m/s the same: here mariner and container swapped
+        'curved_path_mariner_current0_los_000': _row(reward_gaussian_sum=900.0),
+        'curved_path_container_current0_los_000': _row(reward_gaussian_sum=800.0),
+        'curved_path_tanker_current0_los_000': _row(reward_gaussian_sum=10.0),
+    }
+    verdicts = {c.split(':')[0]: v for c, v, _ in rs.claim_checks(rows)}
+    assert verdicts['004 Fig. 5.7-5.11, 30 deg'] is True      # |0.2| < |-1.0|
+    assert verdicts['004 Fig. 5.7-5.11, 45 deg'] is True      # |-0.8| < |-1.0|
+    assert verdicts['004 Fig. 5.7-5.11, 60 deg'] is None      # the fuzzy run is missing
+    assert verdicts['004 Fig. 5.7-5.11, 90 deg'] is False     # |1.5| > |-1.0|
+    assert verdicts['000 Table I, LOS at 0.9 m/s'] is True
+    assert verdicts['000 Table I, LOS at 0.0 m/s'] is False
+    assert not any(c.startswith('003') for c in verdicts)     # no 003 run, no 003 claim

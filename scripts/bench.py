@@ -7,6 +7,9 @@ Sections (registry: scripts/benchmarks/__init__.py):
   models       single-vessel derivative and RK4 step cost per model (us)
   batched      batched RK4 throughput for the MSS ships (vessel-steps/s)
   node_jitter  odom inter-arrival jitter of a realtime vessel_node (needs `make build`)
+  lockstep     flagship graph in lockstep: real-time factor, against a bare 3-hop relay floor
+  realtime_latency  flagship graph in realtime: odom -> rudder_cmd latency, missed steps
+  closed_loop_inprocess  the flagship loop's pure modules in one process (no ROS)
 
 The JSON (default bench/results/bench.json, git-ignored) holds the machine (CPU count and
 model, Python, numpy, date), the arguments and, per section, its rows, goals and notes.

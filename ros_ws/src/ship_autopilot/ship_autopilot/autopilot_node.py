@@ -20,7 +20,6 @@ Rudder limits default to the vessel model's (`rudder_max_deg`/`rudder_rate_max_d
 import collections
 import math
 
-import numpy as np
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from std_msgs.msg import Float64
@@ -28,7 +27,7 @@ from std_msgs.msg import Float64
 from ship_autopilot.gains import CONTROLLERS, autopilot_gains, build_autopilot, nomoto_gains
 from ship_autopilot.pd import pd_gains
 from ship_sim.frames import yaw_to_psi
-from ship_sim.models import MODEL_NAMES, model_class
+from ship_sim.models import MODEL_NAMES, make_model
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import STREAM
@@ -63,9 +62,11 @@ class AutopilotNode(Node):
                                  'which the command counts as stale (latest pairing)', lo=0.01,
                                  hi=1e4, unit='s', read_only=True)
 
-        cls = model_class(model)
-        max_angle = math.radians(rmax) if rmax else cls.rudder_max
-        max_rate = math.radians(rrate) if rrate else cls.rudder_rate_max
+        # The instance's limits: models set them in __init__ (e.g. Nomoto presets, NPS AUV II),
+        # the class attributes are only the base defaults.
+        vessel = make_model(model)
+        max_angle = math.radians(rmax) if rmax else vessel.rudder_max
+        max_rate = math.radians(rrate) if rrate else vessel.rudder_rate_max
         try:
             gains = autopilot_gains(model)
             if kind == 'pd' and (k1 or k2):
@@ -91,7 +92,8 @@ class AutopilotNode(Node):
         self.t_prev = None
         self.stale = False
         self.msg = Float64()
-        self.create_subscription(Odometry, 'odom', self._on_odom, STREAM)
+        # raw: odometry_to_ned reads the CDR bytes (rclpy's conversion costs ~20x more).
+        self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
         self.create_subscription(Float64, 'heading_cmd', self._on_heading, STREAM)
 
     def _on_heading(self, msg):
@@ -140,7 +142,7 @@ class AutopilotNode(Node):
             self.get_logger().warning(f'non-finite input held the rudder '
                                       f'({self.controller.n_rejected} so far)',
                                       throttle_duration_sec=5.0)
-        self.msg.data = float(rudder) if np.isfinite(rudder) else 0.0
+        self.msg.data = float(rudder) if math.isfinite(rudder) else 0.0
         self.pub.publish(self.msg)
 
 

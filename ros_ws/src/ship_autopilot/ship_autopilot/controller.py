@@ -24,8 +24,12 @@ Conventions (project-wide, see ship_sim.frames):
 
 Subclasses implement ``_initial_state()`` (dict of state names -> values) and
 ``_law(e, r, dt) -> (raw_command, new_state)`` without mutating ``self._state``; this class
-commits the new state only where the input was valid.
+commits the new state only where the input was valid. A subclass whose ``_law`` also works
+on Python floats sets ``scalar_law = True``: one vessel's valid update then runs on floats
+(same arithmetic, no numpy; ~10x cheaper, it runs every control step in the node).
 """
+import math
+
 import numpy as np
 
 from ship_sim.frames import wrap_angle
@@ -38,6 +42,8 @@ class HeadingController:
 
     #: Registry name (the autopilot node's ``controller`` parameter).
     name = ''
+    #: ``_law`` accepts Python floats (enables the float path of ``update``).
+    scalar_law = False
 
     def __init__(self, limiter):
         if not isinstance(limiter, RudderLimiter):
@@ -61,6 +67,10 @@ class HeadingController:
 
     def update(self, psi, r, psi_c, dt):
         """One control step -> rudder command (rad, + to port). See the module docstring."""
+        if self.scalar_law and type(self.rudder) is float:
+            out = self._update_float(psi, r, psi_c, dt)
+            if out is not None:
+                return out
         psi, r, psi_c, dt = (np.asarray(v, dtype=float) for v in (psi, r, psi_c, dt))
         ok = (np.isfinite(psi) & np.isfinite(r) & np.isfinite(psi_c) & np.isfinite(dt)
               & (dt > 0.0))
@@ -82,7 +92,27 @@ class HeadingController:
                 self._state[key] = np.where(ok, val, self._state[key])
             self.rudder = np.where(ok, delta, self.rudder)
             self.raw = np.where(ok, raw, self.raw)
+        if self.scalar_law and np.ndim(self.rudder) == 0:  # one vessel: back to the float path
+            self.rudder, self.raw = float(self.rudder), float(self.raw)
         return _as_output(self.rudder)
+
+    def _update_float(self, psi, r, psi_c, dt):
+        """``update`` for one vessel with valid scalar inputs; None hands over to the array
+        path (arrays, or an input to refuse: that path counts and holds)."""
+        if not (isinstance(psi, _SCALARS) and isinstance(r, _SCALARS)
+                and isinstance(psi_c, _SCALARS) and isinstance(dt, _SCALARS)):
+            return None
+        psi, r, psi_c, dt = float(psi), float(r), float(psi_c), float(dt)
+        isfinite = math.isfinite
+        if not (isfinite(psi) and isfinite(r) and isfinite(psi_c) and isfinite(dt)
+                and dt > 0.0):
+            return None
+        self.last_ok = True
+        raw, new_state = self._law(wrap_angle(psi - psi_c), r, dt)
+        delta = float(self.limiter(raw, self.rudder, dt))
+        self._state.update(new_state)
+        self.rudder, self.raw = delta, raw
+        return delta
 
     @property
     def state(self):
@@ -96,6 +126,9 @@ class HeadingController:
     def _law(self, e, r, dt):
         """(wrapped error e = psi - psi_c, yaw rate r, dt) -> (raw command, new state dict)."""
         raise NotImplementedError
+
+
+_SCALARS = (float, int)
 
 
 def _as_output(x):

@@ -46,6 +46,7 @@ class PDAutopilot(HeadingController):
     """
 
     name = 'pd'
+    scalar_law = True
 
     def __init__(self, k1, k2, limiter):
         self.k1, self.k2 = float(k1), float(k2)

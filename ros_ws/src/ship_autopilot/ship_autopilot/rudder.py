@@ -61,9 +61,23 @@ class RudderLimiter:
 
     def __call__(self, delta0, delta_prev, dt):
         """Raw command delta0 (rad) -> saturated, rate-limited command (rad); dt (s) > 0."""
+        if type(delta0) is float and type(delta_prev) is float and type(dt) is float:
+            return self._limit_float(delta0, delta_prev, dt)
         delta = saturate(delta0, self.max_angle, self.shape)
         if self.max_rate is not None:
             delta = rate_limit(delta, delta_prev, self.max_rate, dt)
+        return delta
+
+    def _limit_float(self, delta0, delta_prev, dt):
+        # saturate + rate_limit for one vessel on floats (clip = min of max for finite values).
+        m = self.max_angle
+        if self.shape == 'hard':
+            delta = min(max(delta0, -m), m)
+        else:
+            delta = float(m * np.tanh(delta0 / m))
+        if self.max_rate is not None:
+            step = self.max_rate * dt
+            delta = delta_prev + min(max(delta - delta_prev, -step), step)
         return delta
 
     def saturated(self, delta0):

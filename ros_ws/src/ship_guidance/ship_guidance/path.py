@@ -31,6 +31,7 @@ unique circular arc leaving pose i with heading psi_i and passing through pose i
 arc the chord bearing is psi_i + (turn angle)/2, so with delta = wrap(bearing - psi_i) the turn
 is 2 delta, the radius is chord / (2 |sin delta|) and the arc is clockwise when delta > 0.
 """
+import bisect
 import math
 from dataclasses import dataclass
 
@@ -44,6 +45,9 @@ HALF_PI = 0.5 * math.pi
 #: Default half-width (m) of the arc-length search window when ``project`` gets an ``s_hint``
 #: but no ``window``. The guidance passes its own (2 look-ahead distances and more).
 DEFAULT_WINDOW = 500.0
+#: ``Route.project`` searches up to this many legs on Python floats, more with numpy (the
+#: float loop costs ~2 us per leg, the vectorised search ~40 us whatever the count).
+FEW_LEGS = 16
 
 
 def _point(p, name):
@@ -248,6 +252,15 @@ class Route:
         self.end_angles = np.array([leg.end_angle for leg in legs])
         #: Arc-length tolerance (m) for "at the start/end".
         self.s_tol = 1e-9 * max(1.0, self.length)
+        # The same per-leg numbers as Python floats for ``_closest_on_few_legs`` (a guidance
+        # step searches 1-3 legs, where numpy's per-call overhead costs ~10x the arithmetic).
+        self._cum_list = self.cumulative.tolist()
+        self._curv_list = self.curvatures.tolist()
+        self._leg_floats = [
+            (bool(a), *p0, *u, *c, r, th, d, ang, ln) for a, p0, u, c, r, th, d, ang, ln in zip(
+                self._is_arc.tolist(), self._p0.tolist(), self._unit.tolist(),
+                self._center.tolist(), self._radius.tolist(), self._theta0.tolist(),
+                self._dir.tolist(), self._angle.tolist(), self.leg_lengths.tolist())]
 
     # ---------------------------------------------------------------- construction helpers
 
@@ -375,7 +388,8 @@ class Route:
         crossings, hairpins). ``bounds`` = (s_lo, s_hi) further restricts the search (the
         guidance uses it to stop at corners). Where the closest point is clamped at the route's
         start or end, at_start / at_end is set and cross_track is the offset from the tangent
-        line there. All legs in the search interval are evaluated at once with numpy.
+        line there. Up to FEW_LEGS legs in the search interval are searched one by one on
+        Python floats, more all at once with numpy (same arithmetic, same result to rounding).
         """
         pn, pe = float(north), float(east)
         if not (math.isfinite(pn) and math.isfinite(pe)):
@@ -391,13 +405,55 @@ class Route:
             back, ahead = (w, w) if np.ndim(w) == 0 else w
             sh = min(max(float(s_hint), lo), hi)
             lo, hi = max(lo, sh - float(back)), min(hi, sh + float(ahead))
-        c = self.cumulative
         # Legs overlapping (lo, hi) with positive length; a point interval takes its leg.
-        i0 = int(np.searchsorted(c[1:], lo, side='right'))
-        i1 = int(np.searchsorted(c[:-1], hi, side='left')) - 1
+        cl = self._cum_list
+        i0 = bisect.bisect_right(cl, lo, 1) - 1   # = searchsorted(c[1:], lo, 'right')
+        i1 = bisect.bisect_left(cl, hi, 0, len(cl) - 1) - 1
         i0 = min(i0, len(self.legs) - 1)
         if i1 < i0:
             i1 = i0
+        if i1 - i0 < FEW_LEGS:
+            leg, s, t, fn, fe, gamma, dist = self._closest_on_few_legs(pn, pe, lo, hi, i0, i1)
+        else:
+            leg, s, t, fn, fe, gamma, dist = self._closest_vectorised(pn, pe, lo, hi, i0, i1)
+        cross = -math.sin(gamma) * (pn - fn) + math.cos(gamma) * (pe - fe)  # 000 eq. 2
+        return Projection(s=s, leg_index=leg, north=fn, east=fe, path_angle=gamma,
+                          cross_track=cross, curvature=self._curv_list[leg],
+                          distance=dist, at_start=s <= self.s_tol,
+                          at_end=s >= self.length - self.s_tol)
+
+    def _closest_on_few_legs(self, pn, pe, lo, hi, i0, i1):
+        """``_closest_vectorised`` on Python floats, leg by leg, with the same arithmetic."""
+        cl, legs = self._cum_list, self._leg_floats
+        best = None
+        for i in range(i0, i1 + 1):
+            arc, p0n, p0e, un, ue, cn, ce, radius, theta0, d, angle, length = legs[i]
+            c0 = cl[i]
+            ta = min(max(lo - c0, 0.0), length)
+            tb = min(max(hi - c0, 0.0), length)
+            if arc:
+                phi = math.atan2(pe - ce, pn - cn)
+                t = ((d * (phi - theta0)) % TWO_PI) * radius
+                if not ta <= t <= tb:
+                    ga = abs(wrap_angle((ta - t) / radius))
+                    gb = abs(wrap_angle((tb - t) / radius))
+                    t = ta if ga <= gb else tb
+                theta = theta0 + d * t / radius
+                fn = cn + radius * math.cos(theta)
+                fe = ce + radius * math.sin(theta)
+                fa = wrap_angle(theta + d * HALF_PI)
+            else:
+                t = min(max((pn - p0n) * un + (pe - p0e) * ue, ta), tb)
+                fn, fe, fa = p0n + t * un, p0e + t * ue, angle
+            dist = math.hypot(fn - pn, fe - pe)
+            if best is None or dist < best[-1]:  # first minimum, as argmin
+                best = (i, c0 + t, t, fn, fe, fa, dist)
+        return best
+
+    def _closest_vectorised(self, pn, pe, lo, hi, i0, i1):
+        """Closest point on legs i0..i1 restricted to arc lengths [lo, hi], all legs at once:
+        (leg, s, t, north, east, path_angle, distance)."""
+        c = self.cumulative
         sl = slice(i0, i1 + 1)  # contiguous legs: views, no copies
         c0, lengths = c[sl], self.leg_lengths[sl]
         ta = np.minimum(np.maximum(lo - c0, 0.0), lengths)
@@ -422,18 +478,16 @@ class Route:
         fn, fe, fa = self._eval(sl, t)
         dist = np.hypot(fn - pn, fe - pe)
         k = int(np.argmin(dist))
-        leg = i0 + k
-        s = float(c0[k] + t[k])
-        gamma, fn, fe = float(fa[k]), float(fn[k]), float(fe[k])
-        cross = -math.sin(gamma) * (pn - fn) + math.cos(gamma) * (pe - fe)  # 000 eq. 2
-        return Projection(s=s, leg_index=leg, north=fn, east=fe, path_angle=gamma,
-                          cross_track=cross, curvature=float(self.curvatures[leg]),
-                          distance=float(dist[k]), at_start=s <= self.s_tol,
-                          at_end=s >= self.length - self.s_tol)
+        return (i0 + k, float(c0[k] + t[k]), float(t[k]), float(fn[k]), float(fe[k]),
+                float(fa[k]), float(dist[k]))
 
     def along(self, leg_index, north, east):
         """Unclamped local arc length of a position on leg ``leg_index`` (see Line/Arc.along)."""
-        return float(self.legs[leg_index].along(float(north), float(east)))
+        leg = self.legs[leg_index]
+        if leg.kind == 'line':  # Line.along on floats (the guidance calls this every step)
+            _, p0n, p0e, un, ue = self._leg_floats[leg_index][:5]
+            return (float(north) - p0n) * un + (float(east) - p0e) * ue
+        return float(leg.along(float(north), float(east)))
 
     # ---------------------------------------------------------------- pose encoding
 

@@ -217,8 +217,9 @@ class VesselSimulator(_SimulatorCore):
 
     def pose_ned(self):
         """(north, east, psi): m, m, rad in [-pi, pi)."""
-        n, e, psi = self._pose()
-        return float(n), float(e), float(psi)
+        # Python floats, not numpy scalars: the nodes read this every step (~5x cheaper).
+        m, x = self.model, self.x
+        return float(x[m.IX]), float(x[m.IY]), wrap_angle(float(x[m.IPSI]))
 
     def velocity_water(self):
         """(u, v, r) body FRD relative to the water: m/s, m/s, rad/s (u = total surge)."""
@@ -227,8 +228,14 @@ class VesselSimulator(_SimulatorCore):
 
     def velocity_ground(self):
         """(u, v, r) body FRD over ground: m/s, m/s, rad/s."""
-        u, v, r = self._velocity_ground()
-        return float(u), float(v), float(r)
+        u, v, r = self.velocity_water()
+        if self.current is None:
+            return u, v, r
+        # _velocity_ground on floats (see there).
+        vn, ve = self.current.velocity_ne()
+        psi = float(self.x[self.model.IPSI])
+        c, s = math.cos(psi), math.sin(psi)
+        return u + c * vn + s * ve, v - s * vn + c * ve, r
 
     def rudder(self):
         """Actual rudder angle (rad), unified sign (positive turns to port)."""

@@ -1,0 +1,224 @@
+"""Learned steering policy at runtime: numpy-only MLP inference, policy files, a node-side wrapper.
+
+Source: the actor of seed 000 (Martinsen & Lekkas, Sec. III): two fully connected hidden layers
+of 400 and 300 ReLU units; our output layer is tanh, scaled to the model's rudder limit
+(unified sign: positive turns to port). Trained by scripts/train_ddpg.py (torch, optional);
+running a policy needs only numpy.
+
+Policy file (``ship_autopilot/data/policies/<model>.npz``, ``np.load(allow_pickle=False)``):
+  W0 (9, 400), b0 (400,), W1 (400, 300), b1 (300,), W2 (300, 1), b2 (1,)   float32, y = x W + b
+  ref_obs (k, 9), ref_action (k,)   float32: normalised inputs and the TRAINING framework's
+                                    actions in [-1, 1], stored at export (tests compare)
+  meta          0-d unicode array holding JSON: format (FORMAT), model, obs_dim, state_names,
+                state_offset, state_scale, clip, action_scale (rad, = rudder limit),
+                control_dt (s), sim_dt (s), hidden, training (settings and results), sha256
+                (of the weight arrays' bytes in the order above)
+A file that is missing, unreadable, of another format, for another model, with the wrong
+shapes or a changed weight hash raises PolicyError, a one-line message naming the file and
+what was expected.
+
+Use:  policy = load_policy('mariner')          # or load_policy(model=..., path=...)
+      rudder = policy.rudder(raw_state)        # raw eq. 9 state(s), SI (learning.features)
+Raw states are normalised with the file's offsets/scales and clipped to the training range;
+non-finite entries never reach the network (see features.normalise; ``LearnedSteering`` holds
+its previous command instead).
+"""
+import hashlib
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .features import OBS_DIM, STATE_NAMES, normalise
+
+FORMAT = 'ship_autopilot.policy.v1'
+WEIGHT_NAMES = ('W0', 'b0', 'W1', 'b1', 'W2', 'b2')
+#: Shipped policies: package data next to this package.
+POLICY_DIR = Path(__file__).resolve().parent.parent / 'data' / 'policies'
+
+
+class PolicyError(ValueError):
+    """A policy file is missing or does not fit; the message is one line naming the file."""
+
+
+def policy_path(model):
+    """Path of the shipped policy of ``model``."""
+    return POLICY_DIR / f'{model}.npz'
+
+
+def weights_hash(weights):
+    """sha256 hex digest of the weight arrays (float32, C order) in WEIGHT_NAMES order."""
+    h = hashlib.sha256()
+    for name in WEIGHT_NAMES:
+        h.update(np.ascontiguousarray(weights[name], dtype=np.float32).tobytes())
+    return h.hexdigest()
+
+
+def mlp_forward(weights, z):
+    """tanh(relu(relu(z W0 + b0) W1 + b1) W2 + b2) for z (..., 9) float32 -> (...,) in [-1, 1]."""
+    h = np.maximum(z @ weights['W0'] + weights['b0'], 0.0)
+    h = np.maximum(h @ weights['W1'] + weights['b1'], 0.0)
+    return np.tanh(h @ weights['W2'] + weights['b2'])[..., 0]
+
+
+class Policy:
+    """A loaded, validated policy. Attributes from the file's metadata (see module docstring)."""
+
+    def __init__(self, weights, meta, path='<memory>'):
+        self.weights = weights
+        self.meta = meta
+        self.path = str(path)
+        self.model = meta['model']
+        self.offset = np.asarray(meta['state_offset'], dtype=np.float64)
+        self.scale = np.asarray(meta['state_scale'], dtype=np.float64)
+        self.clip = float(meta['clip'])
+        self.action_scale = float(meta['action_scale'])
+        self.control_dt = float(meta['control_dt'])
+
+    def normalise(self, raw_state):
+        """Raw eq. 9 state(s) (..., 9) SI -> (clipped float32 (..., 9), finite mask)."""
+        return normalise(raw_state, self.offset, self.scale, self.clip)
+
+    def action(self, z):
+        """Normalised observation(s) (..., 9) -> action(s) in [-1, 1] (float32)."""
+        z = np.asarray(z, dtype=np.float32)
+        return mlp_forward(self.weights, z)
+
+    def rudder(self, raw_state):
+        """Raw eq. 9 state(s) -> rudder command(s) (rad, unified sign), always finite."""
+        z, _ = self.normalise(raw_state)
+        a = self.action(z).astype(np.float64) * self.action_scale
+        return float(a) if a.ndim == 0 else a
+
+    def __repr__(self):
+        return f'Policy({self.model}, {self.path})'
+
+
+def _fail(path, what):
+    raise PolicyError(f'{path}: {what}')
+
+
+def load_policy(model=None, path=None):
+    """Load and validate a policy file: the shipped one of ``model``, or ``path``.
+
+    With both, the file must be for ``model``. Raises PolicyError (one line, names the file).
+    """
+    if path is None:
+        if model is None:
+            raise PolicyError('load_policy needs a model name or a path')
+        path = policy_path(model)
+    path = Path(path)
+    if not path.is_file():
+        _fail(path, f'policy file not found (expected a trained policy for model '
+                    f'{model!r}; train one with scripts/train_ddpg.py)')
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in data.files}
+    except Exception as exc:  # zip/npy errors of many kinds: all mean "not a policy file"
+        _fail(path, f'not a readable .npz policy file ({type(exc).__name__}: '
+                    f'{str(exc).splitlines()[0] if str(exc) else ""})')
+    missing = [k for k in WEIGHT_NAMES + ('meta',) if k not in arrays]
+    if missing:
+        _fail(path, f'missing arrays {missing}; expected {list(WEIGHT_NAMES) + ["meta"]}')
+    try:
+        meta = json.loads(str(arrays['meta'][()]))
+    except (ValueError, TypeError) as exc:
+        _fail(path, f'metadata is not JSON ({exc})')
+    if not isinstance(meta, dict) or meta.get('format') != FORMAT:
+        _fail(path, f'format {meta.get("format") if isinstance(meta, dict) else None!r}, '
+                    f'expected {FORMAT!r}')
+    if model is not None and meta.get('model') != model:
+        _fail(path, f'policy is for model {meta.get("model")!r}, expected {model!r}')
+    if meta.get('obs_dim') != OBS_DIM or list(meta.get('state_names', [])) != list(STATE_NAMES):
+        _fail(path, f'state {meta.get("obs_dim")} {meta.get("state_names")}, expected '
+                    f'{OBS_DIM} {list(STATE_NAMES)}')
+    hidden = meta.get('hidden')
+    if not (isinstance(hidden, list) and len(hidden) == 2
+            and all(isinstance(h, int) and h > 0 for h in hidden)):
+        _fail(path, f'hidden = {hidden!r}, expected two positive layer sizes')
+    h0, h1 = hidden
+    shapes = {'W0': (OBS_DIM, h0), 'b0': (h0,), 'W1': (h0, h1), 'b1': (h1,), 'W2': (h1, 1),
+              'b2': (1,)}
+    for name, shape in shapes.items():
+        a = arrays[name]
+        if a.shape != shape or a.dtype != np.float32:
+            _fail(path, f'{name} has shape {a.shape} {a.dtype}, expected {shape} float32')
+        if not np.all(np.isfinite(a)):
+            _fail(path, f'{name} has non-finite weights')
+    for key in ('state_offset', 'state_scale'):
+        v = np.asarray(meta.get(key, []), dtype=float)
+        if v.shape != (OBS_DIM,) or not np.all(np.isfinite(v)):
+            _fail(path, f'{key} has shape {v.shape}, expected ({OBS_DIM},) finite')
+    if not np.all(np.asarray(meta['state_scale']) > 0):
+        _fail(path, 'state_scale must be > 0')
+    for key in ('clip', 'action_scale', 'control_dt'):
+        v = meta.get(key)
+        if not (isinstance(v, (int, float)) and np.isfinite(v) and v > 0):
+            _fail(path, f'{key} = {v!r}, expected a positive number')
+    weights = {k: arrays[k] for k in WEIGHT_NAMES}
+    digest = weights_hash(weights)
+    if meta.get('sha256') != digest:
+        _fail(path, f'weight hash {digest[:12]}... does not match the stored '
+                    f'{str(meta.get("sha256"))[:12]}... (file changed after export)')
+    policy = Policy(weights, meta, path)
+    for key in ('ref_obs', 'ref_action'):
+        if key in arrays:
+            setattr(policy, key, arrays[key])
+    return policy
+
+
+def check_model_limits(policy, rudder_max):
+    """PolicyError unless the policy's action scale equals the vessel's rudder limit (rad)."""
+    if not np.isclose(policy.action_scale, rudder_max, rtol=1e-9, atol=1e-12):
+        _fail(policy.path, f'action_scale {policy.action_scale:.6g} rad, expected the '
+                           f'vessel\'s rudder limit {rudder_max:.6g} rad')
+
+
+def save_policy(path, weights, meta, ref_obs=None, ref_action=None):
+    """Write a policy file (float32 weights, metadata with format and hash). Returns the meta."""
+    weights = {k: np.ascontiguousarray(weights[k], dtype=np.float32) for k in WEIGHT_NAMES}
+    meta = dict(meta, format=FORMAT, obs_dim=OBS_DIM, state_names=list(STATE_NAMES),
+                sha256=weights_hash(weights))
+    arrays = dict(weights, meta=np.array(json.dumps(meta, sort_keys=True)))
+    if ref_obs is not None:
+        arrays['ref_obs'] = np.asarray(ref_obs, dtype=np.float32)
+        arrays['ref_action'] = np.asarray(ref_action, dtype=np.float32)
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    with open(path, 'wb') as f:
+        np.savez_compressed(f, **arrays)
+    return meta
+
+
+class LearnedSteering:
+    """Node-side wrapper: hold semantics and the policy's control step.
+
+    ``update(raw_state, t)`` -> rudder command (rad). A new action is computed when at least
+    ``control_dt`` (s, from the file; the step the policy was trained with) has passed since the
+    last one (first call, or time went backwards: always), else the previous command is held.
+    A state with non-finite entries is rejected: the previous command is held, ``n_rejected``
+    counts it and ``last_ok`` is False. The output is always finite.
+    """
+
+    def __init__(self, policy, control_dt=None):
+        self.policy = policy
+        self.control_dt = policy.control_dt if control_dt is None else float(control_dt)
+        self.reset()
+
+    def reset(self, rudder=0.0):
+        self.rudder = float(rudder)
+        self.t_last = None
+        self.n_rejected = 0
+        self.last_ok = True
+
+    def update(self, raw_state, t):
+        z, ok = self.policy.normalise(raw_state)
+        self.last_ok = bool(np.all(ok)) and np.isfinite(t)
+        if not self.last_ok:
+            self.n_rejected += 1
+            return self.rudder
+        # New action every control_dt; a clock that went back (sim restart) starts afresh.
+        if (self.t_last is None or t < self.t_last
+                or t - self.t_last >= self.control_dt - 1e-9):
+            self.rudder = float(self.policy.action(z)) * self.policy.action_scale
+            self.t_last = t
+        return self.rudder

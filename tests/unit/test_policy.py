@@ -1,0 +1,208 @@
+"""Learned steering policy files and numpy inference (ship_autopilot.learning.policy).
+
+- The numpy forward pass equals the training framework's: against torch rebuilt from the file's
+  weights when torch is installed, and always against the reference actions torch computed at
+  export time (stored in each shipped file).
+- Every shipped policy loads for its ship, scales to that ship's rudder limit and gives finite,
+  bounded commands for random, extreme and non-finite states.
+- Bad files raise PolicyError with a one-line message naming the file and what was expected.
+"""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from ship_autopilot.learning.features import CLIP, OBS_DIM, default_scales
+from ship_autopilot.learning.policy import (FORMAT, LearnedSteering, PolicyError,
+                                            check_model_limits, load_policy, mlp_forward,
+                                            policy_path, save_policy)
+from ship_sim.models import make_model
+
+SHIPS = ('mariner', 'container', 'tanker')
+
+
+def random_weights(rng, hidden=(400, 300)):
+    h0, h1 = hidden
+    return {'W0': rng.normal(0, 0.3, (OBS_DIM, h0)), 'b0': rng.normal(0, 0.1, h0),
+            'W1': rng.normal(0, 0.05, (h0, h1)), 'b1': rng.normal(0, 0.1, h1),
+            'W2': rng.normal(0, 0.05, (h1, 1)), 'b2': rng.normal(0, 0.1, 1)}
+
+
+def meta_for(model='mariner', hidden=(400, 300)):
+    off, scale = default_scales(7.7175, 160.93)
+    return {'model': model, 'state_offset': off.tolist(), 'state_scale': scale.tolist(),
+            'clip': CLIP, 'action_scale': math.radians(40.0), 'control_dt': 1.0,
+            'sim_dt': 0.1, 'hidden': list(hidden), 'training': {}}
+
+
+@pytest.fixture
+def good_file(tmp_path):
+    path = tmp_path / 'good.npz'
+    save_policy(path, random_weights(np.random.default_rng(1)), meta_for())
+    return path
+
+
+def one_line_error(path, **kw):
+    with pytest.raises(PolicyError) as info:
+        load_policy(path=path, **kw)
+    msg = str(info.value)
+    assert '\n' not in msg and str(path) in msg
+    return msg
+
+
+# -- inference ----------------------------------------------------------------------------------
+
+def test_forward_pass_by_hand():
+    """A 1-unit network computed by hand: tanh(relu(relu(z w0 + b0) w1 + b1) w2 + b2)."""
+    w = {'W0': np.zeros((OBS_DIM, 1), np.float32), 'b0': np.array([0.5], np.float32),
+         'W1': np.array([[2.0]], np.float32), 'b1': np.array([-0.25], np.float32),
+         'W2': np.array([[1.5]], np.float32), 'b2': np.array([0.1], np.float32)}
+    w['W0'][0, 0] = 1.0
+    z = np.zeros(OBS_DIM, np.float32)
+    z[0] = 0.3   # h0 = relu(0.8) = 0.8, h1 = relu(1.35) = 1.35, out = tanh(2.125)
+    assert mlp_forward(w, z) == pytest.approx(math.tanh(2.125), rel=1e-6)
+    z[0] = -2.0  # h0 = relu(-1.5) = 0 -> h1 = relu(-0.25) = 0 -> tanh(0.1)
+    assert mlp_forward(w, z) == pytest.approx(math.tanh(0.1), rel=1e-6)
+
+
+def test_numpy_matches_torch_on_the_same_weights(good_file):
+    torch = pytest.importorskip('torch')
+    policy = load_policy(path=good_file)
+    nn = torch.nn
+    net = nn.Sequential(nn.Linear(OBS_DIM, 400), nn.ReLU(), nn.Linear(400, 300), nn.ReLU(),
+                        nn.Linear(300, 1), nn.Tanh())
+    with torch.no_grad():
+        for i, layer in enumerate(m for m in net if isinstance(m, nn.Linear)):
+            layer.weight.copy_(torch.from_numpy(policy.weights[f'W{i}'].T.copy()))
+            layer.bias.copy_(torch.from_numpy(policy.weights[f'b{i}']))
+        z = np.random.default_rng(2).uniform(-CLIP, CLIP, (64, OBS_DIM)).astype(np.float32)
+        expected = net(torch.from_numpy(z)).numpy()[:, 0]
+    np.testing.assert_allclose(policy.action(z), expected, rtol=1e-5, atol=1e-6)
+
+
+# -- shipped policies ----------------------------------------------------------------------------
+
+@pytest.mark.parametrize('model', SHIPS)
+def test_shipped_policy_reproduces_its_export_reference(model):
+    policy = load_policy(model)
+    assert policy.ref_obs.shape[1] == OBS_DIM and len(policy.ref_obs) >= 10
+    np.testing.assert_allclose(policy.action(policy.ref_obs), policy.ref_action,
+                               rtol=1e-5, atol=1e-6)
+
+
+@pytest.mark.parametrize('model', SHIPS)
+def test_shipped_policy_fits_its_ship_and_gives_finite_bounded_rudder(model):
+    policy = load_policy(model)
+    ship = make_model(model)
+    check_model_limits(policy, ship.rudder_max)
+    assert policy.model == model and policy.control_dt > 0
+    rng = np.random.default_rng(3)
+    scale = np.asarray(policy.scale)
+    raw = policy.offset + rng.normal(0, 3, (200, OBS_DIM)) * scale
+    extreme = np.array([[1e9, -1e9, 50.0, -1e3, -50.0, 1e3, 1e4, -1e4, 10.0],
+                        [-1e9, 1e9, -50.0, 1e3, 50.0, -1e3, -1e4, 1e4, -10.0]])
+    d = policy.rudder(np.vstack([raw, extreme]))
+    assert d.shape == (202,) and np.all(np.isfinite(d))
+    assert np.all(np.abs(d) <= ship.rudder_max + 1e-12)
+    # Beyond the training range the input is clipped: larger values change nothing.
+    assert policy.rudder(extreme[0]) == policy.rudder(extreme[0] * 10.0)
+
+
+# The shipped policies had ~15k DDPG updates (the 60 min budget on a machine at load 11-26,
+# see scripts/train_ddpg.py and the issue 5 report): they do not yet steer back from 500 m.
+# strict: a retrained policy that passes turns this red, so the marker gets removed then.
+UNDERTRAINED = pytest.mark.xfail(strict=True, reason='shipped policies under-trained '
+                                 '(~15k updates); retrain with scripts/train_ddpg.py')
+
+
+@UNDERTRAINED
+@pytest.mark.parametrize('model', SHIPS)
+def test_shipped_policy_steers_back_towards_the_path(model):
+    """Far (500 m) to starboard, heading along the path, at rest in yaw: the learned rudder
+    turns to port (positive, unified sign), i.e. towards the path; and mirrored."""
+    policy = load_policy(model)
+    ship = make_model(model)
+    u0 = float(ship.speed(ship.initial_state()))
+    right = np.array([500.0, 0.0, 0.0, 0.0, 0.0, 0.0, u0, 0.0, 0.0])
+    left = right * np.array([-1, 1, 1, 1, 1, 1, 1, 1, 1])
+    assert policy.rudder(right) > 0.0 > policy.rudder(left)
+
+
+def test_learned_steering_holds_on_bad_input_and_keeps_its_control_step(good_file):
+    policy = load_policy(path=good_file)
+    steer = LearnedSteering(policy)
+    x = policy.offset.copy()
+    x[0] = 40.0
+    d0 = steer.update(x, 0.0)
+    assert d0 == pytest.approx(policy.rudder(x))
+    x2 = x.copy()
+    x2[0] = -40.0
+    assert steer.update(x2, 0.5) == d0                 # within control_dt: held
+    assert steer.update(x2, 1.0) == pytest.approx(policy.rudder(x2))
+    bad = x2.copy()
+    bad[3] = np.nan
+    assert steer.update(bad, 2.0) == steer.rudder and steer.n_rejected == 1
+    assert not steer.last_ok
+
+
+# -- bad files -----------------------------------------------------------------------------------
+
+def test_missing_file(tmp_path):
+    msg = one_line_error(tmp_path / 'nope.npz', model='mariner')
+    assert 'not found' in msg and 'mariner' in msg
+
+
+def test_wrong_model(good_file):
+    msg = one_line_error(good_file, model='tanker')
+    assert "'mariner'" in msg and "expected 'tanker'" in msg
+
+
+def test_wrong_shapes(tmp_path):
+    w = random_weights(np.random.default_rng(4))
+    w['W1'] = w['W1'][:, :299]                      # does not fit b1 (300,)
+    path = tmp_path / 'bad_shape.npz'
+    save_policy(path, w, meta_for())
+    msg = one_line_error(path)
+    assert 'W1' in msg and '(400, 300)' in msg
+
+
+def test_changed_weights_are_detected(tmp_path, good_file):
+    with np.load(good_file) as data:
+        arrays = {k: data[k] for k in data.files}
+    arrays['b2'] = arrays['b2'] + np.float32(0.5)
+    path = tmp_path / 'tampered.npz'
+    np.savez(path, **arrays)
+    assert 'hash' in one_line_error(path)
+
+
+def test_not_a_policy_file(tmp_path):
+    path = tmp_path / 'garbage.npz'
+    path.write_bytes(b'this is not a zip file\n\x00\x01')
+    assert 'not a readable' in one_line_error(path)
+    other = tmp_path / 'other.npz'
+    np.savez(other, a=np.zeros(3))
+    assert 'missing arrays' in one_line_error(other)
+
+
+def test_wrong_format_and_state(tmp_path, good_file):
+    with np.load(good_file) as data:
+        arrays = {k: data[k] for k in data.files}
+    meta = json.loads(str(arrays['meta'][()]))
+    for key, value, expect in (('format', 'v0', FORMAT), ('obs_dim', 8, 'expected 9'),
+                               ('control_dt', -1.0, 'control_dt')):
+        bad = dict(meta, **{key: value})
+        path = tmp_path / f'bad_{key}.npz'
+        np.savez(path, **dict(arrays, meta=np.array(json.dumps(bad))))
+        assert expect in one_line_error(path)
+
+
+def test_action_scale_must_match_the_ship(good_file):
+    policy = load_policy(path=good_file)
+    with pytest.raises(PolicyError, match='rudder limit'):
+        check_model_limits(policy, make_model('tanker').rudder_max)
+
+
+def test_policy_path_is_package_data():
+    assert policy_path('mariner').name == 'mariner.npz'
+    assert policy_path('mariner').parent.name == 'policies'

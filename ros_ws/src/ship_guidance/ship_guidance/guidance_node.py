@@ -30,17 +30,16 @@ import math
 from nav_msgs.msg import Odometry, Path
 from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.node import Node
-from std_msgs.msg import Bool, Float64, Float64MultiArray, MultiArrayDimension
+from std_msgs.msg import Bool
 
 from ship_guidance.guidance import LAWS, Guidance
+from ship_guidance.ros.outputs import GuidanceOutputs
 from ship_guidance.ros.path_msgs import path_msg_to_route
-from ship_sim.frames import psi_to_yaw
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED, STREAM
 from ship_sim.ros.run import run_node
 
-PROGRESS_LABELS = ('s_m', 'remaining_m', 'leg', 'finished', 'path_yaw_rad', 'curvature_1pm')
 COURSE_LAW = 'course'
 
 
@@ -110,9 +109,7 @@ class GuidanceNode(Node):
                                  f'(got {zeta}, {omega}, {speed}); set all three or none')
         self._validate_lookahead()
 
-        self.pub_heading = self.create_publisher(Float64, 'heading_cmd', STREAM)
-        self.pub_xte = self.create_publisher(Float64, 'cross_track_error', STREAM)
-        self.pub_progress = self.create_publisher(Float64MultiArray, 'progress', STREAM)
+        self.out = GuidanceOutputs(self)
         self.pub_complete = self.create_publisher(Bool, 'route_complete', LATCHED)
         self.create_subscription(Path, 'route', self._on_route, LATCHED)
         self.odom_sub = None
@@ -120,10 +117,6 @@ class GuidanceNode(Node):
         self.t_prev = None
         self.completed = False
         self.n_bad_odom = 0
-        self.m_heading, self.m_xte = Float64(), Float64()
-        self.m_progress = Float64MultiArray()
-        self.m_progress.layout.dim = [MultiArrayDimension(label=','.join(PROGRESS_LABELS),
-                                                          size=len(PROGRESS_LABELS), stride=1)]
 
     def _declare_course_schedule(self):
         """(times, courses) for the course law, None otherwise. A list parameter (not
@@ -187,26 +180,16 @@ class GuidanceNode(Node):
             self.n_bad_odom += 1
             self.get_logger().warning(f'odom refused ({exc}); {self.n_bad_odom} so far',
                                       throttle_duration_sec=5.0)
-            self._publish(self.m_heading.data, self.m_xte.data, self.m_progress.data)
+            self.out.repeat()
             return
         self.t_prev = o.t
         psi_c = course_at(*self.schedule, o.t) if self.schedule else out.heading_cmd
-        yaw_cmd = float(psi_to_yaw(psi_c))
-        progress = [out.s, out.distance_remaining, float(out.leg_index), float(out.finished),
-                    float(psi_to_yaw(out.path_angle)), -out.curvature]
-        self._publish(yaw_cmd, out.cross_track, progress)
+        self.out.publish_route(out, psi_c)
         if out.finished and not self.completed and not self.schedule:
             self.completed = True
             self.pub_complete.publish(Bool(data=True))
             self.get_logger().info(f'route complete at t = {o.t:.1f} s')
 
-    def _publish(self, yaw_cmd, xte, progress):
-        self.m_heading.data = yaw_cmd if math.isfinite(yaw_cmd) else 0.0
-        self.m_xte.data = xte
-        self.m_progress.data = list(progress)
-        self.pub_heading.publish(self.m_heading)
-        self.pub_xte.publish(self.m_xte)
-        self.pub_progress.publish(self.m_progress)
 
 
 def main(args=None):

@@ -6,7 +6,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 WS := ros_ws
 SRC_FILES := $(shell find $(WS)/src -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null)
-SCENARIO ?= scenarios/flagship_mariner_route.yaml
+SCENARIO ?= scenarios/flagship_mariner.yaml
 PYTEST_ARGS ?=
 
 .PHONY: all venv build demo test bench clean distclean

@@ -20,9 +20,11 @@ Rudder limits default to the vessel model's (`rudder_max_deg`/`rudder_rate_max_d
 import collections
 import math
 
+import numpy as np
+
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
-from std_msgs.msg import Float64
+from std_msgs.msg import Float64, Float64MultiArray
 
 from ship_autopilot.gains import CONTROLLERS, autopilot_gains, build_autopilot, nomoto_gains
 from ship_autopilot.pd import pd_gains
@@ -40,8 +42,11 @@ class AutopilotNode(Node):
         p = self.params = NodeParameters(self)
         model = p.declare('vessel_model', 'mariner', 'vessel model the gains and rudder limits '
                           'are taken from', choices=MODEL_NAMES, read_only=True)
-        kind = p.declare('controller', 'pd', 'heading controller', choices=CONTROLLERS,
+        kind = p.declare('controller', 'pd', 'heading controller (policy: learned steering on '
+                         'the guidance node\'s path_state)', choices=CONTROLLERS + ('policy',),
                          read_only=True)
+        policy_file = p.declare('policy_file', '', 'controller policy: policy file (.npz; empty: '
+                                'the one shipped for vessel_model)', read_only=True)
         k1 = p.declare('k1', 0.0, 'PD heading gain (0: from the gain table)', lo=0.0, hi=1e3,
                        unit='rad/rad', read_only=True)
         k2 = p.declare('k2', 0.0, 'PD yaw-rate gain (0: from the gain table)', lo=0.0, hi=1e5,
@@ -67,6 +72,40 @@ class AutopilotNode(Node):
         vessel = make_model(model)
         max_angle = math.radians(rmax) if rmax else vessel.rudder_max
         max_rate = math.radians(rrate) if rrate else vessel.rudder_rate_max
+        self.steer = None
+        if kind == 'policy':
+            self.steer = self._load_policy(model, policy_file, max_angle)
+        else:
+            self._build_classical(kind, model, k1, k2, omega_n, zeta, max_angle, max_rate, shape)
+
+        self.pub = self.create_publisher(Float64, 'rudder_cmd', STREAM)
+        self.odoms = collections.deque()
+        self.headings = collections.deque()  # heading commands, or path states (policy)
+        self.psi_c = None           # last heading command (NED)
+        self.state = None           # last path state (policy, latest pairing)
+        self.t_cmd = None           # sim time of the last heading command (latest pairing)
+        self.t_prev = None
+        self.stale = False
+        self.msg = Float64()
+        # raw: odometry_to_ned reads the CDR bytes (rclpy's conversion costs ~20x more).
+        self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
+        if self.steer is None:
+            self.create_subscription(Float64, 'heading_cmd', self._on_heading, STREAM)
+        else:
+            self.create_subscription(Float64MultiArray, 'path_state', self._on_state, STREAM)
+
+    def _load_policy(self, model, policy_file, max_angle):
+        from ship_autopilot.learning.policy import (LearnedSteering, PolicyError,
+                                                    check_model_limits, load_policy)
+        try:
+            policy = load_policy(model, policy_file or None)
+            check_model_limits(policy, max_angle)
+        except PolicyError as exc:
+            raise ParameterError('policy_file', message=f'policy_file: {exc}') from None
+        self.get_logger().info(f'learned steering for {model}: {policy!r}')
+        return LearnedSteering(policy)
+
+    def _build_classical(self, kind, model, k1, k2, omega_n, zeta, max_angle, max_rate, shape):
         try:
             gains = autopilot_gains(model)
             if kind == 'pd' and (k1 or k2):
@@ -84,17 +123,16 @@ class AutopilotNode(Node):
             f'{kind} autopilot for {model}: rudder limit {math.degrees(max_angle):.1f} deg, '
             f'{math.degrees(max_rate):.2f} deg/s, gains {gains.get("pd", gains) if kind == "pd" else "fuzzy table"}')
 
-        self.pub = self.create_publisher(Float64, 'rudder_cmd', STREAM)
-        self.odoms = collections.deque()
-        self.headings = collections.deque()
-        self.psi_c = None           # last heading command (NED)
-        self.t_cmd = None           # sim time of the last heading command (latest pairing)
-        self.t_prev = None
-        self.stale = False
-        self.msg = Float64()
-        # raw: odometry_to_ned reads the CDR bytes (rclpy's conversion costs ~20x more).
-        self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
-        self.create_subscription(Float64, 'heading_cmd', self._on_heading, STREAM)
+    def _on_state(self, msg):
+        # A state of the wrong length counts as non-finite: the policy holds its command.
+        state = np.asarray(msg.data, dtype=float)
+        if state.shape != (9,):
+            state = np.full(9, np.nan)
+        if self.pairing == 'sequence':
+            self.headings.append(state)
+            self._drain()
+        else:
+            self.state = state
 
     def _on_heading(self, msg):
         psi_c = float(yaw_to_psi(msg.data)) if math.isfinite(msg.data) else math.nan
@@ -113,6 +151,9 @@ class AutopilotNode(Node):
             self.odoms.append(o)
             self._drain()
             return
+        if self.steer is not None:
+            self._step(o, self.state if self.state is not None else np.full(9, np.nan))
+            return
         if self.psi_c is None:
             self.psi_c = o.psi  # no command yet: hold the current heading
             self.t_cmd = o.t
@@ -128,10 +169,21 @@ class AutopilotNode(Node):
     def _drain(self):
         while self.odoms and self.headings:
             o = self.odoms.popleft()
-            psi_c = self.headings.popleft()
-            self._step(o, psi_c if math.isfinite(psi_c) else (self.psi_c or o.psi))
+            cmd = self.headings.popleft()
+            if self.steer is None and not math.isfinite(cmd):
+                cmd = self.psi_c or o.psi
+            self._step(o, cmd)
 
     def _step(self, o, psi_c):
+        if self.steer is not None:  # psi_c is the path state here
+            n_bad = self.steer.n_rejected
+            self.msg.data = self.steer.update(psi_c, o.t)
+            if self.steer.n_rejected != n_bad:
+                self.get_logger().warning(f'invalid path_state held the rudder '
+                                          f'({self.steer.n_rejected} so far)',
+                                          throttle_duration_sec=5.0)
+            self.pub.publish(self.msg)
+            return
         dt = 0.0 if self.t_prev is None else o.t - self.t_prev
         self.t_prev = o.t
         self.psi_c = psi_c

@@ -7,7 +7,10 @@ Publishes, exactly once per odom message (so lockstep consumers can pair by sequ
   cross_track_error  std_msgs/Float64  m, positive when the vessel is to starboard of the path
   progress           std_msgs/Float64MultiArray  [s (m), distance remaining (m), leg index,
                      finished (0/1), path angle (ENU yaw, rad), curvature (1/m, + = port turn)]
-and `route_complete` (std_msgs/Bool, latched) once the end of the route is reached.
+and `route_complete` (std_msgs/Bool, latched) once the end of the route is reached; with
+`publish_path_state`, also `path_state` (std_msgs/Float64MultiArray, one per odom): the
+path-relative state of the learned steering policy (ship_autopilot.learning.features,
+STATE_NAMES order, SI, NED/FRD).
 
 The odom subscription is created only when the first valid route has arrived, so a lockstep
 simulator that waits for its odom subscribers never starts before the guidance can answer.
@@ -30,7 +33,7 @@ import math
 from nav_msgs.msg import Odometry, Path
 from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.node import Node
-from std_msgs.msg import Bool
+from std_msgs.msg import Bool, Float64MultiArray, MultiArrayDimension
 
 from ship_guidance.guidance import LAWS, Guidance
 from ship_guidance.ros.outputs import GuidanceOutputs
@@ -92,6 +95,9 @@ class GuidanceNode(Node):
                           lo=0.0, hi=100.0, unit='m/s', read_only=True)
         self.allow_unstable = p.declare('allow_unstable', False, 'accept a look-ahead below the '
                                         'stability limit', read_only=True)
+        self.want_path_state = p.declare(
+            'publish_path_state', False, 'also publish path_state, the path-relative state of the '
+            'learned steering policy (autopilot controller: policy)', read_only=True)
         self.curvature_lead = p.declare('curvature_lead', False, 'lead the heading command by '
                                         '2 zeta U kappa / omega_n on curves (needs the autopilot '
                                         'parameters of the stability check)', read_only=True)
@@ -110,6 +116,15 @@ class GuidanceNode(Node):
         self._validate_lookahead()
 
         self.out = GuidanceOutputs(self)
+        self.features = self.pub_state = None
+        if self.want_path_state:
+            # Imported only when asked for: the one implementation the policy was trained on.
+            from ship_autopilot.learning.features import STATE_NAMES, PathFeatures
+            self.features = PathFeatures()
+            self.pub_state = self.create_publisher(Float64MultiArray, 'path_state', STREAM)
+            self.m_state = Float64MultiArray()
+            self.m_state.layout.dim = [MultiArrayDimension(label=','.join(STATE_NAMES),
+                                                           size=len(STATE_NAMES), stride=1)]
         self.pub_complete = self.create_publisher(Bool, 'route_complete', LATCHED)
         self.create_subscription(Path, 'route', self._on_route, LATCHED)
         self.odom_sub = None
@@ -160,6 +175,8 @@ class GuidanceNode(Node):
             self.get_logger().error(f'route refused: {exc}; keeping the previous route')
             return
         self.guidance = self._make_guidance(route)
+        if self.features is not None:
+            self.features.reset()
         self.t_prev = None
         self.completed = False
         self.pub_complete.publish(Bool(data=False))
@@ -181,10 +198,16 @@ class GuidanceNode(Node):
             self.get_logger().warning(f'odom refused ({exc}); {self.n_bad_odom} so far',
                                       throttle_duration_sec=5.0)
             self.out.repeat()
+            if self.pub_state is not None:
+                self.pub_state.publish(self.m_state)
             return
         self.t_prev = o.t
         psi_c = course_at(*self.schedule, o.t) if self.schedule else out.heading_cmd
         self.out.publish_route(out, psi_c)
+        if self.pub_state is not None:
+            self.m_state.data = self.features(out.cross_track, out.path_angle, out.curvature,
+                                              o.psi, o.u, o.v, o.r, max(dt, 0.0)).tolist()
+            self.pub_state.publish(self.m_state)
         if out.finished and not self.completed and not self.schedule:
             self.completed = True
             self.pub_complete.publish(Bool(data=True))

@@ -87,8 +87,11 @@ def test_numpy_matches_torch_on_the_same_weights(good_file):
 def test_shipped_policy_reproduces_its_export_reference(model):
     policy = load_policy(model)
     assert policy.ref_obs.shape[1] == OBS_DIM and len(policy.ref_obs) >= 10
+    # The reference came from torch in float32; numpy runs the same float32 weights in float64,
+    # so the two agree to float32 accumulation error over the 400- and 300-wide layers
+    # (seen: 1.7e-6 on a tanh output of -0.066), not to float64 precision.
     np.testing.assert_allclose(policy.action(policy.ref_obs), policy.ref_action,
-                               rtol=1e-5, atol=1e-6)
+                               rtol=1e-5, atol=1e-5)
 
 
 @pytest.mark.parametrize('model', SHIPS)
@@ -109,11 +112,12 @@ def test_shipped_policy_fits_its_ship_and_gives_finite_bounded_rudder(model):
     assert policy.rudder(extreme[0]) == policy.rudder(extreme[0] * 10.0)
 
 
-# The shipped policies had ~15k DDPG updates (the 60 min budget on a machine at load 11-26,
-# see scripts/train_ddpg.py and the issue 5 report): they do not yet steer back from 500 m.
-# strict: a retrained policy that passes turns this red, so the marker gets removed then.
-UNDERTRAINED = pytest.mark.xfail(strict=True, reason='shipped policies under-trained '
-                                 '(~15k updates); retrain with scripts/train_ddpg.py')
+# The shipped policies (~110k DDPG updates each) were trained from starts within 100 m of the
+# path; 500 m off is beyond their clipped state range (cross-track scale 50 m, clip 5) and they
+# do not reliably turn back from there. strict: a policy that passes turns this red, so the
+# marker gets removed then.
+UNDERTRAINED = pytest.mark.xfail(strict=True, reason='policies trained on starts within 100 m do '
+                                 'not yet steer back from 500 m; retrain with wider starts')
 
 
 @UNDERTRAINED

@@ -144,7 +144,10 @@ def test_platoon_converges_and_falls_back_when_the_leader_dies(ros_graph, tmp_pa
     for ns in names[1:]:
         assert tn.wait_for_publishers(mode[ns], timeout=30.0), ros_graph.report()
     def dead():
-        return [k for k, p in procs.items() if p.returncode is not None]
+        # A simulator that reached max_steps ends with 0 by design (a follower in route
+        # fallback no longer waits and can get there before the others finish): not a crash.
+        return [k for k, p in procs.items() if p.returncode is not None
+                and not (k.endswith('vessel_node') and p.returncode == 0)]
 
     def own_time(ns):
         last = odom[ns].last

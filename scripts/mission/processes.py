@@ -7,7 +7,9 @@ shell and no ros2 CLI. Every process gets its own session (process group) so it 
 with all its children; `ProcessGroup.stop()` escalates SIGINT -> SIGTERM -> SIGKILL and is safe to
 call twice, from `finally:` blocks and signal handlers alike.
 """
+import math
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -19,17 +21,67 @@ INSTALL = REPO / 'ros_ws' / 'install'
 PY_SITE = f'lib/python{sys.version_info.major}.{sys.version_info.minor}/site-packages'
 
 
+def _package_prefixes(install=INSTALL):
+    """{package: prefix} of an isolated colcon install, in dependency order (deps first)."""
+    pkgs = {}
+    for marker in sorted(install.glob('*/share/colcon-core/packages/*')):
+        prefix = marker.parents[3]
+        if marker.name == prefix.name:
+            deps = [d for d in marker.read_text().strip().split(':') if d]
+            pkgs[marker.name] = (prefix, deps)
+    order, seen = [], set()
+
+    def visit(name):
+        if name in seen or name not in pkgs:
+            return
+        seen.add(name)
+        for dep in pkgs[name][1]:
+            visit(dep)
+        order.append(name)
+
+    for name in sorted(pkgs):
+        visit(name)
+    return {name: pkgs[name][0] for name in order}
+
+
+def _apply_dsv(env, prefix, dsv):
+    """Apply one colcon .dsv file (the subset colcon's python packages write) to env."""
+    for line in dsv.read_text().splitlines():
+        parts = line.strip().split(';')
+        if len(parts) < 2:
+            continue
+        kind, rest = parts[0], parts[1:]
+        if kind == 'source':
+            path = prefix / rest[0]
+            if path.suffix == '.dsv' and path.exists():
+                _apply_dsv(env, prefix, path)
+        elif kind in ('prepend-non-duplicate', 'prepend-non-duplicate-if-exists'):
+            var, values = rest[0], rest[1:] or ['']
+            for sub in reversed(values):
+                value = str(prefix / sub) if sub else str(prefix)
+                if kind.endswith('if-exists') and not Path(value).exists():
+                    continue
+                old = [v for v in env.get(var, '').split(os.pathsep) if v and v != value]
+                env[var] = os.pathsep.join([value] + old)
+        elif kind == 'set':
+            env[rest[0]] = rest[1] if len(rest) > 1 else ''
+        elif kind == 'set-if-unset':
+            env.setdefault(rest[0], rest[1] if len(rest) > 1 else '')
+
+
 def install_env(base_env=None, install=INSTALL, domain_id=None, localhost_only=True):
-    """Environment in which the installed packages and ROS 2 work, like `source setup.bash`."""
+    """The environment ``source install/setup.bash`` gives (colcon's .dsv files applied), plus
+    an optional ROS_DOMAIN_ID and localhost-only discovery."""
     env = dict(os.environ if base_env is None else base_env)
     if not (install / 'setup.bash').exists():
-        raise FileNotFoundError(f'{install} has no colcon install tree; run `make build` first')
-    prefixes = sorted(p for p in install.iterdir() if (p / 'share' / 'ament_index').is_dir())
-    ament = [str(p) for p in prefixes]
-    pypath = [str(p / PY_SITE) for p in prefixes]
-    for key, extra in (('AMENT_PREFIX_PATH', ament), ('PYTHONPATH', pypath)):
-        old = [x for x in env.get(key, '').split(os.pathsep) if x and x not in extra]
-        env[key] = os.pathsep.join(extra + old)
+        raise FileNotFoundError(f'no colcon install tree at {install}: run `make build`')
+    old = [v for v in env.get('COLCON_PREFIX_PATH', '').split(os.pathsep)
+           if v and v != str(install)]
+    env['COLCON_PREFIX_PATH'] = os.pathsep.join([str(install)] + old)
+    for name, prefix in _package_prefixes(install).items():
+        dsv = prefix / 'share' / name / 'package.dsv'
+        if dsv.exists():
+            _apply_dsv(env, prefix, dsv)
     if domain_id is not None:
         env['ROS_DOMAIN_ID'] = str(domain_id)
     if localhost_only:
@@ -39,11 +91,34 @@ def install_env(base_env=None, install=INSTALL, domain_id=None, localhost_only=T
 
 
 def executable(package, name, install=INSTALL):
-    """Path of an installed node executable (what `ros2 run package name` runs)."""
+    """Path of ``ros2 run package name``: <prefix>/lib/<package>/<name>, checked."""
     path = install / package / 'lib' / package / name
-    if not path.exists():
-        raise FileNotFoundError(f'{path} not found: is {package} built (make build)?')
+    if not (path.is_file() and os.access(path, os.X_OK)):
+        raise FileNotFoundError(f'{package}/{name} is not installed at {path}: run `make build`')
     return path
+
+
+def format_param(value):
+    """A Python value as the YAML text `-p name:=value` expects."""
+    if isinstance(value, bool):
+        return 'true' if value else 'false'
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isnan(value):
+            return '.nan'
+        if math.isinf(value):
+            return '.inf' if value > 0 else '-.inf'
+        text = repr(value)
+        return text if any(c in text for c in '.en') else text + '.0'
+    if isinstance(value, (list, tuple)):
+        return '[' + ', '.join(format_param(v) for v in value) + ']'
+    text = str(value)
+    # Quote strings YAML would read as something else (numbers, booleans, empty, null).
+    if (text == '' or re.fullmatch(r'[-+]?(\d+\.?\d*([eE][-+]?\d+)?|\.\d+|\.nan|\.inf)', text)
+            or text.lower() in ('true', 'false', 'yes', 'no', 'on', 'off', 'null', '~')):
+        return "'" + text.replace("'", "''") + "'"
+    return text
 
 
 def ros_args(namespace=None, params=None, node_name=None, log_level=None):
@@ -54,20 +129,10 @@ def ros_args(namespace=None, params=None, node_name=None, log_level=None):
     if node_name:
         args += ['-r', f'__node:={node_name}']
     for key, value in (params or {}).items():
-        args += ['-p', f'{key}:={_param_literal(value)}']
+        args += ['-p', f'{key}:={format_param(value)}']
     if log_level:
         args += ['--log-level', log_level]
     return args
-
-
-def _param_literal(value):
-    if isinstance(value, bool):
-        return 'true' if value else 'false'
-    if isinstance(value, float):
-        return repr(value)  # keeps a decimal point so ROS types it as a double
-    if isinstance(value, (list, tuple)):
-        return '[' + ','.join(_param_literal(v) for v in value) + ']'
-    return str(value)
 
 
 class NodeProcess:

@@ -1,7 +1,8 @@
 """Fixtures of the integration tests (real node processes; see harness.py)."""
 import pytest
 
-from harness import DomainLease, RosGraph, install_env
+from harness import DomainLease, RosGraph
+from mission.processes import install_env
 
 
 def pytest_collection_modifyitems(items):

@@ -30,7 +30,6 @@ Usage (fixture ``ros_graph`` from conftest.py)::
 """
 import ctypes
 import fcntl
-import math
 import os
 import re
 import signal
@@ -42,6 +41,7 @@ import rclpy
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 
+from mission.processes import executable, format_param
 from ship_sim.ros.qos import STREAM
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -56,98 +56,8 @@ SIGTERM_TIMEOUT = 3.0
 
 # -- environment of the install tree --------------------------------------------------------
 
-def _package_prefixes(install=INSTALL):
-    """{package: prefix} of an isolated colcon install, in dependency order (deps first)."""
-    pkgs = {}
-    for marker in sorted(install.glob('*/share/colcon-core/packages/*')):
-        prefix = marker.parents[3]
-        if marker.name == prefix.name:
-            deps = [d for d in marker.read_text().strip().split(':') if d]
-            pkgs[marker.name] = (prefix, deps)
-    order, seen = [], set()
-
-    def visit(name):
-        if name in seen or name not in pkgs:
-            return
-        seen.add(name)
-        for dep in pkgs[name][1]:
-            visit(dep)
-        order.append(name)
-
-    for name in sorted(pkgs):
-        visit(name)
-    return {name: pkgs[name][0] for name in order}
-
-
-def _apply_dsv(env, prefix, dsv):
-    """Apply one colcon .dsv file (the subset colcon's python packages write) to env."""
-    for line in dsv.read_text().splitlines():
-        parts = line.strip().split(';')
-        if len(parts) < 2:
-            continue
-        kind, rest = parts[0], parts[1:]
-        if kind == 'source':
-            path = prefix / rest[0]
-            if path.suffix == '.dsv' and path.exists():
-                _apply_dsv(env, prefix, path)
-        elif kind in ('prepend-non-duplicate', 'prepend-non-duplicate-if-exists'):
-            var, values = rest[0], rest[1:] or ['']
-            for sub in reversed(values):
-                value = str(prefix / sub) if sub else str(prefix)
-                if kind.endswith('if-exists') and not Path(value).exists():
-                    continue
-                old = [v for v in env.get(var, '').split(os.pathsep) if v and v != value]
-                env[var] = os.pathsep.join([value] + old)
-        elif kind == 'set':
-            env[rest[0]] = rest[1] if len(rest) > 1 else ''
-        elif kind == 'set-if-unset':
-            env.setdefault(rest[0], rest[1] if len(rest) > 1 else '')
-
-
-def install_env(base=None, install=INSTALL):
-    """The environment ``source install/setup.bash`` gives (for the packages installed)."""
-    env = dict(os.environ if base is None else base)
-    if not (install / 'setup.bash').exists():
-        raise FileNotFoundError(f'no colcon install tree at {install}: run `make build`')
-    old = [v for v in env.get('COLCON_PREFIX_PATH', '').split(os.pathsep)
-           if v and v != str(install)]
-    env['COLCON_PREFIX_PATH'] = os.pathsep.join([str(install)] + old)
-    for name, prefix in _package_prefixes(install).items():
-        dsv = prefix / 'share' / name / 'package.dsv'
-        if dsv.exists():
-            _apply_dsv(env, prefix, dsv)
-    return env
-
-
-def executable(package, name, install=INSTALL):
-    """Path of ``ros2 run package name``: <prefix>/lib/<package>/<name>, checked."""
-    path = install / package / 'lib' / package / name
-    if not (path.is_file() and os.access(path, os.X_OK)):
-        raise FileNotFoundError(f'{package}/{name} is not installed at {path}: run `make build`')
-    return path
-
-
-def format_param(value):
-    """A Python value as the YAML text `-p name:=value` expects."""
-    if isinstance(value, bool):
-        return 'true' if value else 'false'
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        if math.isnan(value):
-            return '.nan'
-        if math.isinf(value):
-            return '.inf' if value > 0 else '-.inf'
-        text = repr(value)
-        return text if any(c in text for c in '.en') else text + '.0'
-    if isinstance(value, (list, tuple)):
-        return '[' + ', '.join(format_param(v) for v in value) + ']'
-    text = str(value)
-    # Quote strings YAML would read as something else (numbers, booleans, empty, null).
-    if (text == '' or re.fullmatch(r'[-+]?(\d+\.?\d*([eE][-+]?\d+)?|\.\d+|\.nan|\.inf)', text)
-            or text.lower() in ('true', 'false', 'yes', 'no', 'on', 'off', 'null', '~')):
-        return "'" + text.replace("'", "''") + "'"
-    return text
+# install_env, executable and format_param live in scripts/mission/processes.py (one place
+# for the launcher, the benchmarks and the tests).
 
 
 # -- domain ids ---------------------------------------------------------------------------------

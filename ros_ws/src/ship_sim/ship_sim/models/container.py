@@ -169,9 +169,6 @@ class Container(MssShip):
                 delta_dot,
                 n_dot)
 
-    def _set_trim(self, x, speed, shaft):
-        self._set_propelled_trim(x, speed, shaft)
-
     def _check_domain(self, x, u):
         # container.m errors for U <= 0 and n <= 0; u = 0 makes the advance ratio J = 0 and
         # the rudder inflow 0 * inf (NaN), and the model describes forward motion only.

@@ -129,7 +129,8 @@ class MssShip(VesselModel):
         return x
 
     def _set_trim(self, x, speed, shaft):
-        raise NotImplementedError
+        # The propelled models (tanker, container) trim on the shaft; the mariner overrides.
+        self._set_propelled_trim(x, speed, shaft)
 
     # --- helpers for the propelled models (tanker, container) -----------------------------
     def _surge_accel(self, x, speed, shaft):

@@ -132,9 +132,6 @@ class Tanker(MssShip):
                 delta_dot,
                 n_dot)
 
-    def _set_trim(self, x, speed, shaft):
-        self._set_propelled_trim(x, speed, shaft)
-
     def _check_domain(self, x, u):
         surge = x[..., self.IU]
         self._require(surge > 0.0, 'surge velocity u must be > 0 m/s (tanker.m errors)', surge)

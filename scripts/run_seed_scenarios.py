@@ -155,48 +155,29 @@ def rudder_limit(spec):
     return math.radians(override) if override else float(make_model(spec.model).rudder_max)
 
 
-def _cut(series, t_end):
-    """A (t, v) series restricted to t <= t_end; None if empty (vessel_metrics: not recorded)."""
-    t, v = series
-    keep = t <= t_end
-    return type(series)(t[keep], v[keep]) if np.any(keep) else None
-
-
-def finish_time(v):
-    """Sim time (s) at which the guidance declared the route finished (progress topic), or None."""
-    t, rows = v.progress
-    if 'finished' not in v.progress_labels or not len(t):
-        return None
-    done = np.nonzero(rows[:, v.progress_labels.index('finished')] > 0.5)[0]
-    return float(t[done[0]]) if done.size else None
-
-
 def metrics_to_finish(bag_dir, namespace, settle_s, rudder_limit_rad, ref_route=None,
                       rudder_from_leg=None):
     """mission.metrics.vessel_metrics over [start, route finished] (or the whole run if it never
-    finishes), plus the ref_* and rudder-after-leg extras. The launcher stops the nodes only
-    after it hears route_complete, so a run goes on for up to a few seconds of sim time past the
-    end of the route (the vessel on the last leg's extension); cutting there makes runs of
-    different routes comparable (003: 35 s manoeuvres, a 10 s tail would dilute them)."""
+    finishes; mission.report's cut), plus the ref_* and rudder-after-leg extras."""
     from mission import bag as bagmod
     from mission.metrics import cross_track_stats, project_on_route, vessel_metrics
-    v = bagmod.read_bag(bag_dir, namespaces=[namespace]).vessels[namespace]
-    t_fin = finish_time(v)
-    t_end = v.t[-1] if t_fin is None else t_fin
-    keep = v.t <= t_end
-    t, x, y, yaw = v.t[keep], v.x[keep], v.y[keep], v.yaw[keep]
-    cut = {k: _cut(getattr(v, k), t_end)
+    from mission.report import vessel_completion, vessel_until
+    whole = bagmod.read_bag(bag_dir, namespaces=[namespace]).vessels[namespace]
+    t_fin, _ = vessel_completion(whole)
+    v = whole if t_fin is None else vessel_until(whole, t_fin)
+    t, x, y, yaw = v.t, v.x, v.y, v.yaw
+    cut = {k: getattr(v, k) if len(getattr(v, k).t) else None
            for k in ('rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_error')}
     m = vessel_metrics(t, x, y, yaw, xte=cut['cross_track_error'], rudder=cut['rudder'],
                        rudder_cmd=cut['rudder_cmd'], heading_cmd=cut['heading_cmd'],
                        route=(v.route.x, v.route.y) if v.route is not None else None,
                        settle_s=settle_s, rudder_limit_rad=rudder_limit_rad)
     m['guidance_finished_s'] = None if t_fin is None else t_fin - v.t[0]
-    m['bag_end_s'] = float(v.t[-1] - v.t[0])
+    m['bag_end_s'] = float(whole.t[-1] - v.t[0])
     # Steps the recorder lost (lockstep odometry comes every step: a gap is a lost message).
-    steps = np.diff(v.t) / np.median(np.diff(v.t))
+    steps = np.diff(whole.t) / np.median(np.diff(whole.t))
     m['bag_missing_odom'] = int(np.sum(np.maximum(np.round(steps) - 1.0, 0.0)))
-    m['tail_after_finish_s'] = float(v.t[-1] - t_end)
+    m['tail_after_finish_s'] = float(whole.t[-1] - v.t[-1])
     t_from = v.t[0] + (settle_s or 0.0)
     if ref_route is not None:
         from ship_planner.route_files import load_route

@@ -288,15 +288,18 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             vessel_params.append((spec, params['vessel_node'], plan))
         if record:
             from ship_sim.models import make_model
-            # The instance's limit (some models set it in __init__), as a plain float so that
-            # repr gives a number (repr of a numpy float is 'np.float64(...)').
-            limit = float(make_model(scenario.vessels[0].model).rudder_max)
+            # Each vessel's limit for mission.report (the instance's: some models set it in
+            # __init__), as a plain float so that repr gives a number, not 'np.float64(...)'.
+            meta = []
+            for spec in scenario.vessels:
+                limit = float(make_model(spec.model).rudder_max)
+                meta += ['--meta', f'mission.rudder_limit_rad/{spec.namespace}={limit!r}']
             # A platoon's followers run behind the master's /clock: wall log times, which
             # mission.report maps onto each vessel's own odometry stamps.
             source = 'sim' if scenario.platoon is None else 'wall'
             group.start_argv('recorder', [sys.executable, RECORDER, run / 'bag', '--time-source',
                                           source, '--exclude', r'^/(rosout|parameter_events)$',
-                                          '--meta', f'mission.rudder_limit_rad={limit!r}'])
+                                          *meta])
         monitor = Monitor(namespaces)
         monitor.spin(1.0)
         simulators = {}

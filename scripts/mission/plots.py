@@ -129,7 +129,8 @@ def plot_heading(vessels, path):
 
 
 def plot_rudder(vessels, path, limit_rad=None):
-    """Rudder command and actual angle (deg, + = to port) vs time with the +-limit lines."""
+    """Rudder command and actual angle (deg, + = to port) vs time with the +-limit lines.
+    ``limit_rad``: one limit (rad) for all vessels, or {namespace: limit or None}."""
     fig, axes = _rows(vessels, 'Rudder (+ turns to port)')
     t0 = _t0(vessels)
     for ax, colour, (ns, v) in zip(axes, _colours(len(vessels)), vessels.items()):
@@ -137,9 +138,10 @@ def plot_rudder(vessels, path, limit_rad=None):
             ax.plot(v.rudder_cmd.t - t0, np.degrees(v.rudder_cmd.v), '--', color='k', lw=1.0, label='command')
         if len(v.rudder.t):
             ax.plot(v.rudder.t - t0, np.degrees(v.rudder.v), color=colour, lw=1.4, label=f'{_label(ns)} actual')
-        if limit_rad is not None:
+        limit = limit_rad.get(ns) if isinstance(limit_rad, dict) else limit_rad
+        if limit is not None:
             for sign in (1, -1):
-                ax.axhline(sign * np.degrees(limit_rad), color='r', lw=0.9, ls=':',
+                ax.axhline(sign * np.degrees(limit), color='r', lw=0.9, ls=':',
                            label='limit' if sign > 0 else None)
         ax.set_ylabel('rudder (deg)')
         ax.grid(True, alpha=0.3)

@@ -2,8 +2,16 @@
 
 Reads the bag with ``mission.bag``, computes ``mission.metrics.vessel_metrics`` per vessel and
 draws ``mission.plots``. The rudder limit for the saturation count and the plot comes from the
-argument, else from the bag's custom_data key ``mission.rudder_limit_rad`` (the launcher can
-store it with the recorder's ``--meta``), else it is left out.
+argument, else from the bag's custom_data key ``mission.rudder_limit_rad/<vessel>`` (the
+launcher stores one per vessel with the recorder's ``--meta``), else ``mission.rudder_limit_rad``
+(one for all), else it is left out.
+
+Each vessel's record ends at its own route completion (the guidance's finish flag, else the
+first odometry past the route's end, ``vessel_completion``): the launcher stops the graph only
+after it has heard every route_complete, so a bag runs on for a few sim seconds (longer for a
+platoon's early finishers) on the last leg's extension, and how long depends on process
+timing. Metrics and plots cover start to completion, so identical lockstep runs give identical
+numbers; ``bag_end_s`` and ``tail_after_finish_s`` say what was cut.
 
 Platoons (``platoon`` = {namespace: predecessor namespace or None}, from the launcher):
 - times: only the clock master publishes /clock and the followers run behind it in sim time, so
@@ -12,11 +20,9 @@ Platoons (``platoon`` = {namespace: predecessor namespace or None}, from the lau
   vessel's OWN odometry: exactly by sequence when the topic has as many messages as the odom
   (mission.bag), else (the recorder dropped messages: a reliable keep-last publisher drops the
   oldest ones for a reader that lags too far) by ``_steps_by_log_time``;
-- each vessel's record ends at its own route completion (the guidance's finish flag, else the
-  first odometry past the route's end, ``_completion``): the
-  graph runs on until the last vessel completes, and past the route's end a follower's law is
-  not meaningful (its arc length is clamped at the end), so every metric and plot covers a
-  vessel from its start to its own finish;
+- the cut at each vessel's own completion (above) matters most here: the graph runs on until
+  the last vessel completes, and past the route's end a follower's law is not meaningful (its
+  arc length is clamped at the end);
 - ``metrics['platoon']``: per follower the gap error (gap - spacing, from its gap_error topic,
   up to its predecessor's completion: the gap is an arc-length difference, and the route's arc
   length ends there) and the string-stability measure: the ratio of its peak |cross-track
@@ -49,9 +55,9 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
     bag_dir = Path(bag_dir)
     out = Path(out_dir) if out_dir is not None else bag_dir.resolve().parent
     data = bagmod.read_bag(bag_dir, topics=topics, namespaces=namespaces)
-    gaps, ends = _prepare_platoon(bag_dir, data, platoon) if platoon else (None, None)
-    if rudder_limit_rad is None and RUDDER_LIMIT_KEY in data.custom_data:
-        rudder_limit_rad = float(data.custom_data[RUDDER_LIMIT_KEY])
+    gaps, ends, bag_end = prepare_records(bag_dir, data, platoon)
+    limits = {ns: rudder_limit_rad if rudder_limit_rad is not None else
+              _stored_limit(data.custom_data, ns) for ns in data.vessels}
     result = {'bag': str(bag_dir), 'time_source': data.time_source,
               'topics': {t: {'type': ty, 'count': n} for t, (ty, n) in sorted(data.topics.items())},
               'vessels': {}}
@@ -59,6 +65,7 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
         if len(v.t) < 2:
             result['vessels'][ns] = {'error': 'fewer than two odometry messages', 'missing_topics': v.missing}
             continue
+        rudder_limit_rad = limits[ns]
         m = metrics.vessel_metrics(
             v.t, v.x, v.y, v.yaw,
             xte=v.cross_track_error if len(v.cross_track_error.t) else None,
@@ -69,18 +76,48 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
             settle_s=settle_s, rudder_limit_rad=rudder_limit_rad, reward_step_s=reward_step_s, episode_s=episode_s,
             finished=_progress_column(v, 'finished'), remaining=_progress_column(v, 'remaining_m'))
         m['missing_topics'] = v.missing
+        m['completion_cut'] = ends[ns][1]
+        m['bag_end_s'] = _f(bag_end[ns] - v.t[0])
+        m['tail_after_finish_s'] = _f(bag_end[ns] - v.t[-1]) if ends[ns][0] is not None else 0.0
         result['vessels'][ns] = m
     if platoon:
         result['platoon'] = platoon_metrics(result['vessels'], gaps, platoon, settle_s, ends)
     out.mkdir(parents=True, exist_ok=True)
     if make_pngs:
         settle_shown = next((m.get('settle_s') for m in result['vessels'].values() if m.get('settle_s')), None)
-        result['plots'] = [p.name for p in plots.make_plots(data.vessels, out, rudder_limit_rad, settle_shown)]
+        result['plots'] = [p.name for p in plots.make_plots(data.vessels, out, limits, settle_shown)]
         if platoon:
             result['plots'] += [p.name for p in plot_platoon(gaps, result['platoon'], out, settle_shown)]
     with open(out / 'metrics.json', 'w') as f:
         json.dump(result, f, indent=2, sort_keys=False, allow_nan=False)
     return result
+
+
+def prepare_records(bag_dir, data, platoon=None):
+    """In place on ``data`` (mission.bag.BagData): time a platoon's unstamped topics by each
+    vessel's own odometry, then end every vessel's record at its own completion (module
+    docstring). Returns (gaps, ends, bag_end): {follower: Series of gap_error} (None without a
+    platoon), {namespace: (completion time or None, source)}, {namespace: last odometry time
+    before the cut, or None}."""
+    gaps = _prepare_platoon(bag_dir, data, platoon) if platoon else None
+    ends = {ns: vessel_completion(v) for ns, v in data.vessels.items()}
+    if platoon:
+        _cut_gaps(gaps, ends, platoon)
+    bag_end = {ns: float(v.t[-1]) if len(v.t) else None for ns, v in data.vessels.items()}
+    for ns, (t_end, _) in ends.items():
+        if t_end is not None:
+            data.vessels[ns] = vessel_until(data.vessels[ns], t_end)
+    return gaps, ends, bag_end
+
+
+def _stored_limit(custom_data, ns):
+    """The vessel's rudder limit (rad) from the bag's custom_data, or None (module docstring)."""
+    value = custom_data.get(f'{RUDDER_LIMIT_KEY}{ns}', custom_data.get(RUDDER_LIMIT_KEY))
+    return None if value is None else float(value)
+
+
+def _f(x):
+    return float(x) if x is not None and np.isfinite(x) else None
 
 
 def _progress_column(vessel, label):
@@ -96,10 +133,8 @@ SERIES = ('rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_error', 'progress'
 
 
 def _prepare_platoon(bag_dir, data, platoon):
-    """Time the platoon's unstamped topics by each vessel's own odometry, read the followers'
-    gap errors, and end every vessel's record at its own completion (module docstring).
-    Returns ({follower namespace: Series of gap_error},
-             {namespace: (completion sim time or None, its source)})."""
+    """Time the platoon's unstamped topics by each vessel's own odometry and read the followers'
+    gap errors (module docstring). Returns {follower namespace: Series of gap_error}."""
     names = {**bagmod.DEFAULT_TOPICS, 'gap_error': 'gap_error'}
     wanted = {f'{ns}/{rel}': (ns, key) for ns in platoon for key, rel in names.items()
               if key != 'route'}
@@ -138,18 +173,20 @@ def _prepare_platoon(bag_dir, data, platoon):
             gaps[ns] = bagmod.Series(v.t.copy() if exact else own_time(topic), g)
             v.timing['gap_error'] = 'odom sequence' if exact else 'own odom (log time)'
         data.vessels[ns] = v
-    ends = {ns: _completion(data.vessels[ns]) for ns in platoon if ns in data.vessels}
-    for ns, (t_end, _) in ends.items():
-        if t_end is not None:
-            data.vessels[ns] = _until(data.vessels[ns], t_end)
-        # The gap is measured along the route: once the predecessor has passed the route's end
-        # its arc length is clamped there and the gap means nothing more.
+    return gaps
+
+
+def _cut_gaps(gaps, ends, platoon):
+    """End each follower's gap error at its own or its predecessor's completion, whichever is
+    first: the gap is measured along the route, and once the predecessor has passed the route's
+    end its arc length is clamped there and the gap means nothing more."""
+    for ns in gaps:
+        t_end = ends.get(ns, (None,))[0]
         cut = min((t for t in (t_end, ends.get(platoon[ns], (None,))[0]) if t is not None),
                   default=None)
-        if ns in gaps and cut is not None:
+        if cut is not None:
             keep = gaps[ns].t <= cut
             gaps[ns] = bagmod.Series(gaps[ns].t[keep], gaps[ns].v[keep])
-    return gaps, ends
 
 
 def _steps_by_log_time(msg_log, odom_log, odom_t):
@@ -190,7 +227,7 @@ def _non_decreasing_fit(y):
     return np.repeat(means, sizes)
 
 
-def _completion(v):
+def vessel_completion(v):
     """(sim time (s), source) of the vessel's route completion: the first progress message with
     the finish flag set ('guidance'), else (the recorder missed the last messages of a run that
     was stopped at once) the first odometry past the route's end ('route'); (None, None)."""
@@ -207,7 +244,7 @@ def _completion(v):
     return None, None
 
 
-def _until(v, t_end):
+def vessel_until(v, t_end):
     """The vessel's record up to and including sim time t_end."""
     k = v.t <= t_end
     cut = {key: getattr(v, key)[k] for key in ('t', 'x', 'y', 'yaw', 'u', 'v', 'r')}
@@ -223,7 +260,7 @@ def platoon_metrics(vessel_metrics, gaps, platoon, settle_s=None, ends=None):
 
     vessel_metrics: the per-vessel metrics (already cut at each vessel's completion); gaps:
     {follower: Series}; platoon: {vessel: predecessor or None}; ends: {vessel: (completion
-    sim time, source)} from ``_completion`` (default: the per-vessel metrics' completion)."""
+    sim time, source)} from ``vessel_completion`` (default: the per-vessel metrics' completion)."""
     peak = {ns: m.get('xte_max_abs_m') for ns, m in vessel_metrics.items()}
     rms_ = {ns: m.get('xte_rms_m') for ns, m in vessel_metrics.items()}
     peak_ratio = metrics.string_ratios(peak, platoon)

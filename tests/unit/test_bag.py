@@ -57,7 +57,10 @@ def synthetic(tmp_path_factory):
     n = 300
     path = tmp_path_factory.mktemp('bags') / 'run' / 'bag'
     truth = {}
-    with BagWriter(path, custom_data={'mission.time_source': 'sim'}) as w:
+    # Per-vessel rudder limits as the launcher stores them (a mixed platoon has several).
+    meta = {'mission.time_source': 'sim', 'mission.rudder_limit_rad/vessel_0': '0.6',
+            'mission.rudder_limit_rad/vessel_1': '0.35'}
+    with BagWriter(path, custom_data=meta) as w:
         clock = w.add_topic('/clock', 'rosgraph_msgs/msg/Clock', [reliable_qos()])
         conns = {}
         for ns in ('/vessel_0', '/vessel_1'):
@@ -196,14 +199,26 @@ def test_replay_bag_writes_metrics_and_plots(synthetic, tmp_path):
     assert v0['settle_s'] == pytest.approx(5.0)
     e = truth['/vessel_0']['cross_track_error']
     t = truth['/vessel_0']['t_ns'] / 1e9
-    assert v0['xte_rms_m'] == pytest.approx(math.sqrt(np.mean(e[t >= t[0] + 5.0] ** 2)))
+    # Statistics run from the settling time to the guidance's finish flag, not to the bag's end.
+    window = (t >= t[0] + 5.0) & (t <= t[FINISH_INDEX])
+    assert v0['xte_rms_m'] == pytest.approx(math.sqrt(np.mean(e[window] ** 2)))
     assert v0['rudder_limit_rad'] == pytest.approx(math.radians(35))
-    assert v0['completion_source'] == 'guidance'
+    assert v0['completion_source'] == 'guidance' and v0['completion_cut'] == 'guidance'
     assert v0['time_to_complete_s'] == pytest.approx(t[FINISH_INDEX] - t[0])
-    assert v0['remaining_at_end_m'] == truth['/vessel_0']['progress'][-1, 1]
+    assert v0['tail_after_finish_s'] == pytest.approx(t[-1] - t[FINISH_INDEX])
+    assert v0['bag_end_s'] == pytest.approx(t[-1] - t[0])
+    assert v0['remaining_at_end_m'] == truth['/vessel_0']['progress'][FINISH_INDEX, 1]
     for name in ('track.png', 'cross_track_error.png', 'heading.png', 'rudder.png'):
         assert (out / name).stat().st_size > 10_000
     assert replay_bag.main([str(tmp_path / 'missing_bag')]) == 2
+
+
+def test_each_vessel_gets_its_own_stored_rudder_limit(synthetic, tmp_path):
+    from mission.report import analyse_bag
+    path, _, _ = synthetic
+    result = analyse_bag(path, tmp_path, make_pngs=False)
+    assert result['vessels']['/vessel_0']['rudder_limit_rad'] == pytest.approx(0.6)
+    assert result['vessels']['/vessel_1']['rudder_limit_rad'] == pytest.approx(0.35)
 
 
 def test_unstamped_topics_pair_with_odom_by_sequence_when_counts_match(tmp_path):

@@ -427,9 +427,9 @@ def test_platoon_analysis_times_follower_topics_by_its_own_steps(tmp_path):
     from mission import bag as bagmod
     # what the analysis saw, re-read the same way: every follower message at its own step
     data = bagmod.read_bag(tmp_path / 'bag')
-    from mission.report import _prepare_platoon
-    gaps, ends = _prepare_platoon(tmp_path / 'bag', data, {'/vessel_0': None,
-                                                           '/vessel_1': '/vessel_0'})
+    from mission.report import prepare_records
+    gaps, ends, _ = prepare_records(tmp_path / 'bag', data, {'/vessel_0': None,
+                                                             '/vessel_1': '/vessel_0'})
     assert ends == {'/vessel_0': (25.0, 'guidance'), '/vessel_1': (30.0, 'guidance')}
     xte = data.vessels['/vessel_1'].cross_track_error
     np.testing.assert_allclose(xte.t, xte.v / 10.0, atol=1e-9)

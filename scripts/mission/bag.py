@@ -33,6 +33,7 @@ import numpy as np
 import yaml
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
+from ship_sim.ros import odometry_cdr as cdr
 
 NS_PER_S = 1e9
 
@@ -140,34 +141,25 @@ def decode_float64(datas, typestore=None):
     return np.array([ts.deserialize_cdr(d, FLOAT64).data for d in datas], dtype=float)
 
 
-def _align(offset, n):
-    return (offset + n - 1) // n * n
-
-
 def decode_odometry(datas, typestore=None):
     """Serialized nav_msgs/Odometry -> dict of arrays: t (s), x, y, z, qx, qy, qz, qw, u, v, w, p, q, r.
 
-    CDR layout after the 4-byte header (offsets relative to it): stamp sec int32 @0, nanosec @4,
-    frame_id (uint32 length incl. NUL + chars) @8, child_frame_id aligned to 4, then the pose
-    aligned to 8: position (3 f8), orientation (4 f8), covariance (36 f8), then the twist:
-    linear (3 f8), angular (3 f8), covariance.
+    The byte layout (shared with the nodes' single-message reader) is ship_sim.ros.odometry_cdr.
     """
     if not datas:
         return {k: np.zeros(0) for k in ('t', 'x', 'y', 'z', 'qx', 'qy', 'qz', 'qw', 'u', 'v', 'w', 'p', 'q', 'r')}
     buf, starts, lengths = _concat(datas)
     if not _little_endian(buf, starts):
         return _decode_odometry_slow(datas, typestore)
-    base = starts + 4
+    base = starts + cdr.HEADER_BYTES
     stamp = _gather(buf, base, 8, '<u4').astype(np.int64)
     sec = np.where(stamp[:, 0] >= 2**31, stamp[:, 0] - 2**32, stamp[:, 0])  # int32
-    len1 = _gather(buf, base + 8, 4, '<u4')[:, 0].astype(np.int64)
-    off2 = _align(12 + len1, 4)
-    len2 = _gather(buf, base + off2, 4, '<u4')[:, 0].astype(np.int64)
-    pose = _align(off2 + 4 + len2, 8)
-    if np.any(base + pose + 392 > starts + lengths):
+    child = cdr.child_frame_at(_gather(buf, base + cdr.FRAME_ID_AT, 4, '<u4')[:, 0].astype(np.int64))
+    pose = cdr.pose_at(child, _gather(buf, base + child, 4, '<u4')[:, 0].astype(np.int64))
+    if np.any(base + pose + cdr.END_FROM_POSE > starts + lengths):
         raise BagError('malformed nav_msgs/Odometry message (shorter than its layout)')
-    p7 = _gather(buf, base + pose, 56, '<f8')
-    tw = _gather(buf, base + pose + 344, 48, '<f8')
+    p7 = _gather(buf, base + pose, cdr.POSE_BYTES, '<f8')
+    tw = _gather(buf, base + pose + cdr.TWIST_FROM_POSE, cdr.TWIST_BYTES, '<f8')
     out = {'t': (sec * 1_000_000_000 + stamp[:, 1]) / NS_PER_S}  # via integer ns, like log times
     for i, k in enumerate(('x', 'y', 'z', 'qx', 'qy', 'qz', 'qw')):
         out[k] = p7[:, i].copy()

@@ -16,10 +16,8 @@ one message object instead of building a new tree of Python objects each time.
 with ``raw=True`` hands over) straight from its CDR bytes: the nodes that follow odom every
 step skip rclpy's conversion into ~15 nested Python message objects (about 50-100 us per
 message against ~2 us; it is the largest per-step cost of the guidance and autopilot nodes).
-Encoding read (OMG XCDR version 1, little endian, as rmw_fastrtps sends ROS 2 messages): a
-4-byte encapsulation header 00 01 00 00, then the fields in declaration order, each primitive
-aligned to its size (doubles to 8) counted from the end of that header, strings as a uint32
-length (with the terminating NUL) and the bytes. Any other encoding is deserialised by rclpy.
+The byte layout is in ``odometry_cdr`` (shared with the bag reader); any encoding other than
+XCDR1 little endian is deserialised by rclpy.
 """
 import math
 import struct
@@ -29,6 +27,7 @@ from builtin_interfaces.msg import Time
 from nav_msgs.msg import Odometry
 
 from ship_sim.frames import psi_to_yaw, yaw_to_psi
+from ship_sim.ros import odometry_cdr as cdr
 
 #: A vessel's state read from (or written to) Odometry, in our science frames (NED / FRD).
 NedOdometry = namedtuple('NedOdometry', 't north east psi u v r')
@@ -141,31 +140,26 @@ def odometry_to_ned(msg):
                        tw.linear.x, -tw.linear.y, -tw.angular.z)
 
 
-_XCDR1_LE = b'\x00\x01'
 _STAMP = struct.Struct('<iI')            # builtin_interfaces/Time: int32 sec, uint32 nanosec
 _LENGTH = struct.Struct('<I')            # string length, NUL included
 _POSE = struct.Struct('<7d')             # position x y z, orientation x y z w
 _TWIST = struct.Struct('<6d')            # linear x y z, angular x y z
-_COVARIANCE = 36 * 8
 
 
 def _odometry_cdr_fields(data):
     """(sec, nanosec, x, y, qx, qy, qz, qw, vx, vy, wz) of a serialized Odometry, or None if
-    it is not XCDR1 little endian or too short (see the module docstring for the layout)."""
-    if data[:2] != _XCDR1_LE:
+    it is not XCDR1 little endian or too short (layout: ``odometry_cdr``)."""
+    if data[:2] != cdr.XCDR1_LE:
         return None
+    h = cdr.HEADER_BYTES
     try:
-        sec, nanosec = _STAMP.unpack_from(data, 4)
-        o = 8                                                   # header.frame_id
-        o += 4 + _LENGTH.unpack_from(data, 4 + o)[0]
-        o = (o + 3) & ~3                                        # child_frame_id
-        o += 4 + _LENGTH.unpack_from(data, 4 + o)[0]
-        o = (o + 7) & ~7                                        # pose.pose
-        x, y, _, qx, qy, qz, qw = _POSE.unpack_from(data, 4 + o)
-        o += _POSE.size + _COVARIANCE                           # twist.twist
-        vx, vy, _, _, _, wz = _TWIST.unpack_from(data, 4 + o)
-        if len(data) < 4 + o + _TWIST.size + _COVARIANCE:
+        sec, nanosec = _STAMP.unpack_from(data, h)
+        child = cdr.child_frame_at(_LENGTH.unpack_from(data, h + cdr.FRAME_ID_AT)[0])
+        pose = cdr.pose_at(child, _LENGTH.unpack_from(data, h + child)[0])
+        if len(data) < h + pose + cdr.END_FROM_POSE:
             return None
+        x, y, _, qx, qy, qz, qw = _POSE.unpack_from(data, h + pose)
+        vx, vy, _, _, _, wz = _TWIST.unpack_from(data, h + pose + cdr.TWIST_FROM_POSE)
     except struct.error:
         return None
     return sec, nanosec, x, y, qx, qy, qz, qw, vx, vy, wz

@@ -298,8 +298,14 @@ def _lookaheads(spec, loop):
             u += 4.0 * loop.zeta ** 2 * float(g.get('integral_gain',
                                                       GUIDANCE_DEFAULTS['integral_gain']))
         return [(name, d, u)]
-    return [(key, float(g.get(key, FOLLOWER_DEFAULTS[key])), loop.speed)
-            for key in ('min_lookahead_m', 'lookahead_m')]
+    # As the follower node checks itself (ship_guidance.follower): with integral action its
+    # look-ahead must clear ILOS's limit, the LOS one at U + 4 zeta^2 sigma; the fallback
+    # (lookahead_m) is plain LOS.
+    u_follow = loop.speed + 4.0 * loop.zeta ** 2 * float(g.get('integral_gain', 0.0))
+    return [('min_lookahead_m', float(g.get('min_lookahead_m',
+                                            FOLLOWER_DEFAULTS['min_lookahead_m'])), u_follow),
+            ('lookahead_m', float(g.get('lookahead_m', FOLLOWER_DEFAULTS['lookahead_m'])),
+             loop.speed)]
 
 
 def follow_lookahead(spec):

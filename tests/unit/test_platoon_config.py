@@ -278,6 +278,20 @@ def test_allow_unstable_accepts_and_tells_the_node(tmp_path):
     assert node_parameters(sc, sc.vessels[1], 1, True)[0]['follower_node']['allow_unstable']
 
 
+def test_follower_with_integral_action_uses_the_integral_limit(tmp_path):
+    # The follower node refuses min_lookahead below (U + 4 zeta^2 sigma) / (2 zeta omega_n);
+    # the launcher must refuse the same scenario before starting anything.
+    sigma = 2.0
+    ilos = (MARINER_U + 4 * 0.8 ** 2 * sigma) / (2 * 0.8 * 0.12)
+    d = 0.5 * (LIMIT + ilos)   # above the LOS limit, below the integral one
+    path = _limit_case(tmp_path, d)
+    pl = yaml.safe_load(path.read_text())
+    pl['platoon']['vessels'][1]['guidance']['integral_gain'] = sigma
+    path.write_text(yaml.safe_dump(pl))
+    refused(path, 'platoon.vessels[1] (vessel_1).guidance.min_lookahead_m', f'{ilos:.1f} m')
+    check_scenario(load_scenario(_limit_case(tmp_path, d)))   # without integral action: fine
+
+
 def test_ilos_leader_uses_the_integral_limit(tmp_path):
     # (U + 4 zeta^2 sigma) / (2 zeta omega_n) with sigma 0.5 m/s = 46.86 m (hand)
     ilos = (MARINER_U + 4 * 0.8 ** 2 * 0.5) / (2 * 0.8 * 0.12)

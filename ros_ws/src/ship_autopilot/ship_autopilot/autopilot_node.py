@@ -16,6 +16,10 @@ Gains: from the per-model table (ship_autopilot/data/autopilot_gains.yaml, desig
 identified Nomoto K, T) for `vessel_model`, unless `k1`/`k2` (PD) are given (> 0), or
 `omega_n`/`zeta` are given to redesign PD gains from the identified Nomoto a, b.
 Rudder limits default to the vessel model's (`rudder_max_deg`/`rudder_rate_max_deg` override).
+
+`controller: policy` runs a learned policy (learning.policy) on the guidance node's path_state;
+with `policy_recovery` (default true) LOS + the gain-table PD takes over outside the region the
+policy was trained in (learning.policy.Recovery) and hands back inside it.
 """
 import collections
 import math
@@ -34,6 +38,11 @@ from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import STREAM
 from ship_sim.ros.run import run_node
+
+
+#: Look-ahead of the policy's recovery law, in ship lengths (as the classical loops of
+#: scripts/evaluate_controllers.py; above the PD's stability limit L / (2 zeta) for omega_n = U/L).
+RECOVERY_LOOKAHEAD_SHIP_LENGTHS = 2.5
 
 
 class AutopilotNode(Node):
@@ -66,6 +75,10 @@ class AutopilotNode(Node):
         self.timeout = p.declare('heading_timeout_s', 5.0, 'sim time without heading_cmd after '
                                  'which the command counts as stale (latest pairing)', lo=0.01,
                                  hi=1e4, unit='s', read_only=True)
+        recovery = p.declare('policy_recovery', True, 'controller policy: steer with LOS + the '
+                             'gain-table PD while the vessel is outside the policy\'s training '
+                             'region (|e| beyond its start range, or heading > 90 deg off the '
+                             'path), hand back within half that range', read_only=True)
 
         # The instance's limits: models set them in __init__ (e.g. Nomoto presets, NPS AUV II),
         # the class attributes are only the base defaults.
@@ -74,7 +87,7 @@ class AutopilotNode(Node):
         max_rate = math.radians(rrate) if rrate else vessel.rudder_rate_max
         self.steer = None
         if kind == 'policy':
-            self.steer = self._load_policy(model, policy_file, max_angle)
+            self.steer = self._load_policy(model, policy_file, max_angle, recovery, vessel)
         else:
             self._build_classical(kind, model, k1, k2, omega_n, zeta, max_angle, max_rate, shape)
 
@@ -94,8 +107,8 @@ class AutopilotNode(Node):
         else:
             self.create_subscription(Float64MultiArray, 'path_state', self._on_state, STREAM)
 
-    def _load_policy(self, model, policy_file, max_angle):
-        from ship_autopilot.learning.policy import (LearnedSteering, PolicyError,
+    def _load_policy(self, model, policy_file, max_angle, recovery, vessel):
+        from ship_autopilot.learning.policy import (LearnedSteering, PolicyError, Recovery,
                                                     check_model_limits, load_policy)
         try:
             policy = load_policy(model, policy_file or None)
@@ -103,7 +116,16 @@ class AutopilotNode(Node):
         except PolicyError as exc:
             raise ParameterError('policy_file', message=f'policy_file: {exc}') from None
         self.get_logger().info(f'learned steering for {model}: {policy!r}')
-        return LearnedSteering(policy)
+        law = None
+        if recovery:
+            pd = autopilot_gains(model)['pd']
+            law = Recovery.for_policy(policy, pd['k1'], pd['k2'],
+                                      RECOVERY_LOOKAHEAD_SHIP_LENGTHS * vessel.length)
+            self.get_logger().info(
+                f'recovery: LOS (look-ahead {law.lookahead:.0f} m) + PD beyond |e| '
+                f'{law.engage_m:.0f} m or 90 deg off the path, back to the policy within '
+                f'{law.release_m:.0f} m')
+        return LearnedSteering(policy, recovery=law)
 
     def _build_classical(self, kind, model, k1, k2, omega_n, zeta, max_angle, max_rate, shape):
         try:
@@ -176,8 +198,13 @@ class AutopilotNode(Node):
 
     def _step(self, o, psi_c):
         if self.steer is not None:  # psi_c is the path state here
-            n_bad = self.steer.n_rejected
+            n_bad, recovering = self.steer.n_rejected, self.steer.recovering
             self.msg.data = self.steer.update(psi_c, o.t)
+            if self.steer.recovering != recovering:
+                self.get_logger().info(
+                    f'cross-track {psi_c[0]:.0f} m: ' + ('outside the policy\'s training region, '
+                                                         'LOS + PD steers' if self.steer.recovering
+                                                         else 'the policy steers again'))
             if self.steer.n_rejected != n_bad:
                 self.get_logger().warning(f'invalid path_state held the rudder '
                                           f'({self.steer.n_rejected} so far)',

@@ -189,19 +189,73 @@ def save_policy(path, weights, meta, ref_obs=None, ref_action=None):
     return meta
 
 
+class Recovery:
+    """LOS + PD from the path-relative state, for where a policy was never trained.
+
+    A policy only knows the states its training episodes visited (starts within
+    ``start_cross_max`` of the path, heading within +-``start_heading_max``; the shipped ones
+    steer the wrong way from ~150 m off). ``LearnedSteering`` hands the rudder to this law
+    while |e| > ``engage_m`` or |psi - gamma_p| > ``heading_gate`` (eq. 8's yaw bound: the
+    reward is zero there, so nothing was learned), and back once |e| < ``release_m`` and the
+    heading is inside the gate (hysteresis, so it does not chatter at the edge).
+
+    The law uses only the eq. 9 state: LOS heading relative to the path psi_r = -atan(e / d)
+    (d the look-ahead), PD rudder k1 wrap((psi - gamma_p) - psi_r) + k2 r (pd.PDAutopilot's
+    law and unified sign), saturated at ``rudder_max``. SI units, rad.
+    """
+
+    def __init__(self, k1, k2, lookahead, engage_m, release_m, rudder_max,
+                 heading_gate=np.pi / 2):
+        if not (k1 > 0 and k2 >= 0 and lookahead > 0 and 0 < release_m < engage_m
+                and rudder_max > 0 and 0 < heading_gate <= np.pi):
+            raise ValueError(f'Recovery needs k1 > 0, k2 >= 0, lookahead > 0, 0 < release_m < '
+                             f'engage_m, rudder_max > 0, heading_gate in (0, pi]; got k1={k1}, '
+                             f'k2={k2}, lookahead={lookahead}, release_m={release_m}, '
+                             f'engage_m={engage_m}, rudder_max={rudder_max}, '
+                             f'heading_gate={heading_gate}')
+        self.k1, self.k2, self.lookahead = float(k1), float(k2), float(lookahead)
+        self.engage_m, self.release_m = float(engage_m), float(release_m)
+        self.rudder_max, self.heading_gate = float(rudder_max), float(heading_gate)
+
+    @classmethod
+    def for_policy(cls, policy, k1, k2, lookahead, release_fraction=0.5):
+        """Engage at the edge of the policy's training starts (its metadata), release at
+        ``release_fraction`` of it."""
+        edge = float(policy.meta.get('training', {}).get('env', {}).get('start_cross_max', 100.0))
+        return cls(k1, k2, lookahead, edge, release_fraction * edge, policy.action_scale)
+
+    def outside(self, e, heading_rel, active):
+        """Whether the state is (still) outside the policy's region, given the current mode."""
+        off_heading = abs(_wrap(heading_rel)) > self.heading_gate
+        return off_heading or abs(e) > (self.release_m if active else self.engage_m)
+
+    def rudder(self, raw_state):
+        e, heading_rel, r = raw_state[0], raw_state[4], raw_state[8]
+        psi_r = -np.arctan(e / self.lookahead)
+        cmd = self.k1 * _wrap(heading_rel - psi_r) + self.k2 * r
+        return float(np.clip(cmd, -self.rudder_max, self.rudder_max))
+
+
+def _wrap(a):
+    return (a + np.pi) % (2.0 * np.pi) - np.pi
+
+
 class LearnedSteering:
-    """Node-side wrapper: hold semantics and the policy's control step.
+    """Node-side wrapper: hold semantics, the policy's control step, optional recovery.
 
     ``update(raw_state, t)`` -> rudder command (rad). A new action is computed when at least
     ``control_dt`` (s, from the file; the step the policy was trained with) has passed since the
     last one (first call, or time went backwards: always), else the previous command is held.
     A state with non-finite entries is rejected: the previous command is held, ``n_rejected``
     counts it and ``last_ok`` is False. The output is always finite.
+    ``recovery`` (a Recovery, optional): outside the policy's region it steers instead, at every
+    call; ``recovering`` says which law is in charge, ``n_switches`` counts hand-overs.
     """
 
-    def __init__(self, policy, control_dt=None):
+    def __init__(self, policy, control_dt=None, recovery=None):
         self.policy = policy
         self.control_dt = policy.control_dt if control_dt is None else float(control_dt)
+        self.recovery = recovery
         self.reset()
 
     def reset(self, rudder=0.0):
@@ -209,6 +263,8 @@ class LearnedSteering:
         self.t_last = None
         self.n_rejected = 0
         self.last_ok = True
+        self.recovering = False
+        self.n_switches = 0
 
     def update(self, raw_state, t):
         z, ok = self.policy.normalise(raw_state)
@@ -216,6 +272,16 @@ class LearnedSteering:
         if not self.last_ok:
             self.n_rejected += 1
             return self.rudder
+        if self.recovery is not None:
+            raw = np.asarray(raw_state, dtype=float)
+            outside = self.recovery.outside(raw[0], raw[4], self.recovering)
+            if outside != self.recovering:
+                self.recovering = outside
+                self.n_switches += 1
+                self.t_last = None          # the policy acts at once when it takes over
+            if outside:
+                self.rudder = self.recovery.rudder(raw)
+                return self.rudder
         # New action every control_dt; a clock that went back (sim restart) starts afresh.
         if (self.t_last is None or t < self.t_last
                 or t - self.t_last >= self.control_dt - 1e-9):

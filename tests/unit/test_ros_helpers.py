@@ -143,3 +143,27 @@ def test_runtime_changes_are_validated(make_node):
     assert not ro.successful and node.get_parameter('model').value == 'm'
     # Parameters we did not declare (use_sim_time) are left to rclpy.
     assert node.set_parameters([Parameter('use_sim_time', value=True)])[0].successful
+
+
+def test_a_bad_route_is_refused_with_the_reason_and_a_good_one_decoded():
+    from nav_msgs.msg import Path
+    from ship_guidance.path import Line, Route
+    from ship_guidance.ros.path_msgs import accept_route, route_to_path_msg
+
+    class Log:
+        def __init__(self):
+            self.lines = []
+
+        def error(self, text):
+            self.lines.append(text)
+
+    log = Log()
+    bad = Path()
+    bad.header.frame_id = 'odom'
+    assert accept_route(bad, log) is None
+    assert log.lines == ["route refused: route frame_id is 'odom', expected 'map'; keeping the "
+                         'previous route']
+    from builtin_interfaces.msg import Time
+    good = route_to_path_msg(Route([Line((0.0, 0.0), (100.0, 50.0))]), Time())
+    route = accept_route(good, log)
+    assert route.length == pytest.approx(math.hypot(100.0, 50.0)) and len(log.lines) == 1

@@ -55,7 +55,7 @@ from ship_guidance.follower import (AIMS, FALLBACK, FOLLOW, MAX_SPEED_CORRECTION
                                     speed_to_shaft)
 from ship_guidance.path import Line, Route
 from ship_guidance.ros.outputs import GuidanceOutputs
-from ship_guidance.ros.path_msgs import path_msg_to_route
+from ship_guidance.ros.path_msgs import accept_route
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED, STREAM
@@ -200,10 +200,8 @@ class FollowerNode(Node):
 
     # -- inputs -------------------------------------------------------------------------------
     def _on_route(self, msg):
-        try:
-            route = path_msg_to_route(msg)
-        except ValueError as exc:
-            self.get_logger().error(f'route refused: {exc}; keeping the previous route')
+        route = accept_route(msg, self.get_logger())
+        if route is None:
             return
         self.follower = FollowerGuidance(route, **self.config)
         self.completed = False

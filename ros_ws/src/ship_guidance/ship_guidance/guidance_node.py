@@ -37,7 +37,7 @@ from std_msgs.msg import Bool, Float64MultiArray, MultiArrayDimension
 
 from ship_guidance.guidance import LAWS, Guidance
 from ship_guidance.ros.outputs import GuidanceOutputs
-from ship_guidance.ros.path_msgs import path_msg_to_route
+from ship_guidance.ros.path_msgs import accept_route
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED, STREAM
@@ -169,10 +169,8 @@ class GuidanceNode(Node):
                         curvature_lead=self.curvature_lead, **self.stability)
 
     def _on_route(self, msg):
-        try:
-            route = path_msg_to_route(msg)
-        except ValueError as exc:
-            self.get_logger().error(f'route refused: {exc}; keeping the previous route')
+        route = accept_route(msg, self.get_logger())
+        if route is None:
             return
         self.guidance = self._make_guidance(route)
         if self.features is not None:

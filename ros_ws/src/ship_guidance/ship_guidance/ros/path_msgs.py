@@ -46,3 +46,13 @@ def path_msg_to_route(msg):
     north = np.array([p.pose.position.y for p in msg.poses])
     yaw = np.array([quaternion_to_yaw(p.pose.orientation) for p in msg.poses])
     return Route.from_poses(north, east, yaw_to_psi(yaw))
+
+
+def accept_route(msg, logger):
+    """The Route of a received Path, or None after logging why it was refused (the node keeps
+    following its previous route)."""
+    try:
+        return path_msg_to_route(msg)
+    except ValueError as exc:
+        logger.error(f'route refused: {exc}; keeping the previous route')
+        return None

@@ -140,6 +140,9 @@ def launch(ros_graph, tmp_path):
         print(run.report())
 
 
+POLICY_SCENARIO = REPO_ROOT / 'scenarios' / 'curved_path_mariner_current09_policy_000.yaml'
+
+
 def scenario_variant(tmp_path, change, name='variant.yaml'):
     """A copy of SCENARIO (route path made absolute) with ``change(data)`` applied."""
     data = yaml.safe_load(SCENARIO.read_text())
@@ -319,27 +322,73 @@ def test_node_refusing_its_parameters_fails_the_run_at_once(launch, tmp_path):
     assert run_processes(str(run.runs)) == []
 
 
-@pytest.mark.timeout(150)
-def test_learned_policy_autopilot_steers_with_the_policy_on_path_state(launch):
-    """controller: policy wired through the graph: the guidance publishes one path_state per
-    odom and every rudder_cmd is exactly the shipped policy (numpy, no torch) applied to it, held
-    between its control steps; commands are finite and inside the rudder limit; the Mariner
-    converges onto the curved path in current."""
+def _policy_run_topics(run):
+    """path_state, rudder_cmd, odom messages of vessel_0 from a run's bag."""
     from rosbags.highlevel import AnyReader
     from rosbags.typesys import Stores, get_typestore
-    from ship_autopilot.learning.policy import LearnedSteering, load_policy
-
-    scenario = REPO_ROOT / 'scenarios' / 'curved_path_mariner_current09_policy_000.yaml'
-    run = launch(scenario, '--duration', '150')
-    assert run.wait(130) == 0, run.report()
     topics = {'/vessel_0/path_state': [], '/vessel_0/rudder_cmd': [], '/vessel_0/odom': []}
     with AnyReader([run.run_dir() / 'bag'],
                    default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
         conns = [c for c in reader.connections if c.topic in topics]
         for conn, _t, raw in reader.messages(connections=conns):
             topics[conn.topic].append(reader.deserialize(raw, conn.msgtype))
-    states, cmds, odoms = (topics[f'/vessel_0/{k}'] for k in ('path_state', 'rudder_cmd', 'odom'))
-    assert len(states) == len(cmds) == len(odoms) >= 150, [len(v) for v in topics.values()]
+    return (topics[f'/vessel_0/{k}'] for k in ('path_state', 'rudder_cmd', 'odom'))
+
+
+@pytest.mark.timeout(150)
+def test_policy_far_off_the_path_is_brought_back_by_recovery_then_steers(launch, tmp_path):
+    """Started 300 m off (beyond the 100 m the policy was trained from, where it alone steers
+    away: tests/unit/test_policy.py), the autopilot node's recovery law (ILOS + gain-table PD)
+    takes the vessel back, hands over to the policy inside 50 m, and the policy holds the path.
+    Every rudder_cmd equals the same steering replayed offline on the recorded path_state."""
+    from ship_autopilot.gains import autopilot_gains
+    from ship_autopilot.learning.policy import LearnedSteering, Recovery, load_policy
+    from ship_sim.models import make_model
+
+    data = yaml.safe_load(POLICY_SCENARIO.read_text())
+    v = data['vessels']['vessel_0']
+    v['route'] = str((POLICY_SCENARIO.parent / v['route']).resolve())
+    v['start']['cross_m'] = 300.0
+    scenario = tmp_path / 'far.yaml'
+    scenario.write_text(yaml.safe_dump(data, sort_keys=False))
+    run = launch(scenario, '--duration', '400')
+    assert run.wait(130) == 0, run.report()
+    states, cmds, odoms = _policy_run_topics(run)
+    assert len(states) == len(cmds) == len(odoms) >= 400
+    policy = load_policy('mariner')
+    pd = autopilot_gains('mariner')['pd']
+    ship = make_model('mariner')
+    law = Recovery.for_policy(policy, pd['k1'], pd['k2'], ship.length,
+                              float(ship.speed(ship.initial_state())))
+    steer = LearnedSteering(policy, recovery=law)
+    t = np.array([o.header.stamp.sec + 1e-9 * o.header.stamp.nanosec for o in odoms])
+    mode = []
+    expected = []
+    for st, ti in zip(states, t):
+        expected.append(steer.update(np.asarray(st.data, dtype=float), ti))
+        mode.append(steer.recovering)
+    np.testing.assert_allclose([c.data for c in cmds], expected, rtol=1e-12, atol=1e-15)
+    mode = np.array(mode)
+    e = np.array([st.data[0] for st in states])
+    assert abs(e[0] - 300.0) < 1.0 and mode[0]          # recovery from the start
+    assert steer.n_switches == 2 and not mode[-1]        # engaged at the start, handed back once
+    handover = t[np.argmin(mode)]
+    print(f'handover at {handover - t[0]:.0f} s, |e| there {abs(e[np.argmin(mode)]):.1f} m')
+    assert np.max(np.abs(e[t > t[0] + 300.0])) < 10.0, np.max(np.abs(e[t > t[0] + 300.0]))
+
+
+@pytest.mark.timeout(150)
+def test_learned_policy_autopilot_steers_with_the_policy_on_path_state(launch):
+    """controller: policy wired through the graph: the guidance publishes one path_state per
+    odom and every rudder_cmd is exactly the shipped policy (numpy, no torch) applied to it, held
+    between its control steps; commands are finite and inside the rudder limit; the Mariner
+    converges onto the curved path in current."""
+    from ship_autopilot.learning.policy import LearnedSteering, load_policy
+
+    run = launch(POLICY_SCENARIO, '--duration', '150')
+    assert run.wait(130) == 0, run.report()
+    states, cmds, odoms = _policy_run_topics(run)
+    assert len(states) == len(cmds) == len(odoms) >= 150
     policy = load_policy('mariner')
     steer = LearnedSteering(policy)
     t = [o.header.stamp.sec + 1e-9 * o.header.stamp.nanosec for o in odoms]

@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from ship_autopilot.learning.features import CLIP, OBS_DIM, default_scales
-from ship_autopilot.learning.policy import (FORMAT, LearnedSteering, PolicyError, Recovery,
+from ship_autopilot.learning.policy import (FORMAT, RECOVERY_LOOKAHEAD_SHIP_LENGTHS,
+                                            LearnedSteering, PolicyError, Recovery,
                                             check_model_limits, load_policy, mlp_forward,
                                             policy_path, save_policy)
 from ship_sim.models import make_model
@@ -136,8 +137,9 @@ def test_shipped_policy_steers_back_towards_the_path(model):
 
 def test_recovery_hands_over_with_hysteresis_and_steers_towards_the_path(good_file):
     policy = load_policy(path=good_file)
-    law = Recovery.for_policy(policy, k1=2.0, k2=50.0, lookahead=400.0)
+    law = Recovery.for_policy(policy, k1=2.0, k2=50.0, ship_length=160.0, speed=8.0)
     assert (law.engage_m, law.release_m) == (100.0, 50.0)     # the file's training starts: 100 m
+    assert (law.lookahead, law.sigma) == (RECOVERY_LOOKAHEAD_SHIP_LENGTHS * 160.0, 2.0)
     steer = LearnedSteering(policy, recovery=law)
     x = policy.offset.copy()
     path = [(40.0, False), (90.0, False), (120.0, True), (70.0, True), (40.0, False)]
@@ -157,20 +159,27 @@ def test_recovery_hands_over_with_hysteresis_and_steers_towards_the_path(good_fi
     assert steer.recovering and abs(law.rudder(x)) == pytest.approx(law.rudder_max)
 
 
-@pytest.mark.parametrize('model', SHIPS)
+TANKER_POLICY_DRIFTS = pytest.mark.xfail(
+    strict=True, reason='the shipped tanker policy does not hold the path even inside its '
+    'training region: recovery brings it back, the policy drifts off again (README)')
+
+
+@pytest.mark.parametrize('model', ['mariner', 'container',
+                                   pytest.param('tanker', marks=TANKER_POLICY_DRIFTS)])
 def test_policy_with_recovery_returns_from_far_off_and_tracks(model):
     """The shipped policy alone cannot come back from 400 m (see the xfail above); with the
     recovery law the vessel reaches the path, the policy takes over and holds it within a few
-    metres, on the straight line of the training environment, 0.5 m/s cross current."""
+    metres, on the straight line of the training environment, 0.9 m/s current (the training
+    maximum) across the path, where plain LOS would stall 47 m off (the Mariner at 2.5 L)."""
     from ship_autopilot.gains import autopilot_gains
     from ship_autopilot.learning.env import EnvConfig, PathFollowingBatch
     policy = load_policy(model)
     pd = autopilot_gains(model)['pd']
     env = PathFollowingBatch(model, 1, EnvConfig(mode='straight'), seed=3)
-    law = Recovery.for_policy(policy, pd['k1'], pd['k2'], 2.5 * env.length)
+    law = Recovery.for_policy(policy, pd['k1'], pd['k2'], env.length, env.speed0)
     steer = LearnedSteering(policy, recovery=law)
     env.reset(starts=[{'route': 0, 'along': 500.0, 'cross': 400.0, 'heading': 0.0,
-                       'current_speed': 0.5, 'current_direction': math.radians(60.0)}])
+                       'current_speed': 0.9, 'current_direction': math.radians(-90.0)}])
     errors = []
     for k in range(1500):
         cmd = steer.update(env.raw[0], float(k))

@@ -18,7 +18,7 @@ identified Nomoto K, T) for `vessel_model`, unless `k1`/`k2` (PD) are given (> 0
 Rudder limits default to the vessel model's (`rudder_max_deg`/`rudder_rate_max_deg` override).
 
 `controller: policy` runs a learned policy (learning.policy) on the guidance node's path_state;
-with `policy_recovery` (default true) LOS + the gain-table PD takes over outside the region the
+with `policy_recovery` (default true) ILOS + the gain-table PD takes over outside the region the
 policy was trained in (learning.policy.Recovery) and hands back inside it.
 """
 import collections
@@ -38,11 +38,6 @@ from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import STREAM
 from ship_sim.ros.run import run_node
-
-
-#: Look-ahead of the policy's recovery law, in ship lengths (as the classical loops of
-#: scripts/evaluate_controllers.py; above the PD's stability limit L / (2 zeta) for omega_n = U/L).
-RECOVERY_LOOKAHEAD_SHIP_LENGTHS = 2.5
 
 
 class AutopilotNode(Node):
@@ -75,7 +70,7 @@ class AutopilotNode(Node):
         self.timeout = p.declare('heading_timeout_s', 5.0, 'sim time without heading_cmd after '
                                  'which the command counts as stale (latest pairing)', lo=0.01,
                                  hi=1e4, unit='s', read_only=True)
-        recovery = p.declare('policy_recovery', True, 'controller policy: steer with LOS + the '
+        recovery = p.declare('policy_recovery', True, 'controller policy: steer with ILOS + the '
                              'gain-table PD while the vessel is outside the policy\'s training '
                              'region (|e| beyond its start range, or heading > 90 deg off the '
                              'path), hand back within half that range', read_only=True)
@@ -119,10 +114,10 @@ class AutopilotNode(Node):
         law = None
         if recovery:
             pd = autopilot_gains(model)['pd']
-            law = Recovery.for_policy(policy, pd['k1'], pd['k2'],
-                                      RECOVERY_LOOKAHEAD_SHIP_LENGTHS * vessel.length)
+            law = Recovery.for_policy(policy, pd['k1'], pd['k2'], vessel.length,
+                                      float(vessel.speed(vessel.initial_state())))
             self.get_logger().info(
-                f'recovery: LOS (look-ahead {law.lookahead:.0f} m) + PD beyond |e| '
+                f'recovery: ILOS (look-ahead {law.lookahead:.0f} m) + PD beyond |e| '
                 f'{law.engage_m:.0f} m or 90 deg off the path, back to the policy within '
                 f'{law.release_m:.0f} m')
         return LearnedSteering(policy, recovery=law)

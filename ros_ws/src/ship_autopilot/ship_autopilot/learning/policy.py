@@ -29,6 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ship_guidance.los import ilos_integral_rate
+
 from .features import OBS_DIM, STATE_NAMES, normalise
 
 FORMAT = 'ship_autopilot.policy.v1'
@@ -189,8 +191,19 @@ def save_policy(path, weights, meta, ref_obs=None, ref_action=None):
     return meta
 
 
+#: Look-ahead of the policy's recovery law, in ship lengths: a gentle approach (the heading
+#: relative to the path at hand-back, -atan(e / d), stays well inside the +-20 deg the policies
+#: were started with) and above ILOS's stability limit with the gain-table PD,
+#: (U + 4 zeta^2 sigma) / (2 zeta omega_n) = 1.03 L for omega_n = U / L, sigma = U / 4.
+RECOVERY_LOOKAHEAD_SHIP_LENGTHS = 2.5
+#: Integral gain of the recovery's ILOS, in units of the speed (sigma = U / 4, as the ILOS of
+#: scripts/evaluate_controllers.py): it removes the offset plain LOS keeps in a cross current
+#: (d tan(asin(Vc / U)) = 47 m for the Mariner in 0.9 m/s at 2.5 L, at the hand-back edge).
+RECOVERY_INTEGRAL_SPEED_FRACTION = 0.25
+
+
 class Recovery:
-    """LOS + PD from the path-relative state, for where a policy was never trained.
+    """Integral LOS + PD from the path-relative state, for where a policy was never trained.
 
     A policy only knows the states its training episodes visited (starts within
     ``start_cross_max`` of the path, heading within +-``start_heading_max``; the shipped ones
@@ -199,39 +212,58 @@ class Recovery:
     reward is zero there, so nothing was learned), and back once |e| < ``release_m`` and the
     heading is inside the gate (hysteresis, so it does not chatter at the edge).
 
-    The law uses only the eq. 9 state: LOS heading relative to the path psi_r = -atan(e / d)
-    (d the look-ahead), PD rudder k1 wrap((psi - gamma_p) - psi_r) + k2 r (pd.PDAutopilot's
-    law and unified sign), saturated at ``rudder_max``. SI units, rad.
+    The law uses only the eq. 9 state: ILOS heading relative to the path
+    psi_r = -atan((e + sigma e_int) / d) with e_int' = d e / ((e + sigma e_int)^2 + d^2)
+    (ship_guidance.los, Borhaug et al. 2008; reset when the law takes over), and the PD rudder
+    k1 wrap((psi - gamma_p) - psi_r) + k2 r (pd.PDAutopilot's law and unified sign), saturated
+    at ``rudder_max``. SI units, rad.
     """
 
-    def __init__(self, k1, k2, lookahead, engage_m, release_m, rudder_max,
+    def __init__(self, k1, k2, lookahead, engage_m, release_m, rudder_max, sigma=0.0,
                  heading_gate=np.pi / 2):
         if not (k1 > 0 and k2 >= 0 and lookahead > 0 and 0 < release_m < engage_m
-                and rudder_max > 0 and 0 < heading_gate <= np.pi):
+                and rudder_max > 0 and sigma >= 0 and 0 < heading_gate <= np.pi):
             raise ValueError(f'Recovery needs k1 > 0, k2 >= 0, lookahead > 0, 0 < release_m < '
-                             f'engage_m, rudder_max > 0, heading_gate in (0, pi]; got k1={k1}, '
-                             f'k2={k2}, lookahead={lookahead}, release_m={release_m}, '
-                             f'engage_m={engage_m}, rudder_max={rudder_max}, '
+                             f'engage_m, rudder_max > 0, sigma >= 0, heading_gate in (0, pi]; '
+                             f'got k1={k1}, k2={k2}, lookahead={lookahead}, '
+                             f'release_m={release_m}, engage_m={engage_m}, '
+                             f'rudder_max={rudder_max}, sigma={sigma}, '
                              f'heading_gate={heading_gate}')
         self.k1, self.k2, self.lookahead = float(k1), float(k2), float(lookahead)
         self.engage_m, self.release_m = float(engage_m), float(release_m)
         self.rudder_max, self.heading_gate = float(rudder_max), float(heading_gate)
+        self.sigma = float(sigma)
+        self.start()
 
     @classmethod
-    def for_policy(cls, policy, k1, k2, lookahead, release_fraction=0.5):
-        """Engage at the edge of the policy's training starts (its metadata), release at
-        ``release_fraction`` of it."""
+    def for_policy(cls, policy, k1, k2, ship_length, speed, release_fraction=0.5):
+        """The recovery of ``policy`` for a ship of ``ship_length`` (m) at ``speed`` (m/s):
+        engage at the edge of the policy's training starts (its metadata), release at
+        ``release_fraction`` of it, look-ahead and integral gain as the module constants."""
         edge = float(policy.meta.get('training', {}).get('env', {}).get('start_cross_max', 100.0))
-        return cls(k1, k2, lookahead, edge, release_fraction * edge, policy.action_scale)
+        return cls(k1, k2, RECOVERY_LOOKAHEAD_SHIP_LENGTHS * ship_length, edge,
+                   release_fraction * edge, policy.action_scale,
+                   sigma=RECOVERY_INTEGRAL_SPEED_FRACTION * speed)
+
+    def start(self):
+        """Forget the integral state (the law is taking over)."""
+        self.integral = 0.0
+        self.t_prev = None
 
     def outside(self, e, heading_rel, active):
         """Whether the state is (still) outside the policy's region, given the current mode."""
         off_heading = abs(_wrap(heading_rel)) > self.heading_gate
         return off_heading or abs(e) > (self.release_m if active else self.engage_m)
 
-    def rudder(self, raw_state):
+    def rudder(self, raw_state, t=None):
+        """Rudder (rad) for the raw eq. 9 state at time ``t`` (s; None: no integration)."""
         e, heading_rel, r = raw_state[0], raw_state[4], raw_state[8]
-        psi_r = -np.arctan(e / self.lookahead)
+        if t is not None and self.t_prev is not None and t > self.t_prev and self.sigma > 0:
+            self.integral += (t - self.t_prev) * ilos_integral_rate(
+                e, self.integral, self.lookahead, self.sigma)
+        if t is not None:
+            self.t_prev = t
+        psi_r = -np.arctan((e + self.sigma * self.integral) / self.lookahead)
         cmd = self.k1 * _wrap(heading_rel - psi_r) + self.k2 * r
         return float(np.clip(cmd, -self.rudder_max, self.rudder_max))
 
@@ -279,8 +311,9 @@ class LearnedSteering:
                 self.recovering = outside
                 self.n_switches += 1
                 self.t_last = None          # the policy acts at once when it takes over
+                self.recovery.start()
             if outside:
-                self.rudder = self.recovery.rudder(raw)
+                self.rudder = self.recovery.rudder(raw, t)
                 return self.rudder
         # New action every control_dt; a clock that went back (sim restart) starts afresh.
         if (self.t_last is None or t < self.t_last

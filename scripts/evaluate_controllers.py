@@ -29,6 +29,11 @@ Setup (the same for every controller):
   autopilot run every 0.1 s, as the nodes do. 'policy' = the shipped DDPG policy
   (ship_autopilot/data/policies/<model>.npz), acting every control_dt of its file (1 s, the
   step it was trained with) on the eq. 9 state (learning.features) from the same projection.
+  'los_lead' = the best classical loop we have (the flagship's): LOS + PD placed at a faster
+  omega_n = k U / L (from the identified Nomoto a, b) + the guidance's turn-rate lead
+  (psi_c += 2 zeta U kappa / omega_n), look-ahead d ship lengths. (k, d) per ship come from
+  ``--tune``: a grid search on the training environment's curve pool (learning.env, other
+  curves and starts than this table's), never on the evaluation path; TUNED holds its result.
 
 Metrics per run: cumulative Gaussian (mean over starts), mean and max |e| (m), mean |e| over the
 last 500 s (settled), rudder activity = mean |d delta / dt| of the actual rudder (deg/s) and
@@ -47,19 +52,27 @@ ROOT = Path(__file__).resolve().parent.parent
 for pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot', 'ship_planner'):
     sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
 
-from ship_autopilot.gains import autopilot_gains, build_autopilot  # noqa: E402
+from ship_autopilot.gains import autopilot_gains, build_autopilot, nomoto_gains  # noqa: E402
 from ship_autopilot.learning.env import (EnvConfig, PathFollowingBatch,  # noqa: E402
                                          gaussian_reward)
 from ship_autopilot.learning.features import PathFeatures  # noqa: E402
 from ship_autopilot.learning.policy import LearnedSteering, load_policy  # noqa: E402
+from ship_autopilot.pd import pd_gains  # noqa: E402
 from ship_guidance.guidance import Guidance  # noqa: E402
 from ship_planner.route_files import load_route  # noqa: E402
 
 MODELS = ('mariner', 'container', 'tanker')
 CURRENTS = (0.0, 0.9)
-CONTROLLERS = ('los', 'ilos', 'fuzzy_pid', 'policy')
+CONTROLLERS = ('los', 'ilos', 'fuzzy_pid', 'los_lead', 'policy')
 LABELS = {'los': 'LOS + PD', 'ilos': 'ILOS + PD', 'fuzzy_pid': 'LOS + fuzzy PID',
-          'policy': 'DDPG policy (ours)'}
+          'los_lead': 'LOS + fast PD + turn-rate lead', 'policy': 'DDPG policy (ours)'}
+#: 'los_lead' tuning per ship: (omega_n in units of U / L, look-ahead in ship lengths), chosen by
+#: ``--tune`` (grid TUNE_GRID, mean Gaussian over the training pool's curves; see TUNE_* below;
+#: the tanker's optimum lay at the grid's longest look-ahead, so it was searched further with
+#: ``--tune --models tanker --grid 1,1.5,2/3.5,5,7``).
+TUNED = {'mariner': (2.5, 1.0), 'container': (2.5, 1.5), 'tanker': (1.5, 3.5)}
+TUNE_GRID = {'omega_n_nd': (1.0, 1.5, 2.5, 3.5), 'lookahead_L': (0.75, 1.0, 1.5, 2.5, 3.5)}
+TUNE_STARTS, TUNE_SEED = 4, 7
 #: Seed 000 Table I: (model, current) -> cumulative Gaussian reward.
 SEED_TABLE = {
     'LOS (seed 000)': {'mariner': (161, 499), 'container': (807, 829), 'tanker': (65, 62)},
@@ -78,8 +91,9 @@ def start_states(k, seed=2024):
              'current_direction': rng.uniform(-math.pi, math.pi)} for _ in range(k)]
 
 
-def run(model, route, controller, starts, current, duration, policy_file=None):
-    """Simulate every start with one controller; returns per-start metric arrays."""
+def run(model, route, controller, starts, current, duration, policy_file=None, tuning=None):
+    """Simulate every start with one controller; returns per-start metric arrays.
+    ``tuning``: (omega_n_nd, lookahead_L) for 'los_lead' instead of TUNED."""
     k = len(starts)
     env = PathFollowingBatch(model, k, EnvConfig(mode='straight', sim_dt=SIM_DT,
                                                  control_dt=SIM_DT), routes=[route])
@@ -88,14 +102,22 @@ def run(model, route, controller, starts, current, duration, policy_file=None):
     gains = autopilot_gains(m.name)
     speed, length = env.speed0, env.length
     law = 'ilos' if controller == 'ilos' else 'los'
-    guides = [Guidance(route, law, LOOKAHEAD_SHIP_LENGTHS * length, integral_gain=speed / 4.0,
-                       zeta=gains['zeta'], omega_n=gains['omega_n'], speed=speed)
-              for _ in range(k)]
+    lookahead, zeta, omega_n, lead = (LOOKAHEAD_SHIP_LENGTHS * length, gains['zeta'],
+                                      gains['omega_n'], False)
+    if controller == 'los_lead':
+        omega_n_nd, lookahead_L = tuning or TUNED[m.name]
+        omega_n, lookahead, lead = omega_n_nd * speed / length, lookahead_L * length, True
+    guides = [Guidance(route, law, lookahead, integral_gain=speed / 4.0, zeta=zeta,
+                       omega_n=omega_n, speed=speed, curvature_lead=lead) for _ in range(k)]
     if controller == 'policy':
         policy = load_policy(m.name, policy_file)
         steering = [LearnedSteering(policy) for _ in range(k)]
         features = PathFeatures((k,))
         control_dt = policy.control_dt
+    elif controller == 'los_lead':
+        nomoto = nomoto_gains(m.name)
+        k1, k2 = pd_gains(nomoto['a'], nomoto['b'], omega_n, zeta)
+        autopilot = build_autopilot('pd', {'k1': k1, 'k2': k2}, m.rudder_max, m.rudder_rate_max)
     else:
         autopilot = build_autopilot('pd' if controller in ('los', 'ilos') else 'fuzzy_pid',
                                     gains, m.rudder_max, m.rudder_rate_max)
@@ -156,6 +178,46 @@ def _task(args):
     return summary
 
 
+def _tune_task(args):
+    model, tuning, i = args
+    rng = np.random.default_rng(TUNE_SEED + i)
+    env = PathFollowingBatch(model, 1, EnvConfig(n_routes=1), seed=TUNE_SEED + i)
+    start = env.sample_starts(1)[0]
+    start['current_speed'] = CURRENTS[i % len(CURRENTS)]
+    start['along'] = rng.uniform(0.0, 500.0)
+    r = run(model, env.routes[0], 'los_lead', [dict(start, route=0)], start['current_speed'],
+            1000.0, tuning=tuning)
+    return float(r['gaussian'][0])
+
+
+def tune(models, jobs=1, grid=None):
+    """Grid search of 'los_lead' (omega_n_nd, lookahead_L) per ship on TUNE_STARTS curves of the
+    training pool (learning.env, seeds TUNE_SEED + i; currents alternate 0 / 0.9 m/s);
+    returns {model: {'best': (k, d), 'scores': {"k/d": mean Gaussian}}}."""
+    g = grid or TUNE_GRID
+    grid = [(k, d) for k in g['omega_n_nd'] for d in g['lookahead_L']]
+    tasks = [(m, g, i) for m in models for g in grid for i in range(TUNE_STARTS)]
+    if jobs > 1:
+        import multiprocessing
+        with multiprocessing.Pool(jobs) as pool:
+            scores = pool.map(_tune_task, tasks, chunksize=1)
+    else:
+        scores = [_tune_task(t) for t in tasks]
+    out = {}
+    for m in models:
+        table = {}
+        for (tm, g, _), sc in zip(tasks, scores):
+            if tm == m:
+                table.setdefault(g, []).append(sc)
+        means = {g: float(np.mean(v)) for g, v in table.items()}
+        best = max(means, key=means.get)
+        out[m] = {'best': best, 'scores': {f'{k:g}/{d:g}': round(v, 1)
+                                           for (k, d), v in means.items()}}
+        print(f'{m:9s} best omega_n = {best[0]:g} U/L, look-ahead {best[1]:g} L: '
+              f'{means[best]:.0f}  ({out[m]["scores"]})', flush=True)
+    return out
+
+
 def evaluate(models, n_starts, duration, controllers, policy_template=None, jobs=1):
     """Every (model, current, controller) run; ``jobs`` > 1 runs them in processes."""
     starts = start_states(n_starts)
@@ -214,12 +276,30 @@ def main(argv=None):
     p.add_argument('--policy', default=None, metavar='PATH',
                    help="policy files instead of the shipped ones, '{model}' in the path is "
                         "replaced by the ship, e.g. runs/rl/{model}_scratch/policy.npz")
+    p.add_argument('--tune', action='store_true',
+                   help="grid-search the 'los_lead' tuning on the training curve pool, print "
+                        'it (paste into TUNED) and write <out>_tuning.json; no evaluation')
+    p.add_argument('--grid', default=None, metavar='K1,K2/D1,D2',
+                   help='with --tune: omega_n values (U/L) / look-aheads (L) instead of TUNE_GRID')
     args = p.parse_args(argv)
     models = [m for m in args.models.split(',') if m]
     controllers = [c for c in args.controllers.split(',') if c]
     bad = [m for m in models if m not in MODELS] + [c for c in controllers if c not in CONTROLLERS]
     if bad:
         p.error(f'unknown {bad}; models {MODELS}, controllers {CONTROLLERS}')
+    if args.tune:
+        grid = TUNE_GRID
+        if args.grid:
+            ks, ds = args.grid.split('/')
+            grid = {'omega_n_nd': tuple(float(k) for k in ks.split(',')),
+                    'lookahead_L': tuple(float(d) for d in ds.split(','))}
+        tuned = tune(models, args.jobs, grid)
+        out = Path(args.out + '_tuning.json')
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(json.dumps({'grid': grid, 'starts': TUNE_STARTS, 'seed': TUNE_SEED,
+                                   'results': tuned}, indent=2))
+        print(f'wrote {out}')
+        return 0
     n_starts, duration = (1, 300.0) if args.quick else (args.starts, args.duration)
     t0 = time.perf_counter()
     starts, results = evaluate(models, n_starts, duration, controllers, args.policy, args.jobs)

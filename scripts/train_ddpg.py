@@ -4,6 +4,8 @@
     scripts/train_ddpg.py train --model mariner --schedule transfer [--transitions 120000]
     scripts/train_ddpg.py train --model mariner --schedule continue \
         --init-from runs/rl/mariner_transfer/checkpoint.pt --out runs/rl/mariner_continue
+    scripts/train_ddpg.py train --model mariner --schedule scratch --seed 1 \
+        --export none --out runs/rl/transfer_study/mariner_scratch_s1    # (and transfer)
     scripts/train_ddpg.py compare --model mariner       # transfer vs scratch time-to-threshold
     scripts/train_ddpg.py plot --model mariner          # training curves (PNG) from the logs
 
@@ -64,6 +66,12 @@ SETTINGS = {'actor_lr': 1e-4, 'critic_lr': 1e-3, 'tau': 1e-3, 'gamma': 0.99, 'ba
             'ou_sigma': 0.1}
 RUNS = ROOT / 'runs' / 'rl'
 EVAL_EPISODES = 4
+#: EnvConfig fields set from the command line (--control-dt), applied to every environment.
+ENV_OPTIONS = {}
+
+
+def env_config(mode, **kw):
+    return EnvConfig(mode=mode, **ENV_OPTIONS, **kw)
 
 
 def build_nets(torch):
@@ -152,7 +160,7 @@ class DDPG:
 
 def evaluate(agent, model, seed, episodes=EVAL_EPISODES):
     """Mean Gaussian sum per 1000 s curved episode, mean |e| (m), with the deterministic actor."""
-    env = PathFollowingBatch(model, episodes, EnvConfig(mode='curved', n_routes=episodes),
+    env = PathFollowingBatch(model, episodes, env_config('curved', n_routes=episodes),
                              seed=10_000 + seed)
     obs = env.reset()
     gauss = np.zeros(episodes)
@@ -197,7 +205,7 @@ def train(args):
     for phase, count in phases:
         if count <= 0 or stop:
             continue
-        env = PathFollowingBatch(args.model, n, EnvConfig(mode=phase),
+        env = PathFollowingBatch(args.model, n, env_config(phase),
                                  seed=args.seed * 100 + (phase == 'curved'))
         obs = env.reset()
         noise = np.zeros(n)
@@ -255,7 +263,8 @@ def train(args):
                'straight_transitions': n_straight, 'updates': agent.updates,
                'episodes': episodes, 'wall_s': round(wall, 1), 'best_eval_gaussian': best[0],
                'seed': args.seed, 'n_envs': n, 'updates_per_step': args.updates_per_step,
-               'planned_transitions': args.transitions, 'stopped_by_wall_limit': stop}
+               'planned_transitions': args.transitions, 'stopped_by_wall_limit': stop,
+               'control_dt': env.config.control_dt}
     (out / 'summary.json').write_text(json.dumps(summary, indent=2))
     plot_curves([out], out / 'curves.png')
     if best[1] is not None and args.export != 'none':
@@ -271,7 +280,7 @@ def train(args):
 def export(agent, model_name, path, summary):
     """Write the actor as a numpy policy file with reference outputs computed by torch."""
     import torch
-    env = PathFollowingBatch(model_name, 1, EnvConfig(mode='straight'))
+    env = PathFollowingBatch(model_name, 1, env_config('straight'))
     lin = [m for m in agent.actor if isinstance(m, torch.nn.Linear)]
     weights = {}
     for i, layer in enumerate(lin):
@@ -286,7 +295,7 @@ def export(agent, model_name, path, summary):
             'state_scale': env.state_scale.tolist(), 'clip': CLIP,
             'action_scale': env.rudder_max, 'control_dt': env.config.control_dt,
             'sim_dt': env.config.sim_dt, 'hidden': list(HIDDEN),
-            'training': dict(SETTINGS, **summary, env=EnvConfig().__dict__,
+            'training': dict(SETTINGS, **summary, env=env.config.__dict__,
                              algorithm='DDPG (scripts/train_ddpg.py)')}
     save_policy(path, weights, meta, ref_obs, ref_action)
 
@@ -333,23 +342,63 @@ def time_to(rows, threshold, key):
 
 
 def compare(args):
-    """Transfer vs scratch: transitions, updates and wall time until the curved evaluation
-    first reaches ``fraction`` x the best score the scratch run ever reached."""
-    folders = [RUNS / f'{args.model}_{s}' for s in ('scratch', 'transfer')]
-    logs = [read_log(f / 'log.csv') for f in folders]
-    best_scratch = max(float(r['eval_gaussian']) for r in logs[0])
-    thr = args.fraction * best_scratch
-    result = {'model': args.model, 'threshold': thr, 'fraction': args.fraction,
-              'best_scratch': best_scratch,
-              'best_transfer': max(float(r['eval_gaussian']) for r in logs[1]
-                                   if r['phase'] == 'curved')}
-    for name, rows in zip(('scratch', 'transfer'), logs):
-        result[name] = {k: time_to(rows, thr, k) for k in ('transitions', 'updates', 'wall_s')}
-    s, t = result['scratch']['transitions'], result['transfer']['transitions']
-    result['saving_transitions'] = None if s is None or t is None else 1.0 - t / s
+    """Transfer vs scratch: for every seed with both runs (<runs>/<model>_<schedule>_s<seed>),
+    the transitions (all phases; updates are proportional, so this is training time on an
+    idle core) until the curved evaluation first reaches each threshold, and the saving
+    1 - transfer / scratch (also counting only the transfer run's curved transitions), and
+    the means over seeds. A run that never reaches a threshold counts as censored at its last
+    transition count (the saving is then a bound, marked as such)."""
+    runs = Path(args.runs)
+    seeds = sorted({int(f.name.rsplit('_s', 1)[1]) for f in runs.glob(f'{args.model}_*_s*')
+                    if f.is_dir()})
+    result = {'model': args.model, 'thresholds': args.thresholds, 'seeds': {}}
+    folders = []
+    for seed in seeds:
+        pair = {s: runs / f'{args.model}_{s}_s{seed}' for s in ('scratch', 'transfer')}
+        if not all((f / 'log.csv').exists() for f in pair.values()):
+            continue
+        folders += list(pair.values())
+        logs = {s: read_log(f / 'log.csv') for s, f in pair.items()}
+        entry = {s: {'transitions_total': int(logs[s][-1]['transitions']),
+                     'straight_transitions': max([int(r['transitions']) for r in logs[s]
+                                                  if r['phase'] == 'straight'], default=0),
+                     'best_eval': max(float(r['eval_gaussian']) for r in logs[s]
+                                      if r['phase'] == 'curved')} for s in logs}
+        for thr in args.thresholds:
+            t = {s: time_to(logs[s], thr, 'transitions') for s in logs}
+            censored = {s: t[s] is None for s in t}
+            t_or_end = {s: t[s] if t[s] is not None else entry[s]['transitions_total']
+                        for s in t}
+            saving = saving_curved = None
+            if not all(censored.values()):
+                saving = 1.0 - t_or_end['transfer'] / t_or_end['scratch']
+                # Counting only the curved-path transitions (the straight ones as free).
+                saving_curved = 1.0 - ((t_or_end['transfer']
+                                        - entry['transfer']['straight_transitions'])
+                                       / t_or_end['scratch'])
+            entry[f'{thr:g}'] = {'transitions': t, 'saving': saving,
+                                 'saving_curved_only': saving_curved,
+                                 'bound': ('lower' if censored['scratch'] else 'upper')
+                                 if any(censored.values()) else None}
+        result['seeds'][seed] = entry
+    for thr in args.thresholds:
+        for key in ('saving', 'saving_curved_only'):
+            vals = [e[f'{thr:g}'][key] for e in result['seeds'].values()
+                    if e[f'{thr:g}'][key] is not None]
+            result.setdefault('mean', {}).setdefault(f'{thr:g}', {})[key] = (
+                float(np.mean(vals)) if vals else None)
     print(json.dumps(result, indent=2))
-    plot_curves(folders, RUNS / f'{args.model}_compare.png')
-    (RUNS / f'{args.model}_compare.json').write_text(json.dumps(result, indent=2))
+    for thr in args.thresholds:
+        row = ' '.join(f"s{seed}: {e[f'{thr:g}']['transitions']['scratch']} vs "
+                       f"{e[f'{thr:g}']['transitions']['transfer']}"
+                       for seed, e in result['seeds'].items())
+        m = result['mean'][f'{thr:g}']
+        print(f'threshold {thr:g}: transitions scratch vs transfer {row}; mean saving '
+              f"{m['saving']}, curved-only {m['saving_curved_only']}")
+    out = runs / f'{args.model}_compare'
+    plot_curves(folders, out.with_suffix('.png'))
+    out.with_suffix('.json').write_text(json.dumps(result, indent=2))
+    print(f'wrote {out}.json and {out}.png')
 
 
 def main(argv=None):
@@ -373,19 +422,29 @@ def main(argv=None):
     t.add_argument('--max-wall-s', type=float, default=math.inf,
                    help='stop the curved phase after this wall time (s), export the best')
     t.add_argument('--warmup', type=int, default=SETTINGS['warmup'])
+    t.add_argument('--control-dt', type=float, default=EnvConfig.control_dt,
+                   help='policy step (s, a multiple of the 0.1 s plant step; default 1). The '
+                        "discount 0.99 is per step, so the return's horizon is ~100 steps: a "
+                        'ship with a slow heading response (tanker, Nomoto T ~160 s) needs a '
+                        'longer step for a rudder action to be credited with its effect')
     t.add_argument('--out', default=None)
     t.add_argument('--export', default=None,
                    help="policy file to write ('none' to skip; default: package data for "
                         "the transfer schedule, <out>/policy.npz otherwise)")
     c = sub.add_parser('compare')
     c.add_argument('--model', required=True)
-    c.add_argument('--fraction', type=float, default=0.9)
+    c.add_argument('--runs', default=str(RUNS / 'transfer_study'),
+                   help='folder with <model>_scratch_s<seed> and <model>_transfer_s<seed> runs')
+    c.add_argument('--thresholds', type=float, nargs='+', default=[500.0, 700.0, 850.0],
+                   help='curved evaluation scores (Gaussian sum per 1000 s at 1 s, max 1000)')
     g = sub.add_parser('plot')
     g.add_argument('folders', nargs='+')
     g.add_argument('--png', required=True)
     args = p.parse_args(argv)
     if args.cmd == 'train':
         SETTINGS['warmup'] = args.warmup
+        if args.control_dt != EnvConfig.control_dt:
+            ENV_OPTIONS['control_dt'] = args.control_dt
         train(args)
     elif args.cmd == 'compare':
         compare(args)

@@ -117,13 +117,14 @@ def test_shipped_policy_fits_its_ship_and_gives_finite_bounded_rudder(model):
 # path; 500 m off is beyond their clipped state range (cross-track scale 50 m, clip 5) and they
 # do not reliably turn back from there. strict: a policy that passes turns this red, so the
 # marker gets removed then.
-UNDERTRAINED = pytest.mark.xfail(strict=True, reason='policies trained on starts within 100 m do '
-                                 'not steer back from 500 m by themselves (the node\'s Recovery '
-                                 'law does, tested below); retrain with wider starts')
+UNDERTRAINED = pytest.mark.xfail(strict=True, reason='the Mariner and container policies, trained '
+                                 'on starts within 100 m, do not steer back from 500 m by '
+                                 'themselves (the node\'s Recovery law does, tested below); '
+                                 'retrain with wider starts')
 
 
-@UNDERTRAINED
-@pytest.mark.parametrize('model', SHIPS)
+@pytest.mark.parametrize('model', [pytest.param('mariner', marks=UNDERTRAINED),
+                                   pytest.param('container', marks=UNDERTRAINED), 'tanker'])
 def test_shipped_policy_steers_back_towards_the_path(model):
     """Far (500 m) to starboard, heading along the path, at rest in yaw: the learned rudder
     turns to port (positive, unified sign), i.e. towards the path; and mirrored."""
@@ -159,13 +160,7 @@ def test_recovery_hands_over_with_hysteresis_and_steers_towards_the_path(good_fi
     assert steer.recovering and abs(law.rudder(x)) == pytest.approx(law.rudder_max)
 
 
-TANKER_POLICY_DRIFTS = pytest.mark.xfail(
-    strict=True, reason='the shipped tanker policy does not hold the path even inside its '
-    'training region: recovery brings it back, the policy drifts off again (README)')
-
-
-@pytest.mark.parametrize('model', ['mariner', 'container',
-                                   pytest.param('tanker', marks=TANKER_POLICY_DRIFTS)])
+@pytest.mark.parametrize('model', SHIPS)
 def test_policy_with_recovery_returns_from_far_off_and_tracks(model):
     """The shipped policy alone cannot come back from 400 m (see the xfail above); with the
     recovery law the vessel reaches the path, the policy takes over and holds it within a few

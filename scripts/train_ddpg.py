@@ -422,6 +422,12 @@ def main(argv=None):
     t.add_argument('--max-wall-s', type=float, default=math.inf,
                    help='stop the curved phase after this wall time (s), export the best')
     t.add_argument('--warmup', type=int, default=SETTINGS['warmup'])
+    t.add_argument('--start-cross-max', type=float, default=EnvConfig.start_cross_max,
+                   help='episode starts within this distance of the path (m, default 100): '
+                        'a policy knows only the region its episodes visit')
+    t.add_argument('--start-heading-max-deg', type=float,
+                   default=math.degrees(EnvConfig.start_heading_max),
+                   help='start heading within this angle of the path (deg, default 20)')
     t.add_argument('--control-dt', type=float, default=EnvConfig.control_dt,
                    help='policy step (s, a multiple of the 0.1 s plant step; default 1). The '
                         "discount 0.99 is per step, so the return's horizon is ~100 steps: a "
@@ -443,8 +449,11 @@ def main(argv=None):
     args = p.parse_args(argv)
     if args.cmd == 'train':
         SETTINGS['warmup'] = args.warmup
-        if args.control_dt != EnvConfig.control_dt:
-            ENV_OPTIONS['control_dt'] = args.control_dt
+        for key, value in (('control_dt', args.control_dt),
+                           ('start_cross_max', args.start_cross_max),
+                           ('start_heading_max', math.radians(args.start_heading_max_deg))):
+            if not math.isclose(value, getattr(EnvConfig, key)):
+                ENV_OPTIONS[key] = value
         train(args)
     elif args.cmd == 'compare':
         compare(args)

@@ -65,7 +65,6 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
         if len(v.t) < 2:
             result['vessels'][ns] = {'error': 'fewer than two odometry messages', 'missing_topics': v.missing}
             continue
-        rudder_limit_rad = limits[ns]
         m = metrics.vessel_metrics(
             v.t, v.x, v.y, v.yaw,
             xte=v.cross_track_error if len(v.cross_track_error.t) else None,
@@ -73,12 +72,12 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
             rudder_cmd=v.rudder_cmd if len(v.rudder_cmd.t) else None,
             heading_cmd=v.heading_cmd if len(v.heading_cmd.t) else None,
             route=(v.route.x, v.route.y) if v.route is not None else None,
-            settle_s=settle_s, rudder_limit_rad=rudder_limit_rad, reward_step_s=reward_step_s, episode_s=episode_s,
+            settle_s=settle_s, rudder_limit_rad=limits[ns], reward_step_s=reward_step_s, episode_s=episode_s,
             finished=_progress_column(v, 'finished'), remaining=_progress_column(v, 'remaining_m'))
         m['missing_topics'] = v.missing
         m['completion_cut'] = ends[ns][1]
-        m['bag_end_s'] = _f(bag_end[ns] - v.t[0])
-        m['tail_after_finish_s'] = _f(bag_end[ns] - v.t[-1]) if ends[ns][0] is not None else 0.0
+        m['bag_end_s'] = metrics._f(bag_end[ns] - v.t[0])
+        m['tail_after_finish_s'] = metrics._f(bag_end[ns] - v.t[-1]) if ends[ns][0] is not None else 0.0
         result['vessels'][ns] = m
     if platoon:
         result['platoon'] = platoon_metrics(result['vessels'], gaps, platoon, settle_s, ends)
@@ -114,10 +113,6 @@ def _stored_limit(custom_data, ns):
     """The vessel's rudder limit (rad) from the bag's custom_data, or None (module docstring)."""
     value = custom_data.get(f'{RUDDER_LIMIT_KEY}{ns}', custom_data.get(RUDDER_LIMIT_KEY))
     return None if value is None else float(value)
-
-
-def _f(x):
-    return float(x) if x is not None and np.isfinite(x) else None
 
 
 def _progress_column(vessel, label):

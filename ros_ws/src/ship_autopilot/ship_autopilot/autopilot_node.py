@@ -198,7 +198,7 @@ class AutopilotNode(Node):
             if self.steer.recovering != recovering:
                 self.get_logger().info(
                     f'cross-track {psi_c[0]:.0f} m: ' + ('outside the policy\'s training region, '
-                                                         'LOS + PD steers' if self.steer.recovering
+                                                         'ILOS + PD steers' if self.steer.recovering
                                                          else 'the policy steers again'))
             if self.steer.n_rejected != n_bad:
                 self.get_logger().warning(f'invalid path_state held the rudder '

@@ -29,7 +29,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ship_guidance.los import ilos_integral_rate
+from ship_guidance.los import ilos_heading, ilos_integral_rate
+from ship_sim.frames import wrap_angle
+
+from ..pd import PDAutopilot
+from ..rudder import RudderLimiter
 
 from .features import OBS_DIM, STATE_NAMES, normalise
 
@@ -206,33 +210,36 @@ class Recovery:
     """Integral LOS + PD from the path-relative state, for where a policy was never trained.
 
     A policy only knows the states its training episodes visited (starts within
-    ``start_cross_max`` of the path, heading within +-``start_heading_max``; the shipped ones
-    steer the wrong way from ~150 m off). ``LearnedSteering`` hands the rudder to this law
+    ``start_cross_max`` of the path, heading within +-``start_heading_max``; beyond them it may
+    steer the wrong way, as the first shipped ones did from ~150 m off). ``LearnedSteering``
+    hands the rudder to this law
     while |e| > ``engage_m`` or |psi - gamma_p| > ``heading_gate`` (eq. 8's yaw bound: the
     reward is zero there, so nothing was learned), and back once |e| < ``release_m`` and the
     heading is inside the gate (hysteresis, so it does not chatter at the edge).
 
     The law uses only the eq. 9 state: ILOS heading relative to the path
     psi_r = -atan((e + sigma e_int) / d) with e_int' = d e / ((e + sigma e_int)^2 + d^2)
-    (ship_guidance.los, Borhaug et al. 2008; reset when the law takes over), and the PD rudder
-    k1 wrap((psi - gamma_p) - psi_r) + k2 r (pd.PDAutopilot's law and unified sign), saturated
-    at ``rudder_max``. SI units, rad.
+    (ship_guidance.los, Borhaug et al. 2008; reset when the law takes over), steered by a
+    pd.PDAutopilot on the heading relative to the path, saturated at ``rudder_max`` (the
+    vessel's servo limits the rate). SI units, rad.
     """
 
     def __init__(self, k1, k2, lookahead, engage_m, release_m, rudder_max, sigma=0.0,
                  heading_gate=np.pi / 2):
         if not (k1 > 0 and k2 >= 0 and lookahead > 0 and 0 < release_m < engage_m
-                and rudder_max > 0 and sigma >= 0 and 0 < heading_gate <= np.pi):
+                and 0 < rudder_max <= np.pi / 2 and sigma >= 0 and 0 < heading_gate <= np.pi):
             raise ValueError(f'Recovery needs k1 > 0, k2 >= 0, lookahead > 0, 0 < release_m < '
-                             f'engage_m, rudder_max > 0, sigma >= 0, heading_gate in (0, pi]; '
+                             f'engage_m, rudder_max in (0, pi/2], sigma >= 0, heading_gate in '
+                             f'(0, pi]; '
                              f'got k1={k1}, k2={k2}, lookahead={lookahead}, '
                              f'release_m={release_m}, engage_m={engage_m}, '
                              f'rudder_max={rudder_max}, sigma={sigma}, '
                              f'heading_gate={heading_gate}')
-        self.k1, self.k2, self.lookahead = float(k1), float(k2), float(lookahead)
+        self.lookahead = float(lookahead)
         self.engage_m, self.release_m = float(engage_m), float(release_m)
         self.rudder_max, self.heading_gate = float(rudder_max), float(heading_gate)
         self.sigma = float(sigma)
+        self.pd = PDAutopilot(k1, k2, RudderLimiter(self.rudder_max))
         self.start()
 
     @classmethod
@@ -249,27 +256,24 @@ class Recovery:
         """Forget the integral state (the law is taking over)."""
         self.integral = 0.0
         self.t_prev = None
+        self.pd.reset()
 
     def outside(self, e, heading_rel, active):
         """Whether the state is (still) outside the policy's region, given the current mode."""
-        off_heading = abs(_wrap(heading_rel)) > self.heading_gate
+        off_heading = abs(wrap_angle(heading_rel)) > self.heading_gate
         return off_heading or abs(e) > (self.release_m if active else self.engage_m)
 
     def rudder(self, raw_state, t=None):
         """Rudder (rad) for the raw eq. 9 state at time ``t`` (s; None: no integration)."""
-        e, heading_rel, r = raw_state[0], raw_state[4], raw_state[8]
-        if t is not None and self.t_prev is not None and t > self.t_prev and self.sigma > 0:
-            self.integral += (t - self.t_prev) * ilos_integral_rate(
-                e, self.integral, self.lookahead, self.sigma)
+        e, heading_rel, r = (float(raw_state[i]) for i in (0, 4, 8))
+        dt = 0.0 if t is None or self.t_prev is None else t - self.t_prev
+        if dt > 0.0 and self.sigma > 0:
+            self.integral += dt * ilos_integral_rate(e, self.integral, self.lookahead, self.sigma)
         if t is not None:
             self.t_prev = t
-        psi_r = -np.arctan((e + self.sigma * self.integral) / self.lookahead)
-        cmd = self.k1 * _wrap(heading_rel - psi_r) + self.k2 * r
-        return float(np.clip(cmd, -self.rudder_max, self.rudder_max))
-
-
-def _wrap(a):
-    return (a + np.pi) % (2.0 * np.pi) - np.pi
+        psi_r = ilos_heading(0.0, e, self.integral, self.lookahead, self.sigma)
+        # No rate limit here, so dt only has to be valid for the PD (> 0).
+        return float(self.pd.update(heading_rel, r, psi_r, dt if dt > 0.0 else 1e-9))
 
 
 class LearnedSteering:

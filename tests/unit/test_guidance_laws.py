@@ -1,6 +1,6 @@
 """LOS / ILOS laws and the look-ahead stability limit (ship_guidance.los, Guidance's check).
 
-The limit is checked against seed 001's Table 1 (reference/string_stability_table1.csv) and
+The limit is checked against seed 001's Table 1 (tests/data/string_stability_table1.csv) and
 against the eigenvalues of the linearised loop (001 eq. 30, dimensional form).
 """
 import csv
@@ -17,8 +17,8 @@ from ship_guidance.los import (critical_lookahead, critical_lookahead_nondim, il
                                ship_lengths_to_metres)
 from ship_guidance.path import Route
 
-# ../shared/reference from the project root
-TABLE = Path(__file__).resolve().parents[3] / 'shared' / 'reference' / 'string_stability_table1.csv'
+# Angelopoulos 2011, Table 1 (provenance: tests/data/README.md)
+TABLE = Path(__file__).resolve().parents[1] / 'data' / 'string_stability_table1.csv'
 PI = math.pi
 
 

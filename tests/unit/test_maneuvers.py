@@ -1,6 +1,6 @@
 """Turning circles and zig-zags against MSS run under Octave (RK4, h = 0.1 s, 700 s).
 
-Reference: ../shared/reference/mss_golden/maneuvers.json (numbers and method) and traj/*.csv
+Reference: tests/data/mss_golden/maneuvers.json (numbers and method) and traj/*.csv
 (the same runs sampled at 1 s). Commands there are in each model's native rudder sign; here
 they are converted to the unified sign (positive = port) through the model's RUDDER_SIGN, so
 these tests also check the sign mapping (mariner and tanker turn asymmetrically).
@@ -15,7 +15,7 @@ import pytest
 from ship_sim.maneuvers import integrate, turning_circle, turning_metrics, zigzag
 from ship_sim.models import make_model
 
-REF = Path(__file__).resolve().parents[3] / 'shared' / 'reference' / 'mss_golden'
+REF = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden'   # provenance: tests/data/README.md
 MANEUVERS = json.loads((REF / 'maneuvers.json').read_text())
 
 # scenario -> (model, constructor params, native rudder command (deg), shaft (rpm))

@@ -1,6 +1,6 @@
 """The MSS ship ports against the original MATLAB functions run under Octave.
 
-Reference: ../shared/reference/mss_golden/golden_<model>.json (cybergalactic/MSS commit
+Reference: tests/data/mss_golden/golden_<model>.json (cybergalactic/MSS commit
 736a3d1, CRAFT/SHIP/models/{mariner,tanker,container}.m, GNU Octave 7.3.0): (x, ui) -> xdot, U.
 Our rhs takes the same state and input vectors as the MSS function (mariner's optional U0 is a
 constructor parameter, the tanker's depth h stays the third input).
@@ -13,7 +13,7 @@ import pytest
 
 from ship_sim.models import make_model
 
-GOLDEN = Path(__file__).resolve().parents[3] / 'shared' / 'reference' / 'mss_golden'
+GOLDEN = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden'   # provenance: tests/data/README.md
 MODELS = ('mariner', 'tanker', 'container')
 # Relative tolerance from the brief; absolute floor only for values that are exactly 0 in MSS.
 RTOL, ATOL = 1e-9, 1e-15

@@ -12,8 +12,7 @@ from ship_sim.models.mariner import Mariner
 from ship_sim.models.tanker import Tanker
 from ship_sim.integrators import rk4_step
 
-MANEUVERS = (Path(__file__).resolve().parents[3] / 'shared' / 'reference' / 'mss_golden'
-             / 'maneuvers.json')
+MANEUVERS = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden' / 'maneuvers.json'   # provenance: tests/data/README.md
 MODELS = ('mariner', 'tanker', 'container')
 deg = math.radians
 

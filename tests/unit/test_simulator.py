@@ -1,7 +1,7 @@
 """VesselSimulator / BatchSimulator (ship_sim.simulator), no ROS.
 
 Reference: MSS turning circles integrated under GNU Octave with the unchanged MSS models and
-rk4.m (../shared/reference/mss_golden/traj, 1 s samples of h = 0.1 s runs). Commands there are
+rk4.m (tests/data/mss_golden/traj, 1 s samples of h = 0.1 s runs). Commands there are
 MSS-native; the simulator takes the unified sign (positive turns to port), so e.g. the
 mariner's ui = +35 deg (starboard) is our -35 deg, the container's delta_c = +10 deg
 (starboard) our -10 deg, the tanker's +10 deg (port) our +10 deg.
@@ -16,7 +16,7 @@ from ship_sim.current import OceanCurrent
 from ship_sim.models import MODEL_NAMES, ModelStateError, VesselModel, make_model
 from ship_sim.simulator import BatchSimulator, VesselSimulator
 
-TRAJ = Path(__file__).resolve().parents[2].parent / 'shared' / 'reference' / 'mss_golden' / 'traj'
+TRAJ = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden' / 'traj'   # provenance: tests/data/README.md
 
 MSS_CASES = [
     # file, model, model params, unified rudder (deg), shaft (rpm)

@@ -20,7 +20,11 @@ Usage inside a node's constructor::
   parameter with ``on_change`` are handed to it after they are stored.
 - Types are static, as rclpy declares them from the default: ``-p dt:=1`` for a float parameter
   is refused (write ``1.0``) with rclpy's own message, wrapped the same way.
+- A parameter given to the node (``-p``, ``--params-file``, also in ``/**:`` sections) that it
+  does not declare is refused, not ignored: ``check_overrides`` (called by run_node once the
+  node is built) raises ParameterError naming the key and the closest declared one.
 """
+import difflib
 import math
 
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
@@ -189,6 +193,27 @@ class NodeParameters:
             spec = self._specs.get(p.name)
             if spec is not None and spec.on_change is not None:
                 spec.on_change(p.value)
+
+
+def check_overrides(node):
+    """Raise ParameterError if ``node`` was given a parameter it does not declare.
+
+    Compares the overrides rcl handed to the node (``-p``, ``--params-file`` entries matching
+    it, ``/**:`` included) with its declared parameters, which include those rclpy declares
+    itself (use_sim_time, start_type_description_service). Call once the node is built: every
+    node declares all of its parameters in its constructor.
+    """
+    declared = set(node._parameters)
+    unknown = sorted(set(node._parameter_overrides) - declared)
+    if not unknown:
+        return
+    name = unknown[0]
+    close = difflib.get_close_matches(name, sorted(declared), n=1)
+    hint = f"; did you mean {close[0]!r}?" if close else ''
+    more = f' ({len(unknown) - 1} more unknown: {", ".join(unknown[1:])})' if len(unknown) > 1 \
+        else ''
+    raise ParameterError(name, message=f'parameter {name!r} is not a parameter of '
+                         f'{node.get_name()}{hint}{more}')
 
 
 def _value_from(exc):

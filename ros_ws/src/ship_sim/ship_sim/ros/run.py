@@ -10,7 +10,14 @@ and always destroys the node and shuts rclpy down. Exit codes:
 - 0: normal end (signal, or the node finished on its own, see ``finish``);
 - 2: invalid parameter at start: ONE line on stderr, ``<executable>: <message>``, where the
   message (ship_sim.ros.params.ParameterError) names the parameter, the value and what is
-  allowed;
+  allowed; a parameter given (``-p``, ``--params-file``) that the node does not declare is
+  refused the same way (ship_sim.ros.params.check_overrides, naming the closest declared one);
+- 2: invalid ROS arguments (``-p model:=``, ``-p dt``, an unreadable or malformed
+  ``--params-file``, ``-r __ns:="bad ns"``, unknown ``--ros-args`` flags) or a node rcl cannot
+  create: ONE line, ``<executable>: invalid ROS arguments: <rcl's reason>``, no traceback. rcl
+  also logs its own "Failed to parse global arguments" line on stderr before refusing: what
+  ``rclpy.init`` and the node's construction write to stderr is held back, shown when they
+  succeed and dropped when they end in one of these refusals;
 - the node's own code: a node that ends itself calls ``finish(node, code)``.
 
 Executor: EventsExecutor (rclpy.experimental, Jazzy) by default; it spins the lockstep
@@ -19,14 +26,18 @@ ship_sim.vessel_node's docstring).
 The environment variable SHIPNAV_EXECUTOR=single|events overrides the choice, for benchmarks.
 """
 import os
+import re
 import signal
 import sys
+import tempfile
 
 import rclpy
-from rclpy._rclpy_pybind11 import RCLError
+from rclpy._rclpy_pybind11 import RCLError, UnknownROSArgsError
+from rclpy.exceptions import NameValidationException
+from rclpy.exceptions import ParameterException as RclpyParameterException
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 
-from .params import ParameterError
+from .params import ParameterError, check_overrides
 
 EXECUTORS = ('events', 'single')
 
@@ -74,6 +85,80 @@ def _ignore_signal(signum, frame):
     pass
 
 
+#: rcl's source locations (``, at /project/src/rcl/arguments.c:352``) and empty reasons.
+_RCL_NOISE = re.compile(r',? at \S+\.c:\d+|\s*Error: error not set,?|^failed to initialize rcl: ')
+
+
+def rcl_reason(exc):
+    """One line from an rclpy init / argument / node-creation exception: rcl's reason without
+    its C source locations."""
+    if isinstance(exc, UnknownROSArgsError):
+        return f'unknown arguments {exc}'   # str() is the list of them
+    text = ' '.join(str(exc).split())
+    return _RCL_NOISE.sub('', text).strip(' .,') or type(exc).__name__
+
+
+class _HeldStderr:
+    """Hold back what goes to stderr (fd 2, where rcl and rclpy log) until ``release``: written
+    out unchanged, or dropped when the step it covered ended in a one-line refusal."""
+
+    def __init__(self):
+        sys.stderr.flush()
+        self._file = tempfile.TemporaryFile()
+        self._saved = os.dup(2)
+        os.dup2(self._file.fileno(), 2)
+
+    def release(self, drop=False):
+        if self._file is None:
+            return
+        sys.stderr.flush()
+        os.dup2(self._saved, 2)
+        os.close(self._saved)
+        self._file.seek(0)
+        text = self._file.read()
+        self._file.close()
+        self._file = None
+        if text and not drop:
+            os.write(2, text)
+
+
+def _init(args):
+    """rclpy.init; rcl logs 'Failed to parse global arguments' before it raises, that line is
+    dropped (the caller prints the one line)."""
+    held = _HeldStderr()
+    try:
+        rclpy.init(args=args)
+    except BaseException as exc:
+        held.release(drop=isinstance(exc, (RCLError, UnknownROSArgsError)))
+        raise
+    held.release()
+
+
+def _build(node_factory):
+    """The node, built and its parameters checked (check_overrides). rcl's and rclpy's errors
+    of node creation become ParameterError; on any ParameterError the node's log output of its
+    construction is dropped, so the refusal stays one line."""
+    held = _HeldStderr()
+    node = None
+    try:
+        try:
+            node = node_factory()
+        except (RCLError, NameValidationException) as exc:
+            raise ParameterError(None, message=f'invalid ROS arguments: {rcl_reason(exc)}') \
+                from None
+        except RclpyParameterException as exc:
+            # A parameter rclpy itself declares (use_sim_time) with a value of the wrong type.
+            raise ParameterError(None, message=f'invalid parameter: {exc}') from None
+        check_overrides(node)
+    except BaseException as exc:
+        if node is not None:
+            node.destroy_node()
+        held.release(drop=isinstance(exc, ParameterError))
+        raise
+    held.release()
+    return node
+
+
 def run_node(node_factory, *, args=None, executor=None):
     """Build the node with ``node_factory()``, spin it until shutdown; return the exit code."""
     prog = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else 'node'
@@ -82,11 +167,16 @@ def run_node(node_factory, *, args=None, executor=None):
     # KeyboardInterrupt in whatever callback runs at that moment, and the EventsExecutor
     # reports that as a FATAL callback exception. Must be set before rclpy.init.
     signal.signal(signal.SIGINT, _ignore_signal)
-    rclpy.init(args=args)
+    try:
+        _init(args)
+    except (RCLError, UnknownROSArgsError) as exc:
+        print(f'{prog}: invalid ROS arguments: {rcl_reason(exc)}', file=sys.stderr, flush=True)
+        rclpy.try_shutdown()
+        return 2
     node = None
     code = 0
     try:
-        node = node_factory()
+        node = _build(node_factory)
         spin(node, executor)
     except ParameterError as exc:
         print(f'{prog}: {exc}', file=sys.stderr, flush=True)

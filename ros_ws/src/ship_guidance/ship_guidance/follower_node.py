@@ -36,6 +36,13 @@ then the run is deterministic whatever the arrival order. After a wait runs out 
 counted: the run is then no longer bit-identical) the node stops waiting until the predecessor
 publishes again, so a dead predecessor costs one wait and then the fallback takes over.
 
+Bad input: routes as guidance_node (ship_guidance.ros.path_msgs: refused in one line, the
+previous route kept). The own and the predecessor's odometry pass the plausibility gate of
+ship_guidance.ros.odom_gate (finite, within the coordinate bound, no jump faster than
+`max_plausible_speed`); a refused own odom is counted, warned about (throttled) and answered
+with the previous outputs (lockstep pairing holds), a refused predecessor sample is dropped;
+the route is completed only on an own odom consistent with the one before.
+
 Stability: with `autopilot_zeta`, `autopilot_omega_n` and `speed` all > 0, min_lookahead_m and
 lookahead_m at or below U / (2 zeta omega_n) are refused (seed 001 eqs. 34, 41) unless
 `allow_unstable`; a spacing below the no-amplification spacing (ship_guidance.follower) is
@@ -54,6 +61,7 @@ from ship_guidance.follower import (AIMS, FALLBACK, FOLLOW, MAX_SPEED_CORRECTION
                                     SPACING_KP, FollowerGuidance, PredecessorTrack,
                                     speed_to_shaft)
 from ship_guidance.path import Line, Route
+from ship_guidance.ros.odom_gate import OdomGate
 from ship_guidance.ros.outputs import GuidanceOutputs
 from ship_guidance.ros.path_msgs import accept_route
 from ship_sim.ros.conversions import odometry_to_ned
@@ -129,6 +137,9 @@ class FollowerNode(Node):
         lead = p.declare('curvature_lead', False, 'lead the heading command by 2 zeta U kappa '
                          '/ omega_n on curves (needs autopilot_zeta, autopilot_omega_n, speed)',
                          **ro)
+        max_speed = p.declare('max_plausible_speed', 50.0, 'odometry (own or predecessor) '
+                              'implying a faster move than this since the previous sample is '
+                              'refused as an outlier', lo=1e-3, hi=1e4, unit='m/s', **ro)
         if self.shaft_control and not (self.n_nom > 0.0 and self.u_nom > 0.0):
             raise ParameterError('shaft_nominal_rpm', message='shaft_control needs '
                                  'shaft_nominal_rpm and speed_at_nominal_rpm > 0 (got '
@@ -171,7 +182,10 @@ class FollowerNode(Node):
         self.pub_mode = self.create_publisher(String, 'mode', LATCHED)
         self.pub_complete = self.create_publisher(Bool, 'route_complete', LATCHED)
         self.m_gap, self.m_speed, self.m_shaft = Float64(), Float64(), Float64()
-        self.create_subscription(Path, 'route', self._on_route, LATCHED)
+        # raw: path_msgs reads the pose count, and the poses, from the bytes.
+        self.create_subscription(Path, 'route', self._on_route, LATCHED, raw=True)
+        self.gate, self.pred_gate = OdomGate(max_speed), OdomGate(max_speed)
+        self.route = None
         try:
             self.create_subscription(Odometry, self.pred_topic, self._on_pred, STREAM)
         except Exception as exc:  # rclpy's InvalidTopicNameException and friends
@@ -203,6 +217,7 @@ class FollowerNode(Node):
         route = accept_route(msg, self.get_logger())
         if route is None:
             return
+        self.route = route
         self.follower = FollowerGuidance(route, **self.config)
         self.completed = False
         self.pub_complete.publish(Bool(data=False))
@@ -213,6 +228,9 @@ class FollowerNode(Node):
     def _on_pred(self, msg):
         o = odometry_to_ned(msg)
         try:
+            bad = self.pred_gate.check(o.t, o.north, o.east, o.psi, o.u, o.v, o.r)
+            if bad is not None:
+                raise ValueError(bad)
             restarted = self.track.add(o.t, o.north, o.east, o.psi, o.u, o.v)
         except ValueError as exc:
             self.n_bad_pred += 1
@@ -252,9 +270,16 @@ class FollowerNode(Node):
 
     # -- one step -----------------------------------------------------------------------------
     def _answer(self, o):
-        f = self.follower
         try:
-            out = f.update(o.t, o.north, o.east, o.psi)
+            bad = self.gate.check(o.t, o.north, o.east, o.psi, o.u, o.v, o.r)
+            if bad is not None:
+                raise ValueError(bad)
+            if self.gate.re_anchored:
+                self.get_logger().warning(
+                    f'odometry moved to ({o.north:.1f}, {o.east:.1f}) m NED and stayed there: '
+                    'follower guidance restarted from it')
+                self.follower = FollowerGuidance(self.route, **self.config)
+            out = self.follower.update(o.t, o.north, o.east, o.psi)
         except ValueError as exc:
             # Bad odom must not poison the state; answer anyway so lockstep pairing holds.
             self.n_bad_odom += 1
@@ -276,7 +301,7 @@ class FollowerNode(Node):
                                                    self.n_min, self.n_max)
                 self.pub_shaft.publish(self.m_shaft)
         self._report_mode(out, o.t)
-        if out.route.finished and not self.completed:
+        if out.route.finished and not self.completed and self.gate.consistent:
             self.completed = True
             self.pub_complete.publish(Bool(data=True))
             self.get_logger().info(f'route complete at t = {o.t:.1f} s')

@@ -15,6 +15,12 @@ STATE_NAMES order, SI, NED/FRD).
 The odom subscription is created only when the first valid route has arrived, so a lockstep
 simulator that waits for its odom subscribers never starts before the guidance can answer.
 A new route restarts the guidance (it snaps to the closest point of the new route).
+Routes beyond the limits of ship_guidance.ros.path_msgs (frame, pose count, coordinates) are
+refused in one line and the previous route is kept. Odometry passes the plausibility gate of
+ship_guidance.ros.odom_gate (finite, within the coordinate bound, no jump faster than
+`max_plausible_speed`): a refused odom is counted, warned about (throttled) and still answered
+with the previous outputs, so lockstep pairing holds; the route is completed only on an odom
+consistent with the one before (one outlier cannot latch `route_complete`).
 The look-ahead is given in metres or, if `lookahead_ship_lengths` > 0, in ship lengths.
 If the paired autopilot's `autopilot_zeta`, `autopilot_omega_n` and the `speed` are given,
 a look-ahead below the stability limit d > U / (2 zeta omega_n) is refused unless
@@ -36,6 +42,7 @@ from rclpy.node import Node
 from std_msgs.msg import Bool, Float64MultiArray, MultiArrayDimension
 
 from ship_guidance.guidance import LAWS, Guidance
+from ship_guidance.ros.odom_gate import OdomGate
 from ship_guidance.ros.outputs import GuidanceOutputs
 from ship_guidance.ros.path_msgs import accept_route
 from ship_sim.ros.conversions import odometry_to_ned
@@ -101,6 +108,9 @@ class GuidanceNode(Node):
         self.curvature_lead = p.declare('curvature_lead', False, 'lead the heading command by '
                                         '2 zeta U kappa / omega_n on curves (needs the autopilot '
                                         'parameters of the stability check)', read_only=True)
+        max_speed = p.declare('max_plausible_speed', 50.0, 'odometry implying a faster move '
+                              'than this since the previous sample is refused as an outlier',
+                              lo=1e-3, hi=1e4, unit='m/s', read_only=True)
         uses_lengths = self.lookahead_l > 0.0 or acc_l > 0.0
         if uses_lengths and self.ship_length <= 0.0:
             raise ParameterError('ship_length_m', self.ship_length,
@@ -126,7 +136,9 @@ class GuidanceNode(Node):
             self.m_state.layout.dim = [MultiArrayDimension(label=','.join(STATE_NAMES),
                                                            size=len(STATE_NAMES), stride=1)]
         self.pub_complete = self.create_publisher(Bool, 'route_complete', LATCHED)
-        self.create_subscription(Path, 'route', self._on_route, LATCHED)
+        # raw: path_msgs reads the pose count, and the poses, from the bytes.
+        self.create_subscription(Path, 'route', self._on_route, LATCHED, raw=True)
+        self.gate = OdomGate(max_speed)
         self.odom_sub = None
         self.guidance = None
         self.t_prev = None
@@ -187,13 +199,25 @@ class GuidanceNode(Node):
 
     def _on_odom(self, msg):
         o = odometry_to_ned(msg)
-        dt = 0.0 if self.t_prev is None else o.t - self.t_prev
-        try:
-            out = self.guidance.update(o.north, o.east, o.psi, max(dt, 0.0))
-        except ValueError as exc:
+        bad = self.gate.check(o.t, o.north, o.east, o.psi, o.u, o.v, o.r)
+        if bad is None and self.gate.re_anchored:
+            self.get_logger().warning(f'odometry moved to ({o.north:.1f}, {o.east:.1f}) m NED '
+                                      'and stayed there: guidance restarted from it')
+            self.guidance.reset()
+            if self.features is not None:
+                self.features.reset()
+            self.t_prev = None
+        out = None
+        if bad is None:
+            dt = 0.0 if self.t_prev is None else o.t - self.t_prev
+            try:
+                out = self.guidance.update(o.north, o.east, o.psi, max(dt, 0.0))
+            except ValueError as exc:
+                bad = str(exc)
+        if out is None:
             # Bad odom must not poison the guidance; answer anyway so lockstep pairing holds.
             self.n_bad_odom += 1
-            self.get_logger().warning(f'odom refused ({exc}); {self.n_bad_odom} so far',
+            self.get_logger().warning(f'odom refused ({bad}); {self.n_bad_odom} so far',
                                       throttle_duration_sec=5.0)
             self.out.repeat()
             if self.pub_state is not None:
@@ -206,7 +230,7 @@ class GuidanceNode(Node):
             self.m_state.data = self.features(out.cross_track, out.path_angle, out.curvature,
                                               o.psi, o.u, o.v, o.r, max(dt, 0.0)).tolist()
             self.pub_state.publish(self.m_state)
-        if out.finished and not self.completed and not self.schedule:
+        if out.finished and not self.completed and not self.schedule and self.gate.consistent:
             self.completed = True
             self.pub_complete.publish(Bool(data=True))
             self.get_logger().info(f'route complete at t = {o.t:.1f} s')

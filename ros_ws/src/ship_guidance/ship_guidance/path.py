@@ -42,6 +42,12 @@ from ship_sim.frames import wrap_angle
 TWO_PI = 2.0 * math.pi
 HALF_PI = 0.5 * math.pi
 
+#: Largest coordinate (m, |north| and |east| from the map origin) a route or a vessel position
+#: may have: 1e7 m is the scale of the Earth (a UTM-sized map), beyond it a number is not a
+#: place but a fault (e.g. 1e308, whose differences overflow to inf and NaN). The nodes refuse
+#: routes and odometry beyond it (ship_guidance.ros.path_msgs, ship_guidance.ros.odom_gate).
+MAX_COORDINATE_M = 1e7
+
 #: Default half-width (m) of the arc-length search window when ``project`` gets an ``s_hint``
 #: but no ``window``. The guidance passes its own (2 look-ahead distances and more).
 DEFAULT_WINDOW = 500.0

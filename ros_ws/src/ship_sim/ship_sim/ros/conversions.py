@@ -23,6 +23,7 @@ import math
 import struct
 from collections import namedtuple
 
+import numpy as np
 from builtin_interfaces.msg import Time
 from nav_msgs.msg import Odometry
 
@@ -48,11 +49,14 @@ def quaternion_to_yaw(q):
     """Quaternion (a geometry_msgs/Quaternion or an (x, y, z, w) tuple) -> yaw (rad), [-pi, pi].
 
     The general ZYX formula, so a quaternion with some roll/pitch still gives its heading.
+    An (x, y, z, w) tuple of numpy arrays gives an array of yaws.
     """
     if hasattr(q, 'w'):
         x, y, z, w = q.x, q.y, q.z, q.w
     else:
         x, y, z, w = q
+    if isinstance(x, np.ndarray):   # components as arrays: one yaw per quaternion
+        return np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
     return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 

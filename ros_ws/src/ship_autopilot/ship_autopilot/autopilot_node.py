@@ -10,7 +10,9 @@ Pairing (`pairing` parameter):
 Stale command (latest pairing): if no heading_cmd arrived for `heading_timeout_s` of sim time,
 the autopilot keeps steering the last commanded heading (course keeping) and warns; before the
 first command it holds the heading the vessel had at its first odom. Non-finite inputs never
-reach the rudder: the controller holds its previous output and the event is counted.
+reach the rudder: the controller holds its previous output and the event is counted. A
+non-finite heading_cmd is refused and counted (warning, throttled): the previous command is
+held (sequence pairing: it still answers its odom, so the pairing holds).
 
 Gains: from the per-model table (ship_autopilot/data/autopilot_gains.yaml, designed from the
 identified Nomoto K, T) for `vessel_model`, unless `k1`/`k2` (PD) are given (> 0), or
@@ -94,6 +96,7 @@ class AutopilotNode(Node):
         self.t_cmd = None           # sim time of the last heading command (latest pairing)
         self.t_prev = None
         self.stale = False
+        self.n_bad_cmd = 0          # non-finite heading commands refused
         self.msg = Float64()
         # raw: odometry_to_ned reads the CDR bytes (rclpy's conversion costs ~20x more).
         self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
@@ -160,7 +163,13 @@ class AutopilotNode(Node):
             self.psi_c = psi_c
             self.t_cmd = None  # stamped with the next odom's sim time
         else:
-            self.get_logger().warning('non-finite heading_cmd ignored', throttle_duration_sec=5.0)
+            self._refuse_command(msg.data)
+
+    def _refuse_command(self, value):
+        self.n_bad_cmd += 1
+        self.get_logger().warning(f'heading_cmd {value} refused (not finite): holding the '
+                                  f'previous command ({self.n_bad_cmd} so far)',
+                                  throttle_duration_sec=5.0)
 
     def _on_odom(self, msg):
         o = odometry_to_ned(msg)
@@ -188,7 +197,8 @@ class AutopilotNode(Node):
             o = self.odoms.popleft()
             cmd = self.headings.popleft()
             if self.steer is None and not math.isfinite(cmd):
-                cmd = self.psi_c or o.psi
+                self._refuse_command(cmd)
+                cmd = self.psi_c if self.psi_c is not None else o.psi
             self._step(o, cmd)
 
     def _step(self, o, psi_c):

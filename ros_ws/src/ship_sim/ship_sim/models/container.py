@@ -14,7 +14,10 @@ State x = [u v r x y psi p phi delta n] (NED/FRD):
 Input u = [delta_c n_c]: commanded rudder (rad), commanded shaft speed (rpm).
 Nondimensional coefficients are scaled with the current speed U = sqrt(u^2 + v^2).
 Limits: |delta_c| <= 10 deg, |delta_dot| <= 5 deg/s, |n_c| <= 160 rpm; shaft time constant
-5.65/n s (n in rps) above 0.3 rps, else 18.83 s. Positive rudder turns to starboard, so the
+5.65/n s (n in rps) above 0.3 rps, else 18.83 s. The shaft command is taken in [1, 160] rpm
+(``shaft_min`` = 1 rpm; the simulator saturates commands below it): container.m errors for
+n <= 0 and describes forward motion only, so -160 rpm left its domain within 5 s, and a 0 rpm
+command lets n decay towards 0, where it does too; 1 rpm keeps n > 0 and the ship coasting. Positive rudder turns to starboard, so the
 unified command (positive = port) maps with sign -1.
 """
 import math
@@ -95,7 +98,7 @@ class Container(MssShip):
     STATE_RUDDER_SIGN = -1.0
     rudder_max = math.radians(10.0)
     rudder_rate_max = math.radians(5.0)
-    shaft_min = -160.0
+    shaft_min = 1.0          # no astern, n > 0: the model's domain (module docstring)
     shaft_max = 160.0
     shaft_nominal = 70.0     # SIMcontainer.m starts at 70 rpm
     length = L

@@ -15,7 +15,14 @@ Input u = [delta_c n_c h]: commanded rudder (rad), commanded shaft speed (rpm), 
 (m, >= 18.5; the draft is 18.46 m), as the MSS function takes them. ``inputs()`` fills h
 from the model's ``h`` parameter; a batch may carry a different depth per vessel.
 Limits: |delta_c| <= 10 deg, |delta_dot| <= 2.33 deg/s, |n_c| <= 80 rpm, shaft time
-constant 50 s. Shallow-water terms scale with z = T/(h - T), never exactly zero
+constant 50 s. The shaft command is taken in [0, 80] rpm (``shaft_min`` = 0; the simulator
+saturates commands below it): tanker.m accepts astern commands, but the model describes forward
+motion only (it errors for u <= 0, and c = sqrt(cun u n + cnn n^2) is imaginary for small
+negative n), so -80 rpm left its domain after ~35 s. At 0 rpm the tanker coasts: u decays and
+stays > 0. The shaft command is taken in [0, 80] rpm (``shaft_min`` 0: the simulator
+saturates below it): tanker.m accepts astern commands, but the model describes forward motion
+only (it errors for u <= 0, and c = sqrt(cun u n + cnn n^2) is imaginary for small negative
+n), so -80 rpm left its domain after ~35 s; at 0 rpm the tanker coasts (u decays, stays > 0). Shallow-water terms scale with z = T/(h - T), never exactly zero
 (z = 0.0188 at h = 1000 m); Yuvz switches on for z >= 0.8 (h <= 41.5 m).
 Positive rudder turns to port, so the unified command maps with sign +1.
 """
@@ -72,7 +79,7 @@ class Tanker(MssShip):
     STATE_RUDDER_SIGN = 1.0
     rudder_max = math.radians(10.0)
     rudder_rate_max = math.radians(2.33)
-    shaft_min = -80.0
+    shaft_min = 0.0          # no astern: outside the model's domain (module docstring)
     shaft_max = 80.0
     shaft_nominal = 80.0
     length = L

@@ -159,12 +159,11 @@ def _run_json(run_dir):
 
 
 def _assert_ended_on_sigint(run_dir, codes):
-    """Every process ended on the launcher's SIGINT: none needed its SIGTERM or SIGKILL
-    (negative codes). Not "== 0": a node interrupted while publishing may exit 1 (rclpy's
-    handler invalidates the context under the running callback, and ship_sim/ros/run.py does
-    not yet treat the RCLError that follows as a normal end); their logs are printed."""
-    print(_failed_logs(run_dir, codes))
-    assert all(code is not None and code >= 0 for code in codes.values()), codes
+    """Every process ended cleanly on the launcher's SIGINT: exit 0, so none needed its SIGTERM
+    or SIGKILL (negative codes) and none failed on the way out (an RCLError from a publish that
+    the shutdown interrupts is a normal end in ship_sim/ros/run.py's spin; the recorder
+    finalises its bag and returns 0). The logs of any other exit are in the message."""
+    assert all(code == 0 for code in codes.values()), f'{codes}\n{_failed_logs(run_dir, codes)}'
 
 
 def _failed_logs(run_dir, codes):

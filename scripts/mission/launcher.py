@@ -40,6 +40,19 @@ FOLLOWER_NODES = (('route_node', 'ship_planner'), ('follower_node', 'ship_guidan
                   ('autopilot_node', 'ship_autopilot'))
 
 
+RECORD_ACK = 'record_ack'  # per vessel namespace: the recorder's lockstep acknowledgement
+
+
+def record_ack_args(scenario):
+    """The recorder's --ack arguments: per vessel, the topics of every lockstep step."""
+    args = []
+    for i, spec in enumerate(scenario.vessels):
+        ns = f'/{spec.namespace}'
+        topics = (['/clock'] if i == 0 else []) + [f'{ns}/{t}' for t in ('odom', 'rudder', 'rudder_cmd')]
+        args += ['--ack', f'{ns}/{RECORD_ACK}=' + ','.join(topics)]
+    return args
+
+
 class MissionFailed(RuntimeError):
     """A node process died or the graph never came up; the message says which and why."""
 
@@ -146,10 +159,19 @@ def node_parameters(scenario, spec, index, record):
         'publish_rate': 1.0 / scenario.dt_s, 'stepping_mode': scenario.stepping,
         'speedup': scenario.speedup, 'clock_master': index == 0, 'max_steps': steps,
         'lockstep_timeout': scenario.lockstep_timeout_s,
+        # The recorder acknowledges each step it holds; the simulator never runs far enough
+        # ahead of it for a publisher's queue to overwrite an unrecorded message.
+        'lockstep_record_topic': RECORD_ACK if lockstep and record else '',
         # guidance + autopilot (+ the recorder) (+ the followers) must all hear step 0.
         'lockstep_odom_subscribers': (2 + int(record)) if scenario.platoon is None else
         scenario.platoon.odom_subscribers(spec.namespace, record),
     }
+    if scenario.platoon is not None and lockstep:
+        # A predecessor never runs so far ahead that its odom queue overwrites a sample its
+        # followers have not taken; its subscription to a follower's odom is one more of those.
+        followers = scenario.platoon.followers_of(spec.namespace)
+        vessel['lockstep_follower_odom_topics'] = ','.join(f'/{f}/odom' for f in followers)
+        vessel['lockstep_odom_subscribers'] += int(spec.predecessor is not None)
     if spec.speed is not None:
         vessel['initial_speed'] = spec.speed
     cur = spec.current
@@ -297,9 +319,10 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             # A platoon's followers run behind the master's /clock: wall log times, which
             # mission.report maps onto each vessel's own odometry stamps.
             source = 'sim' if scenario.platoon is None else 'wall'
+            acks = record_ack_args(scenario) if scenario.stepping == 'lockstep' else []
             group.start_argv('recorder', [sys.executable, RECORDER, run / 'bag', '--time-source',
                                           source, '--exclude', r'^/(rosout|parameter_events)$',
-                                          *meta])
+                                          *meta, *acks])
         monitor = Monitor(namespaces)
         monitor.spin(1.0)
         simulators = {}

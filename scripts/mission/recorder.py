@@ -29,6 +29,16 @@ Executor: rclpy's EventsExecutor (about 4x the callback rate of SingleThreadedEx
 ~40k msg/s vs ~10k msg/s), driven by ``spin_once`` because its ``spin()`` in this Jazzy wheel
 never fires timers and ignores SIGINT.
 
+Lockstep acknowledgements (``acks``, ``--ack``): the recorder can take part in the lockstep
+handshake, so that a lockstep graph never runs ahead of it far enough for a publisher's queue
+to overwrite a message the recorder has not taken (keep-last 100 per stream topic, 10 for
+``/clock``). Each ack group names a topic on which the recorder publishes std_msgs/UInt64 and
+the topics it covers; the value is the number of complete steps recorded, the smallest message
+count over the covered topics. A group's first message (0) goes out once every covered topic is
+subscribed and matched to a publisher, so no step 0 is missed; vessel_node's
+``lockstep_record_topic`` waits for it and then stays at most ``lockstep_record_window`` steps
+ahead. In realtime nobody waits: losses are counted by ``mission.bag.record_integrity``.
+
 Stopping: SIGINT/SIGTERM (the launcher's ``ProcessGroup.stop``) end the spin and ``close()``
 finalises the bag, so an interrupted run still leaves a complete bag. Only SIGKILL leaves an
 MCAP without summary and without metadata.yaml (and empty below rosbags' 1 MiB chunk size).
@@ -37,7 +47,7 @@ CLI (one process of the launcher)::
 
     python scripts/mission/recorder.py OUT_BAG_DIR [--topics T ...] [--exclude REGEX]
         [--time-source sim|wall] [--depth N] [--discovery-period S] [--executor events|single]
-        [--meta KEY=VALUE ...]
+        [--meta KEY=VALUE ...] [--ack ACK_TOPIC=TOPIC,TOPIC,... ...]
 
 prints ``recording <topic> [<type>]`` once per subscribed topic (a readiness signal) and, at
 exit, one line ``recorded {json: topic -> count}``.
@@ -53,13 +63,17 @@ import threading
 import time
 from pathlib import Path
 
+from io import BytesIO
+
 from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
 from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.rosbag2 import storage_mcap
 from rosbags.typesys import Stores, TypesysError, get_types_from_msg, get_typestore
 
 CLOCK_TOPIC = '/clock'
 DEFAULT_EXCLUDE = r'^/(rosout|parameter_events)$'
 BAG_VERSION = 9  # rosbag2 metadata version written by Jazzy
+ROS_DISTRO = 'jazzy'
 
 
 # -- the bag file (no rclpy) -------------------------------------------------------------------
@@ -115,6 +129,8 @@ class BagWriter:
         for key, value in (custom_data or {}).items():
             self._writer.set_custom_data(str(key), str(value))
         self._writer.open()
+        if plugin == StoragePlugin.MCAP:
+            _as_rosbag2_mcap(self._writer.storage)
         self._connections = {}
         self._lock = threading.Lock()
         self.closed = False
@@ -162,6 +178,8 @@ class BagWriter:
                 return
             self.closed = True
             self._writer.close()
+            meta = self.path / 'metadata.yaml'
+            meta.write_text(_jazzy_distro(meta.read_text()))
 
     def __enter__(self):
         return self
@@ -169,6 +187,37 @@ class BagWriter:
     def __exit__(self, *exc):
         self.close()
         return False
+
+
+def _jazzy_distro(metadata_text):
+    """rosbags writes ``ros_distro: rosbags``; a bag of this Jazzy graph says ``jazzy``, as rosbag2 does."""
+    return metadata_text.replace('ros_distro: rosbags', f'ros_distro: {ROS_DISTRO}', 1)
+
+
+def _as_rosbag2_mcap(storage):
+    """Make rosbags' MCAP storage write what Jazzy's rosbag2 MCAP plugin writes: each channel's
+    metadata holds ``topic_type_hash`` (RIHS01) beside ``offered_qos_profiles``, and the
+    embedded copy of the bag's metadata names the distribution. (rosbags 0.11.9 writes only
+    the QoS; readers of either key, rosbags included, skip keys they do not know.)"""
+    def add_connection(connection, offered_qos_profiles):
+        meta = BytesIO()
+        for key, value in (('offered_qos_profiles', offered_qos_profiles),
+                           ('topic_type_hash', connection.digest)):
+            storage_mcap.write_string(meta, key)
+            storage_mcap.write_string(meta, value)
+        storage.channels.append(storage_mcap.Channel(
+            connection.id, connection.msgtype, connection.topic,
+            connection.ext.serialization_format, meta.getvalue()))
+        storage.channel_stats[connection.id] = 0
+        storage_mcap.write_channel(storage.chunk.bio, storage.channels[-1], storage.schemas)
+
+    close = storage.close
+
+    def close_with_distro(version, metadata):
+        close(version, _jazzy_distro(metadata))
+
+    storage.add_connection = add_connection
+    storage.close = close_with_distro
 
 
 # -- the node (rclpy) -----------------------------------------------------------------------------
@@ -211,9 +260,10 @@ class Recorder:
 
     def __init__(self, bag_path, topics=None, exclude=DEFAULT_EXCLUDE, time_source='sim',
                  depth=1000, discovery_period_s=0.2, node_name='mission_recorder', on_subscribe=None,
-                 context=None, custom_data=None):
+                 context=None, custom_data=None, acks=None):
         import rclpy.node  # noqa: PLC0415 (rclpy only for the node layer)
-        from rclpy.qos import QoSProfile  # noqa: PLC0415
+        from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: PLC0415
+        from std_msgs.msg import UInt64  # noqa: PLC0415
         if time_source not in ('sim', 'wall'):
             raise ValueError(f"time_source must be 'sim' or 'wall', got {time_source!r}")
         if depth < 1:
@@ -228,11 +278,30 @@ class Recorder:
         self.node = rclpy.node.Node(node_name, context=context)
         self._subs = {}
         self._sim_ns = 0
+        # Lockstep acks: ack topic -> covered topics; per covered topic, the groups it counts in.
+        self.acks = {a: list(ts) for a, ts in (acks or {}).items()}
+        self._ack_msg = UInt64
+        self._ack_pubs = {a: self.node.create_publisher(
+            UInt64, a, QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE))
+            for a in self.acks}
+        self._ack_sent = {a: None for a in self.acks}   # last value sent (None: not ready yet)
+        self._seen = {}                                  # covered topic -> messages received
+        self._groups_of = {}
+        for a, ts in self.acks.items():
+            for t in ts:
+                self._groups_of.setdefault(t, []).append(a)
+                self._seen[t] = 0
+        if self.wanted is not None:
+            self.wanted |= set(self._seen)
         self._discovery = self.node.create_timer(discovery_period_s, self.discover)
         self.discover()
 
     # topics
     def _wanted(self, topic):
+        if topic in self._ack_pubs:
+            return False  # our own acknowledgements
+        if topic in self._seen:
+            return True
         if self.wanted is not None:
             return topic in self.wanted
         return not (self.exclude and self.exclude.search(topic))
@@ -253,6 +322,34 @@ class Recorder:
             except Exception as err:  # noqa: BLE001 (one bad topic must not stop the recording)
                 self.node.get_logger().warning(f'not recording {topic} [{msgtype}]: {err}')
                 self._subs[topic] = None
+        for ack, topics in self.acks.items():
+            if self._ack_sent[ack] is None and all(
+                    self._subs.get(t) is not None and self._subs[t].get_publisher_count() > 0
+                    for t in topics):
+                self._send_ack(ack)
+
+    def _send_ack(self, ack):
+        value = min(self._seen[t] for t in self.acks[ack])
+        self._ack_sent[ack] = value
+        msg = self._ack_msg()
+        msg.data = value
+        self._ack_pubs[ack].publish(msg)
+
+    def _counted(self, topic, write):
+        """``write`` followed by the acknowledgement of every group ``topic`` counts in."""
+        groups = self._groups_of.get(topic)
+        if not groups:
+            return write
+        seen, sent, acks = self._seen, self._ack_sent, self.acks
+
+        def callback(data):
+            write(data)
+            seen[topic] += 1
+            for ack in groups:
+                last = sent[ack]
+                if last is not None and min(seen[t] for t in acks[ack]) > last:
+                    self._send_ack(ack)
+        return callback
 
     def _subscribe(self, topic, msgtype, pubs):
         from rclpy.qos import DurabilityPolicy, HistoryPolicy, ReliabilityPolicy  # noqa: PLC0415
@@ -275,6 +372,7 @@ class Recorder:
         else:
             def callback(data, conn=conn):
                 self.writer.write(conn, time.time_ns(), data)
+        callback = self._counted(topic, callback)
         self._subs[topic] = self.node.create_subscription(_message_class(msgtype), topic, callback, qos, raw=True)
         self.on_subscribe(topic, msgtype)
 
@@ -329,11 +427,16 @@ def main(argv=None):
                         help='rclpy EventsExecutor (faster per callback) or SingleThreadedExecutor')
     parser.add_argument('--meta', action='append', default=[], metavar='KEY=VALUE',
                         help="stored in the bag's custom_data (e.g. mission.rudder_limit_rad=0.6981)")
+    parser.add_argument('--ack', action='append', default=[], metavar='ACK_TOPIC=TOPIC,...',
+                        help='lockstep: publish on ACK_TOPIC (std_msgs/UInt64) the number of '
+                             'complete steps recorded of the listed topics (vessel_node '
+                             'lockstep_record_topic)')
     args, ros_argv = parser.parse_known_args(argv)
-    bad = [m for m in args.meta if '=' not in m]
+    bad = [m for m in args.meta + args.ack if '=' not in m]
     if bad:
-        parser.error(f'--meta needs KEY=VALUE, got {bad}')
+        parser.error(f'--meta and --ack need KEY=VALUE, got {bad}')
     meta = dict(m.split('=', 1) for m in args.meta)
+    acks = {a: [t for t in ts.split(',') if t] for a, ts in (m.split('=', 1) for m in args.ack)}
 
     import rclpy  # noqa: PLC0415
     from rclpy.executors import ExternalShutdownException  # noqa: PLC0415
@@ -343,6 +446,7 @@ def main(argv=None):
     try:
         recorder = Recorder(args.bag, topics=args.topics, exclude=args.exclude, time_source=args.time_source,
                             depth=args.depth, discovery_period_s=args.discovery_period, custom_data=meta,
+                            acks=acks,
                             on_subscribe=lambda t, m: print(f'recording {t} [{m}]', flush=True))
         executor = _make_executor(args.executor)
         executor.add_node(recorder.node)

@@ -56,7 +56,7 @@ from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock as ClockMsg
-from std_msgs.msg import Float64
+from std_msgs.msg import Float64, UInt64
 
 from ship_sim.current import OceanCurrent
 from ship_sim.frames import yaw_to_psi
@@ -107,6 +107,31 @@ class _RunningStats:
         return math.sqrt(self.m2 / (self.n - 1)) if self.n > 1 else 0.0
 
 
+class StepGate:
+    """Lockstep: someone who must keep up with the steps (the recorder, a platoon follower).
+
+    ``acked`` is how many steps it has taken (None before it was heard from); step k may go out
+    while k <= acked + window. One that falls behind for a whole lockstep_timeout is given up
+    (no longer waited for) rather than stopping the run.
+    """
+
+    __slots__ = ('name', 'window', 'needed_at_start', 'acked', 'waits', 'given_up', 'sub')
+
+    def __init__(self, name, window, needed_at_start=False, heard=None):
+        self.name, self.window, self.needed_at_start = name, int(window), needed_at_start
+        self.acked, self.waits, self.given_up, self.sub = heard, 0, False, None
+
+    @property
+    def ready(self):
+        return not self.needed_at_start or self.acked is not None
+
+    def acknowledge(self, steps):
+        self.acked = steps
+
+    def open_for(self, k):
+        return self.given_up or self.acked is None or k <= self.acked + self.window
+
+
 class VesselNode(Node):
     def __init__(self):
         super().__init__('vessel_node')
@@ -116,6 +141,7 @@ class VesselNode(Node):
         self._n_rejected = 0      # non-finite commands refused
         self._n_timeouts = 0      # lockstep steps run with a held command after a timeout
         self._n_stale = 0         # lockstep commands that came after their step's timeout
+        self._n_consecutive = 0   # lockstep timeouts in a row
         self._running = False
         self._done = False
         steady = Clock(clock_type=ClockType.STEADY_TIME)
@@ -131,6 +157,7 @@ class VesselNode(Node):
             self._t_start_wait = time.monotonic()
             self._matched_at = None
             self._waiting_since = None
+            self._gate_closed_since = None
             self._check_timer = self.create_timer(0.05, self._lockstep_watchdog, clock=steady)
         self.get_logger().info(
             f'{self.sim.model.name} ({self.sim.model.source}); dt {self.sim.dt} s, '
@@ -190,6 +217,31 @@ class VesselNode(Node):
             'lockstep_start_timeout', 30.0, 'lockstep: wall time to wait for an odom subscriber '
             'and a rudder_cmd publisher before step 0 (then start anyway, with a warning)',
             lo=0.0, hi=3600.0, unit='s', read_only=True)
+        self.max_timeouts = p.declare(
+            'lockstep_max_timeouts', 10, 'lockstep: consecutive steps without their rudder_cmd '
+            'after which the run ends with an error (exit code 1; 0 = never end)', lo=0,
+            hi=10**6, read_only=True)
+        self.record_topic = p.declare(
+            'lockstep_record_topic', '', 'lockstep: topic (std_msgs/UInt64) on which a recorder '
+            'acknowledges the steps it holds; the node waits for it before step 0 and then runs '
+            'at most lockstep_record_window steps ahead of it, so the recording loses nothing '
+            "('' = no recorder takes part)", read_only=True)
+        self.record_window = p.declare(
+            'lockstep_record_window', 4, 'lockstep: steps the simulator may run ahead of the '
+            "recorder's acknowledgement (below the /clock queue depth of 10)", lo=0, hi=8,
+            read_only=True)
+        self.follower_topics = p.declare(
+            'lockstep_follower_odom_topics', '', "lockstep: comma-separated odom topics of this "
+            "vessel's platoon followers; the node runs at most lockstep_follower_window steps "
+            "ahead of the slowest, so its odom queue never overwrites a sample a follower has not "
+            "taken ('' = none)", read_only=True)
+        self.follower_window = p.declare(
+            'lockstep_follower_window', 50, 'lockstep: steps the simulator may run ahead of its '
+            'slowest follower (below the odom queue depth of 100)', lo=1, hi=90, read_only=True)
+        self.command_timeout = p.declare(
+            'command_timeout_s', 5.0, 'realtime: sim time without a rudder_cmd after which the '
+            'rudder is centred, with a warning, until commands come again (0 = hold the last '
+            'command for ever)', lo=0.0, hi=1e6, unit='s', read_only=True)
         self.min_odom_subs = p.declare(
             'lockstep_odom_subscribers', 1, 'lockstep: odom subscribers to wait for before step '
             '0 (e.g. 2 when guidance and autopilot both follow odom)', lo=1, hi=1000,
@@ -285,6 +337,18 @@ class VesselNode(Node):
         self._shaft_sub = (self.create_subscription(Float64, 'shaft_cmd', self._on_shaft_cmd,
                                                     STREAM)
                            if self.sim.model.has_shaft else None)
+        # Lockstep step gates: who must keep up before the next step goes out.
+        self._gates = []
+        if self.mode == 'lockstep':
+            if self.record_topic:
+                self._add_gate(StepGate(f'the recorder ({self.record_topic})', self.record_window,
+                                        needed_at_start=True), UInt64, self.record_topic,
+                               lambda g, msg: g.acknowledge(msg.data), CLOCK_QOS)
+            for topic in filter(None, (t.strip() for t in self.follower_topics.split(','))):
+                self._add_gate(StepGate(f'follower {topic}', self.follower_window, heard=0),
+                               Odometry, topic, lambda g, msg: g.acknowledge(g.acked + 1), STREAM)
+        self._t_last_cmd = self.sim.t        # realtime: sim time of the latest rudder_cmd
+        self._centred = False
 
     def _publish(self):
         sim = self.sim
@@ -348,6 +412,20 @@ class VesselNode(Node):
     def _on_rudder_cmd(self, msg):
         if self._finite(msg.data, 'rudder_cmd'):
             self._rudder_cmd = msg.data
+            self._t_last_cmd = self.sim.t
+            if self._centred:
+                self._centred = False
+                self.get_logger().info(f'rudder_cmd again at sim time {self.sim.t:.1f} s')
+
+    def _check_command_age(self):
+        """Realtime: centre the rudder once rudder_cmd has been silent for command_timeout_s."""
+        if (self.command_timeout > 0.0 and not self._centred
+                and self.sim.t - self._t_last_cmd > self.command_timeout):
+            self._centred = True
+            self._rudder_cmd = 0.0
+            self.get_logger().warning(
+                f'no rudder_cmd for {self.sim.t - self._t_last_cmd:.1f} s of sim time (command_'
+                f'timeout_s {self.command_timeout:g}): rudder centred until commands come again')
 
     def _on_shaft_cmd(self, msg):
         if self._finite(msg.data, 'shaft_cmd'):
@@ -392,6 +470,7 @@ class VesselNode(Node):
             self._anchor_k = due
             self._anchor_wall = now
         while k < due and self._running:
+            self._check_command_age()
             if not self._advance():
                 return
             k += 1
@@ -412,7 +491,8 @@ class VesselNode(Node):
             if self._done:
                 return
             matched = (self._odom_pub.get_subscription_count() >= self.min_odom_subs
-                       and self._cmd_sub.get_publisher_count() > 0)
+                       and self._cmd_sub.get_publisher_count() > 0
+                       and all(g.ready for g in self._gates))
             if matched and self._matched_at is None:
                 self._matched_at = now
             if self._matched_at is not None and now - self._matched_at >= START_GRACE_S:
@@ -422,13 +502,36 @@ class VesselNode(Node):
                     f'lockstep: after {self.start_timeout:g} s odom has '
                     f'{self._odom_pub.get_subscription_count()} of {self.min_odom_subs} '
                     f'subscribers and rudder_cmd {self._cmd_sub.get_publisher_count()} '
-                    'publishers; starting anyway (step 0 may be lost)')
+                    'publishers' + ''.join(f', nothing yet from {g.name}' for g in self._gates
+                                           if not g.ready)
+                    + '; starting anyway (step 0 may be lost)')
                 self._start_lockstep()
             return
-        if (self.lockstep_timeout > 0.0 and self._waiting_since is not None
-                and now - self._waiting_since > self.lockstep_timeout):
+        if self.lockstep_timeout <= 0.0:
+            return
+        if self._pending:  # the command is here: waiting for the recorder
+            if (self._gate_closed_since is not None
+                    and now - self._gate_closed_since > self.lockstep_timeout):
+                for g in self._gates:
+                    if not g.open_for(self._step_index() + 1):
+                        g.given_up = True
+                        self.get_logger().warning(
+                            f'lockstep: {g.name} took {g.acked} steps and no more within '
+                            f'{self.lockstep_timeout:g} s; going on without waiting for it (it may '
+                            'miss messages)')
+                self._drain()
+            return
+        if self._waiting_since is not None and now - self._waiting_since > self.lockstep_timeout:
             k = self._step_index()
             self._n_timeouts += 1
+            self._n_consecutive += 1
+            if self.max_timeouts and self._n_consecutive >= self.max_timeouts:
+                self.get_logger().error(
+                    f'lockstep: no rudder_cmd for {self._n_consecutive} consecutive steps (up to '
+                    f'step {k}, {self.lockstep_timeout:g} s each; lockstep_max_timeouts '
+                    f'{self.max_timeouts}): is the controller running? Stopping')
+                self._stop(1)
+                return
             self.get_logger().warning(
                 f'lockstep: no rudder_cmd for step {k} within {self.lockstep_timeout:g} s; '
                 f'holding {self._rudder_cmd:.4f} rad for this step ({self._n_timeouts} timeouts '
@@ -451,12 +554,34 @@ class VesselNode(Node):
         if index < self._step_index():
             self._n_stale += 1  # its step already went by on a timeout: pairing stays aligned
             return
+        self._n_consecutive = 0
         self._pending.append(value)
         self._drain()
+
+    def _add_gate(self, gate, msg_type, topic, on_msg, qos):
+        def callback(msg):
+            on_msg(gate, msg)
+            if self._running:
+                self._drain()
+        gate.sub = self.create_subscription(msg_type, topic, callback, qos)
+        self._gates.append(gate)
+
+    def _gates_open(self):
+        """May the next step go out? Every gate must be within its window of it."""
+        k = self._step_index() + 1
+        closed = [g for g in self._gates if not g.open_for(k)]
+        for g in closed:
+            g.waits += 1
+        return not closed
 
     def _drain(self):
         pending = self._pending
         while pending and self._running:
+            if not self._gates_open():
+                if self._gate_closed_since is None:
+                    self._gate_closed_since = time.monotonic()
+                return
+            self._gate_closed_since = None
             value = pending.popleft()
             if value is not None:
                 self._rudder_cmd = value
@@ -483,6 +608,9 @@ class VesselNode(Node):
         if self.mode == 'lockstep':
             text += (f', {self._n_timeouts} lockstep timeouts, {self._n_stale} late commands '
                      'dropped' + ('' if self._n_timeouts else ' (deterministic run)'))
+            for g in self._gates:
+                text += (f'; {g.name} took {g.acked} steps, {g.waits} waits for it'
+                         + (', then went on without it' if g.given_up else ''))
         elif self._lateness.n:
             L, I = self._lateness, self._interval
             text += (f'; realtime x{self.speedup:g} pacing over {L.n} steps: lateness mean '

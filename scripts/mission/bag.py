@@ -108,6 +108,7 @@ class BagData:
     time_source: str
     vessels: dict  # namespace -> VesselData
     custom_data: dict = field(default_factory=dict)  # metadata.yaml custom_data (str -> str)
+    clock: np.ndarray | None = None  # the /clock values (sim s) in recording order, if recorded
 
 
 # -- vectorised CDR decoding -------------------------------------------------------------------
@@ -280,12 +281,21 @@ def read_bag(path, topics=None, namespaces=None, pair_by_sequence=True):
         custom = read_custom_data(path)
         source = custom.get('mission.time_source', 'sim')
         to_sim = _wall_to_sim(datas.get('/clock'), stamps.get('/clock')) if source == 'wall' else None
+        clock = _clock_values(datas['/clock']) if datas.get('/clock') else None
         vessels = {}
         for ns in found:
             vessels[ns or '/'] = _vessel(ns, names, conns, datas, stamps, reader, to_sim, pair_by_sequence)
     finally:
         reader.close()
-    return BagData(path=Path(path), topics=info, time_source=source, vessels=vessels, custom_data=custom)
+    return BagData(path=Path(path), topics=info, time_source=source, vessels=vessels, custom_data=custom,
+                   clock=clock)
+
+
+def _clock_values(clock_datas):
+    """Serialized rosgraph_msgs/Clock messages -> sim time (s) of each."""
+    buf, starts, _ = _concat(clock_datas)
+    st = _gather(buf, starts + 4, 8, '<u4').astype(np.int64)
+    return st[:, 0] + st[:, 1] / NS_PER_S
 
 
 def _wall_to_sim(clock_datas, clock_stamps):
@@ -293,9 +303,7 @@ def _wall_to_sim(clock_datas, clock_stamps):
     if not clock_datas:
         return None
     wall = np.asarray(clock_stamps, dtype=np.int64)
-    buf, starts, _ = _concat(clock_datas)
-    st = _gather(buf, starts + 4, 8, '<u4').astype(np.int64)
-    sim = st[:, 0] + st[:, 1] / NS_PER_S
+    sim = _clock_values(clock_datas)
     # relative to the first /clock in integer ns: epoch ns as float64 would lose ~256 ns
     return lambda t_ns: np.interp((np.asarray(t_ns, dtype=np.int64) - wall[0]).astype(float),
                                   (wall - wall[0]).astype(float), sim)

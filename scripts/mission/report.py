@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from mission import bag as bagmod
-from mission import metrics, plots
+from mission import integrity, metrics, plots
 
 RUDDER_LIMIT_KEY = 'mission.rudder_limit_rad'
 
@@ -55,12 +55,13 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
     bag_dir = Path(bag_dir)
     out = Path(out_dir) if out_dir is not None else bag_dir.resolve().parent
     data = bagmod.read_bag(bag_dir, topics=topics, namespaces=namespaces)
+    record = integrity.record_integrity(data)  # over the whole bag, before any cut
     gaps, ends, bag_end = prepare_records(bag_dir, data, platoon)
     limits = {ns: rudder_limit_rad if rudder_limit_rad is not None else
               _stored_limit(data.custom_data, ns) for ns in data.vessels}
     result = {'bag': str(bag_dir), 'time_source': data.time_source,
               'topics': {t: {'type': ty, 'count': n} for t, (ty, n) in sorted(data.topics.items())},
-              'vessels': {}}
+              'record': record, 'vessels': {}}
     for ns, v in data.vessels.items():
         if len(v.t) < 2:
             result['vessels'][ns] = {'error': 'fewer than two odometry messages', 'missing_topics': v.missing}
@@ -75,6 +76,9 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
             settle_s=settle_s, rudder_limit_rad=limits[ns], reward_step_s=reward_step_s, episode_s=episode_s,
             finished=_progress_column(v, 'finished'), remaining=_progress_column(v, 'remaining_m'))
         m['missing_topics'] = v.missing
+        # metrics computed over a record with holes say which of their inputs had them
+        m['computed_over_gaps'] = sorted(k for k, s in record['vessels'][ns].items()
+                                         if isinstance(s, dict) and s.get('missing'))
         m['completion_cut'] = ends[ns][1]
         m['bag_end_s'] = metrics._f(bag_end[ns] - v.t[0])
         m['tail_after_finish_s'] = metrics._f(bag_end[ns] - v.t[-1]) if ends[ns][0] is not None else 0.0

@@ -52,7 +52,7 @@ SETTLE_S = 300.0   # sim seconds after the rudder command: U/r is within 0.1 % o
 def test_realtime_turn_matches_pure_simulator(ros_graph, rudder):
     sim = ros_graph.start('ship_sim', 'vessel_node', namespace=NS,
                           params={'model': 'mariner', 'stepping_mode': 'realtime',
-                                  'speedup': 40.0})
+                                  'speedup': 40.0, 'command_timeout_s': 0.0})  # hold it
     tn = ros_graph.test_node()
     odom = tn.subscribe(f'{NS}/odom', Odometry)
     rudder_in = tn.subscribe(f'{NS}/rudder', Float64)

@@ -1,0 +1,137 @@
+"""A lockstep run's bag holds every step, and a repeated run gives the same record, under load.
+
+The recorder takes part in the lockstep handshake (vessel_node ``lockstep_record_topic``): the
+simulator never runs more than ``lockstep_record_window`` steps ahead of what the recorder has
+taken, so no publisher queue (keep-last 100, /clock 10) can overwrite an unrecorded message,
+however slow the recorder is made. Two busy loops (one per core) load the machine for the whole
+test, which is how messages were lost before: bursts of 100 odom or 10 /clock steps.
+
+For the flagship (one vessel, completed route) and a 3-vessel platoon (duration-limited), run
+twice under load:
+- every step is in each bag: odom stamps are exactly k * dt for k = 0 .. last, /clock the
+  same, and every per-step topic has one message per step (mission.integrity finds nothing
+  missing; the answer to the very last step may be in flight when the graph is stopped);
+- the two runs' metrics are identical (but for the two that say how long the graph ran on
+  after completion: the launcher's reaction time), and so is every message of every topic up to the
+  shorter bag (the tail after completion depends on when the launcher heard route_complete);
+  the bags' log times differ (the recorder's receive time), their messages do not.
+"""
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import yaml
+from rosbags.highlevel import AnyReader
+
+from mission.bag import read_bag
+from mission.integrity import record_integrity
+
+from harness import REPO_ROOT, _die_with_parent
+from test_launcher import Launch
+
+FLAGSHIP = REPO_ROOT / 'scenarios' / 'flagship_mariner.yaml'
+PLATOON = REPO_ROOT / 'scenarios' / 'platoon_mariner_5.yaml'
+RUN_ON = ('bag_end_s', 'tail_after_finish_s')
+BUSY = 'import time\nend = time.monotonic() + 900\nwhile time.monotonic() < end:\n    pass\n'
+
+
+@pytest.fixture
+def busy_machine():
+    """Two CPU-bound loops (the machine has two cores), ended at teardown or after 15 min."""
+    procs = [subprocess.Popen([sys.executable, '-c', BUSY], preexec_fn=_die_with_parent)
+             for _ in range(2)]
+    try:
+        yield procs
+    finally:
+        for p in procs:
+            p.kill()
+            p.wait(timeout=10)
+
+
+def three_vessel_platoon(tmp_path):
+    """The first three vessels of the 5-Mariner platoon, 300 s: every simulator reaches max_steps."""
+    data = yaml.safe_load(PLATOON.read_text())
+    data['name'] = 'lossless_platoon'
+    data['duration_s'] = 300.0
+    data['platoon']['route'] = str(PLATOON.parent / data['platoon']['route'])
+    data['platoon']['vessels'] = data['platoon']['vessels'][:3]
+    path = tmp_path / 'platoon3.yaml'
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+def messages(bag):
+    """{topic: [serialized message, ...]} in recording order."""
+    out = {}
+    with AnyReader([bag]) as reader:
+        for conn, _, raw in reader.messages():
+            out.setdefault(conn.topic, []).append(bytes(raw))
+    return out
+
+
+def assert_every_step(bag, dt):
+    data = read_bag(bag)
+    report = record_integrity(data)
+    assert report['complete'], json.dumps(report, indent=1)[:3000]
+    for ns, v in data.vessels.items():
+        k = v.t / dt
+        assert np.allclose(k, np.round(k), atol=1e-6), ns
+        assert np.array_equal(np.round(k), np.arange(len(k))), f'{ns}: odom steps not 0..{len(k) - 1}'
+    k = data.clock / dt
+    assert np.array_equal(np.round(k), np.arange(len(k))), '/clock steps not contiguous from 0'
+    return data
+
+
+def run_twice(ros_graph, tmp_path, scenario, timeout):
+    runs = []
+    for i in range(2):
+        folder = tmp_path / f'run{i}'
+        folder.mkdir()
+        launch = Launch(ros_graph, folder, scenario, [])
+        try:
+            assert launch.wait(timeout) == 0, launch.report()
+        finally:
+            launch.close()
+        run = (launch.runs / 'latest').resolve()
+        runs.append((run, json.loads((run / 'metrics.json').read_text())))
+    return runs
+
+
+def compare(runs, dt):
+    (run_a, met_a), (run_b, met_b) = runs
+    for run in (run_a, run_b):
+        assert_every_step(run / 'bag', dt)
+    # Everything up to each vessel's completion must match; how long the graph ran on after it
+    # (bag_end_s, tail_after_finish_s) is the launcher's reaction time, and is reported as such.
+    for a, b in zip((met_a, met_b), (met_b, met_a)):
+        assert set(a['vessels']) == set(b['vessels'])
+    for ns in met_a['vessels']:
+        a, b = (dict(m['vessels'][ns]) for m in (met_a, met_b))
+        for key in RUN_ON:
+            a.pop(key), b.pop(key)
+        assert a == b, ns
+    assert met_a.get('platoon') == met_b.get('platoon')
+    msgs_a, msgs_b = messages(run_a / 'bag'), messages(run_b / 'bag')
+    assert set(msgs_a) == set(msgs_b)
+    for topic in msgs_a:
+        n = min(len(msgs_a[topic]), len(msgs_b[topic]))
+        assert msgs_a[topic][:n] == msgs_b[topic][:n], topic
+    return met_a
+
+
+@pytest.mark.timeout(900)
+def test_flagship_lossless_and_repeatable_under_load(ros_graph, tmp_path, busy_machine):
+    dt = yaml.safe_load(FLAGSHIP.read_text())['dt_s']
+    metrics = compare(run_twice(ros_graph, tmp_path, FLAGSHIP, timeout=400), dt)
+    v = metrics['vessels']['/vessel_0']
+    assert v['completion_cut'] == 'guidance' and math.isfinite(v['xte_rms_m'])
+
+
+@pytest.mark.timeout(900)
+def test_platoon_lossless_and_repeatable_under_load(ros_graph, tmp_path, busy_machine):
+    scenario = three_vessel_platoon(tmp_path)
+    metrics = compare(run_twice(ros_graph, tmp_path, scenario, timeout=400), 0.1)
+    assert len(metrics['vessels']) == 3

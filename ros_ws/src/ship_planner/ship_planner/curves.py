@@ -8,12 +8,16 @@ Sine and spline curves are sampled at (nearly) equal arc-length steps with their
 tangents and turned into a ship_guidance.path.Route of tangent arcs through the path's pose
 encoding (Route.from_curve -> Route.from_poses). A circle is exact: it is built from Arc legs.
 NED frame (x north, y east), metres, radians; psi = course of the tangent, clockwise from north.
+
+Every curve is bounded before it is sampled (ship_planner.route_plan: MAX_ROUTE_LENGTH_M,
+MAX_ROUTE_SAMPLES); a larger one raises ValueError saying which bound and by how much.
 """
 import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ship_guidance.path import Route
 from ship_planner.fillets import ArcSpec, segments_to_route
+from ship_planner.route_plan import check_curve_size
 
 _DENSE = 16     # dense evaluations per output step when measuring arc length
 
@@ -30,6 +34,7 @@ def _resample_by_arc_length(points_fn, tangent_fn, w0, w1, step_m):
     w = np.linspace(w0, w1, 257)
     dn, de = tangent_fn(w)
     rough = np.trapezoid(np.hypot(dn, de), w)
+    _bounded(rough, step_m)
     n_dense = max(int(np.ceil(rough / step_m)) * _DENSE + 1, 257)
     w = np.linspace(w0, w1, n_dense)
     dn, de = tangent_fn(w)
@@ -37,11 +42,18 @@ def _resample_by_arc_length(points_fn, tangent_fn, w0, w1, step_m):
     if np.any(speed <= 0.0):
         raise ValueError('the curve has a cusp (zero tangent); it cannot be a route')
     s = np.concatenate(([0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(w))))
+    _bounded(s[-1], step_m)     # the rough pass may miss short waves: check the true length too
     n_out = int(np.ceil(s[-1] / step_m)) + 1
     w_out = np.interp(np.linspace(0.0, s[-1], n_out), s, w)
     north, east = points_fn(w_out)
     tn, te = tangent_fn(w_out)
     return np.asarray(north, float), np.asarray(east, float), np.arctan2(te, tn)
+
+
+def _bounded(length_m, step_m, what='the curve'):
+    bad = check_curve_size(float(length_m), float(step_m), what)
+    if bad:
+        raise ValueError(bad)
 
 
 def sine_samples(length_m, amplitude_m, wavelength_m, step_m=10.0, start=(0.0, 0.0), course=0.0, phase=0.0):
@@ -56,6 +68,7 @@ def sine_samples(length_m, amplitude_m, wavelength_m, step_m=10.0, start=(0.0, 0
             raise ValueError(f'{name} must be a positive number of metres, got {v}')
     if not np.isfinite(amplitude_m):
         raise ValueError(f'amplitude_m must be finite, got {amplitude_m}')
+    _bounded(length_m, step_m if np.isfinite(step_m) else 0.0, 'the base line')
     u = np.array([np.cos(course), np.sin(course)])
     n = np.array([-u[1], u[0]])              # starboard normal in NED
     k = 2.0 * np.pi / wavelength_m
@@ -114,6 +127,7 @@ def circle_segments(center, radius_m, start_bearing, sweep, clockwise, max_piece
         raise ValueError(f'radius_m must be a positive number of metres, got {radius_m}')
     if not np.isfinite(sweep) or sweep <= 0.0:
         raise ValueError(f'sweep must be a positive angle, got {sweep}')
+    _bounded(radius_m * sweep, radius_m * max_piece, 'the circle')
     n_piece = int(np.ceil(sweep / max_piece - 1e-12))
     sign = 1.0 if clockwise else -1.0           # bearings grow clockwise in NED
     bearings = start_bearing + sign * np.linspace(0.0, sweep, n_piece + 1)

@@ -11,7 +11,9 @@ Parameters (see config/route.yaml):
 The route is republished when `route_file` (or another parameter) is changed at runtime or the
 file changes on disk. An invalid route is refused with a message that names the file and the
 line or row: at start the node exits (code 2) with that one line; later, the change is refused
-(parameter) or logged and the last good route stays published (file edit).
+(parameter) or logged once per edit and the last good route stays published (file edit). That
+covers every bad file: invalid content, bytes that are not UTF-8, a FIFO, directory or device
+in place of the file, and routes beyond the bounds of ship_planner.route_plan.
 """
 import os
 
@@ -66,7 +68,8 @@ class RouteNode(Node):
         watch = p.declare('watch_period_s', 1.0, 'file change check period (0: off)', lo=0.0,
                           hi=3600.0, unit='s', read_only=True)
         self.pub = self.create_publisher(Path, 'route', LATCHED)
-        self._mtime = None
+        self._mtime = None          # mtime of the file of the published route (None: none yet)
+        self._seen_mtime = None     # mtime last looked at by the watcher (good or refused)
         self._publish()
         if watch > 0.0:
             # Wall-clock timer: a file edit should show up even while sim time is paused.
@@ -85,21 +88,22 @@ class RouteNode(Node):
     def _check_route_file(self, name):
         try:
             self._load(name)
-        except (RouteError, OSError) as exc:
+        except (ValueError, OSError) as exc:   # RouteError is a ValueError
             return str(exc)
         return None
 
     def _publish(self):
         try:
             path, plan = self._load()
-        except (RouteError, OSError) as exc:
+            mtime = os.path.getmtime(path)
+            msg = route_to_path_msg(plan.route, self.get_clock().now().to_msg(),
+                                    arc_step(plan.route, self.params.value('max_arc_step_m')))
+        except (ValueError, OSError) as exc:   # RouteError is a ValueError
             if self._mtime is None:  # nothing published yet: this is a start-up failure
                 raise ParameterError('route_file', message=f'route_file: {exc}') from None
             self.get_logger().error(f'{exc}; keeping the last valid route')
             return
-        self._mtime = os.path.getmtime(path)
-        msg = route_to_path_msg(plan.route, self.get_clock().now().to_msg(),
-                                arc_step(plan.route, self.params.value('max_arc_step_m')))
+        self._mtime = self._seen_mtime = mtime
         self.pub.publish(msg)
         self.get_logger().info(
             f"route '{plan.name}' from {path}: {len(plan.route.legs)} legs, "
@@ -108,10 +112,11 @@ class RouteNode(Node):
     def _watch(self):
         try:
             path = resolve_route_file(self.params.value('route_file'))
-            changed = os.path.getmtime(path) != self._mtime
+            mtime = os.path.getmtime(path)
         except (RouteError, OSError):
             return
-        if changed:
+        if mtime != self._seen_mtime:
+            self._seen_mtime = mtime   # a refused edit is reported once, not every period
             self.get_logger().info(f'{path} changed on disk; republishing')
             self._publish()
 

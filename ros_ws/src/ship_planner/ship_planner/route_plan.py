@@ -3,11 +3,38 @@
 A RoutePlan holds the geometry as a ship_guidance.path.Route in the local NED frame (metres,
 x north, y east) and the metadata a node or a report needs: name, citation, source frame,
 geodetic origin (if any), the corner points as written, and reader-specific extras.
+
+Bounds every route reader applies (one place; a route beyond them is refused with a RouteError):
+
+- MAX_COORDINATE_M: |north| and |east| of every point, 1e7 m from the origin, the same value as
+  ship_guidance.path.MAX_COORDINATE_M (which the nodes apply to incoming Path messages): beyond
+  the scale of the Earth a number is not a place but a fault (1e308 overflows to inf);
+- MAX_ROUTE_LENGTH_M (1000 km) and MAX_ROUTE_SAMPLES (100,000 legs, i.e. curve samples): a
+  generated curve (ship_planner.curves) is refused before it is sampled, so a typo such as
+  ``sweep_deg: 1.0e+9`` or ``step_m: 1e-9`` cannot take the memory of the machine;
+- MAX_FILE_BYTES (10 MB): route files are read only if they are regular files (a FIFO, a
+  directory or a device is refused before it is read, so nothing blocks) of at most that size,
+  and only as UTF-8 text (read_text_file).
 """
+import os
+import stat
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
 import numpy as np
+
+#: Largest |north| or |east| (m) of a route point; equals ship_guidance.path.MAX_COORDINATE_M.
+MAX_COORDINATE_M = 1e7
+#: Longest route (m) a route file may describe or generate.
+MAX_ROUTE_LENGTH_M = 1e6
+#: Most legs a route may have (= samples of a generated curve).
+MAX_ROUTE_SAMPLES = 100_000
+#: Largest input file (bytes) read as a route or scenario file.
+MAX_FILE_BYTES = 10_000_000
+
+_FILE_KINDS = ((stat.S_ISDIR, 'a directory'), (stat.S_ISFIFO, 'a FIFO (named pipe)'),
+               (stat.S_ISSOCK, 'a socket'), (stat.S_ISCHR, 'a character device'),
+               (stat.S_ISBLK, 'a block device'))
 
 
 class RouteError(ValueError):
@@ -34,6 +61,81 @@ class RouteError(ValueError):
         elif self.line is not None:
             where += f':{self.line}'
         return f'{where}: {self.detail}'
+
+
+class TextFileError(ValueError):
+    """A file that cannot be read as text (read_text_file); ``detail`` and ``line`` (or None)."""
+
+    def __init__(self, detail, line=None):
+        self.detail = detail
+        self.line = line
+        super().__init__(detail if line is None else f'line {line}: {detail}')
+
+
+def read_text_file(path, max_bytes=MAX_FILE_BYTES):
+    """The UTF-8 text of the regular file ``path``; TextFileError (one line) otherwise.
+
+    The file is opened without blocking and checked on the open descriptor, so a FIFO, a
+    directory or a device is refused without waiting for a writer; a file over ``max_bytes``
+    or with bytes that are not UTF-8 (line and byte offset given) is refused too."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, 'O_CLOEXEC', 0))
+    except OSError as exc:
+        raise TextFileError(f'cannot read: {exc.strerror}') from None
+    try:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            kind = next((k for test, k in _FILE_KINDS if test(mode)), 'not a regular file')
+            raise TextFileError(f'is {kind}, not a regular file')
+        with os.fdopen(fd, 'rb', closefd=False) as f:
+            data = f.read(max_bytes + 1)
+    except OSError as exc:
+        raise TextFileError(f'cannot read: {exc.strerror}') from None
+    finally:
+        os.close(fd)
+    if len(data) > max_bytes:
+        raise TextFileError(f'is larger than {max_bytes} bytes')
+    try:
+        return data.decode('utf-8')
+    except UnicodeDecodeError as exc:
+        line = data.count(b'\n', 0, exc.start) + 1
+        raise TextFileError(f'not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start})',
+                            line=line) from None
+
+
+def check_point(north, east, what):
+    """None if (north, east) is within MAX_COORDINATE_M, else the text of the refusal."""
+    far = max(abs(north), abs(east))
+    if not far <= MAX_COORDINATE_M:
+        return (f'{what} is {far:.3g} m from the origin; at most {MAX_COORDINATE_M:.0e} m is '
+                'physical')
+    return None
+
+
+def check_route_size(route):
+    """None if a built route is within the bounds (module docstring), else the refusal text."""
+    if len(route.legs) > MAX_ROUTE_SAMPLES:
+        return f'the route has {len(route.legs)} legs; at most {MAX_ROUTE_SAMPLES} are accepted'
+    if not route.length <= MAX_ROUTE_LENGTH_M:
+        return (f'the route is {route.length:.4g} m long; at most {MAX_ROUTE_LENGTH_M:.0e} m is '
+                'accepted')
+    for i, leg in enumerate(route.legs):
+        for p in (leg.start, leg.end):
+            bad = check_point(float(p[0]), float(p[1]), f'leg {i + 1}')
+            if bad:
+                return bad
+    return None
+
+
+def check_curve_size(length_m, step_m, what='the curve'):
+    """None if a curve of about length_m sampled every step_m is within the bounds, else the
+    refusal text; called before any sample is made."""
+    if not length_m <= MAX_ROUTE_LENGTH_M:
+        return f'{what} is {length_m:.4g} m long; at most {MAX_ROUTE_LENGTH_M:.0e} m is accepted'
+    if step_m > 0.0 and not length_m / step_m <= MAX_ROUTE_SAMPLES:
+        return (f'{what} would have {length_m / step_m:.4g} samples ({length_m:.4g} m every '
+                f'{step_m:.4g} m); at most {MAX_ROUTE_SAMPLES} are accepted')
+    return None
 
 
 @dataclass

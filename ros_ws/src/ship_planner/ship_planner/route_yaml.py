@@ -40,13 +40,20 @@ its end and overrides the global one (0 keeps that corner sharp).
 Errors raise RouteError "<file>:<line>: <what>", with the line of the offending YAML node (from
 PyYAML's node marks): unknown or missing keys, wrong types, NaN/inf, fewer than 2 points,
 zero-length legs, arcs whose end is not on their circle (both distances given), fillets that
-do not fit (the corner and the largest radius that fits).
+do not fit (the corner and the largest radius that fits), points beyond MAX_COORDINATE_M
+(1e7 m) from the origin, routes or curves beyond MAX_ROUTE_LENGTH_M / MAX_ROUTE_SAMPLES, and
+files that are not regular files, too large or not UTF-8 (ship_planner.route_plan).
+
+Numbers: YAML 1.1 (PyYAML) reads ``1e9`` (no dot) as text; ``Loader`` reads it as the number
+YAML 1.2 and every reader would see. Every YAML input of the project that holds numbers (route
+files, scenario files) is read with it.
 
 Frames: files are ENU (x east, y north) like the ROS topics; the Route is NED (north, east)
 like every pure module (conversion by ship_sim.frames.enu_to_ned_xy).
 """
 import difflib
 import math
+import re
 
 import numpy as np
 import yaml
@@ -54,7 +61,8 @@ import yaml
 from ship_planner import curves
 from ship_planner.fillets import ArcSpec, FilletError, LineSpec, fillet_segments, segments_to_route
 from ship_planner.geodetic import geodetic_to_ned
-from ship_planner.route_plan import RouteError, RoutePlan
+from ship_planner.route_plan import (RouteError, RoutePlan, TextFileError, check_point,
+                                     check_route_size, read_text_file)
 from ship_sim.frames import enu_to_ned_xy
 
 FRAMES = ('enu', 'wgs84')
@@ -76,6 +84,16 @@ CURVE_REQUIRED = {
 DEFAULT_ARC_TOLERANCE_M = 0.1
 DEFAULT_STEP_M = 10.0
 _SAME_POINT_M = 1e-6          # consecutive points closer than this make a zero-length leg
+
+
+class Loader(yaml.SafeLoader):
+    """yaml.SafeLoader that also reads exponent numbers without a dot (``1e9``, ``-2E-3``) as
+    floats, as YAML 1.2 does; everything else is SafeLoader's."""
+
+
+Loader.add_implicit_resolver('tag:yaml.org,2002:float',
+                             re.compile(r'^[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+$'),
+                             list('-+0123456789'))
 _CONSTRUCTOR = yaml.constructor.SafeConstructor()
 
 
@@ -83,10 +101,9 @@ def load_route_yaml(path):
     """Read and validate a YAML route file. Returns a RoutePlan; raises RouteError."""
     path = str(path)
     try:
-        with open(path, encoding='utf-8') as f:
-            text = f.read()
-    except OSError as exc:
-        raise RouteError(f'cannot read the route file: {exc.strerror}', file=path) from None
+        text = read_text_file(path)
+    except TextFileError as exc:
+        raise RouteError(f'route file {exc.detail}', file=path, line=exc.line) from None
     plan = parse_route_yaml(text, path)
     plan.file = path
     return plan
@@ -192,6 +209,9 @@ class _Reader:
                                  f'got {_kind(node)}')
         if self.frame == 'enu':
             north, east = enu_to_ned_xy(a, b)
+            bad = check_point(north, east, what)
+            if bad:
+                raise self.err(node, bad)
         else:
             if not -90.0 <= a <= 90.0:
                 raise self.err(node, f'{what} lat_deg must be within [-90, 90], got {a:g}')
@@ -206,7 +226,7 @@ class _Reader:
     # ---- document --------------------------------------------------------------------------
     def read(self, text):
         try:
-            root = yaml.compose(text, Loader=yaml.SafeLoader)
+            root = yaml.compose(text, Loader=Loader)
         except yaml.YAMLError as exc:
             mark = getattr(exc, 'problem_mark', None)
             problem = getattr(exc, 'problem', None) or str(exc)
@@ -250,14 +270,17 @@ class _Reader:
             segments, radii, labels, corner_lines, points = self.legs(top['start'], top['legs'])
         else:
             route, points = self.curve(top['curve'])
-            return self.plan(route, name, source, points)
+            return self.plan(route, name, source, points, top['curve'])
         try:
             segments = fillet_segments(segments, radii, labels)
         except FilletError as exc:
             raise RouteError(str(exc), file=self.file, line=corner_lines[exc.corner]) from None
-        return self.plan(self.build(segments, top[form]), name, source, points)
+        return self.plan(self.build(segments, top[form]), name, source, points, top[form])
 
-    def plan(self, route, name, source, points):
+    def plan(self, route, name, source, points, node):
+        bad = check_route_size(route)
+        if bad:
+            raise self.err(node, bad)
         lat, lon = self.origin if self.origin is not None else (None, None)
         return RoutePlan(route=route, name=name, source=source, frame=self.frame, origin_lat_deg=lat,
                          origin_lon_deg=lon, waypoints_ned=np.asarray(points, dtype=float).reshape(-1, 2),
@@ -343,6 +366,9 @@ class _Reader:
             chi = math.radians(self.number(m['course_deg'], f'{what} course_deg'))
             length = self.number(m['length_m'], f'{what} length_m', positive=True)
             end = (here[0] + length * math.cos(chi), here[1] + length * math.sin(chi))
+            bad = check_point(end[0], end[1], f'{what} end')
+            if bad:
+                raise self.err(m['length_m'], bad)
         else:
             raise self.err(item, f'{what}: a straight leg needs "to" or both "course_deg" and "length_m"')
         if _same(end, here):

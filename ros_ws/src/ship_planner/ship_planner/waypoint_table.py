@@ -51,7 +51,8 @@ import math
 import numpy as np
 
 from ship_planner.fillets import ArcSpec, LineSpec, segments_to_route
-from ship_planner.route_plan import RouteError, RoutePlan
+from ship_planner.route_plan import (MAX_ROUTE_SAMPLES, RouteError, RoutePlan, TextFileError,
+                                     check_point, check_route_size, read_text_file)
 
 COLUMNS = ('x', 'y', 'TURN', 'D', 'PATH', 'ICCW', 'x0', 'y0')
 DIRECTIVES = ('name', 'source', 'length_unit_m', 'start', 'arc_tolerance')
@@ -63,10 +64,9 @@ def load_waypoint_table(path, length_unit_m=None):
     """Read a 003-style waypoint table file. Returns a RoutePlan; raises RouteError."""
     path = str(path)
     try:
-        with open(path, encoding='utf-8') as f:
-            text = f.read()
-    except OSError as exc:
-        raise RouteError(f'cannot read the waypoint table: {exc.strerror}', file=path) from None
+        text = read_text_file(path)
+    except TextFileError as exc:
+        raise RouteError(f'waypoint table {exc.detail}', file=path, line=exc.line) from None
     plan = parse_waypoint_table(text, path, length_unit_m)
     plan.file = path
     return plan
@@ -94,6 +94,12 @@ def parse_waypoint_table(text, filename='<string>', length_unit_m=None):
     if len(rows) < 1:
         raise RouteError('the table has no waypoint rows: a route needs at least 2 points (start + 1 row)',
                          file=filename)
+    if len(rows) > MAX_ROUTE_SAMPLES:
+        raise RouteError(f'the table has {len(rows)} rows; at most {MAX_ROUTE_SAMPLES} are accepted',
+                         file=filename)
+    bad = check_point(*_ned(start, unit), 'start')
+    if bad:
+        raise RouteError(bad, file=filename, line=meta['start'][1] if 'start' in meta else None)
 
     segments, switching, points = [], [], [start]
     here = start
@@ -108,6 +114,10 @@ def parse_waypoint_table(text, filename='<string>', length_unit_m=None):
         if d < 0.0:
             raise fail(f'D (switching distance) must be >= 0, got {d:g}')
         end = (x, y)
+        for what, p in (('waypoint', end), ('arc centre', (x0, y0))):
+            bad = check_point(*_ned(p, unit), f'{what} ({p[0]:g}, {p[1]:g})')
+            if bad:
+                raise fail(bad)
         if math.hypot(x - here[0], y - here[1]) < 1e-9:
             raise fail(f'waypoint ({x:g}, {y:g}) repeats the previous point: zero-length leg')
         if path == 1.0:
@@ -132,6 +142,9 @@ def parse_waypoint_table(text, filename='<string>', length_unit_m=None):
         route = segments_to_route(segments)
     except ValueError as exc:
         raise RouteError(f'the route could not be built: {exc}', file=filename) from None
+    bad = check_route_size(route)
+    if bad:
+        raise RouteError(bad, file=filename)
     return RoutePlan(route=route, name=meta['name'][0], source=meta['source'][0], frame=FRAME,
                      waypoints_ned=np.array([_ned(p, unit) for p in points]),
                      file=None if filename == '<string>' else filename,

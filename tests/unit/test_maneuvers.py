@@ -15,7 +15,8 @@ import pytest
 from ship_sim.maneuvers import integrate, turning_circle, turning_metrics, zigzag
 from ship_sim.models import make_model
 
-REF = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden'   # provenance: tests/data/README.md
+# provenance: tests/data/README.md
+REF = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden'
 MANEUVERS = json.loads((REF / 'maneuvers.json').read_text())
 
 # scenario -> (model, constructor params, native rudder command (deg), shaft (rpm))

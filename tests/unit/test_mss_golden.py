@@ -13,7 +13,8 @@ import pytest
 
 from ship_sim.models import make_model
 
-GOLDEN = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden'   # provenance: tests/data/README.md
+# provenance: tests/data/README.md
+GOLDEN = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden'
 MODELS = ('mariner', 'tanker', 'container')
 # Relative tolerance from the brief; absolute floor only for values that are exactly 0 in MSS.
 RTOL, ATOL = 1e-9, 1e-15

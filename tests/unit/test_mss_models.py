@@ -12,7 +12,8 @@ from ship_sim.models.mariner import Mariner
 from ship_sim.models.tanker import Tanker
 from ship_sim.integrators import rk4_step
 
-MANEUVERS = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden' / 'maneuvers.json'   # provenance: tests/data/README.md
+# provenance: tests/data/README.md
+MANEUVERS = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden' / 'maneuvers.json'
 MODELS = ('mariner', 'tanker', 'container')
 deg = math.radians
 

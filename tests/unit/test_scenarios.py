@@ -4,7 +4,8 @@
   launcher can derive the node parameters from it;
 - every seed scenario cites one of the four seed documents (SEED_DOCUMENTS), asks for a
   look-ahead above the stability limit of its paired autopilot (seeds 001 eq. 34 / 003 eq. 3.5
-  in metres) with the autopilot's real omega_n, and runs long enough to finish its route at the model's trim speed;
+  in metres) with the autopilot's real omega_n, and runs long enough to finish its route at
+  the model's trim speed;
 - the 004 course-change files step the course by the angle their name says, from the route's
   course; the 003 files give the NPS AUV II's 0.4 rad limit to the autopilot;
 - guidance_node's course law: the schedule parser and lookup (hand-computed values);

@@ -16,7 +16,8 @@ from ship_sim.current import OceanCurrent
 from ship_sim.models import MODEL_NAMES, ModelStateError, VesselModel, make_model
 from ship_sim.simulator import BatchSimulator, VesselSimulator
 
-TRAJ = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden' / 'traj'   # provenance: tests/data/README.md
+# provenance: tests/data/README.md
+TRAJ = Path(__file__).resolve().parents[1] / 'data' / 'mss_golden' / 'traj'
 
 MSS_CASES = [
     # file, model, model params, unified rudder (deg), shaft (rpm)

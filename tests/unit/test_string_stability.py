@@ -1,6 +1,7 @@
 """String stability of LOS platoons (seed 001) and the NPS AUV II exact look-ahead (seed 003).
 
-Reference data: tests/data/string_stability_table1.csv (001 = Angelopoulos 2011, Table 1, Appendix B).
+Reference data: tests/data/string_stability_table1.csv (seed 001 = Angelopoulos 2011,
+Table 1, Appendix B).
 Which printed grid minima are not the exact boundary is decided here by rules taken from the
 method of Appendix A (a limit lying on a grid point; the one run whose grid starts at 0.10),
 never by row numbers; see ship_guidance/doc/string_stability.md.
@@ -13,7 +14,8 @@ import pytest
 from ship_guidance import string_stability as ss
 from ship_guidance.los import critical_lookahead, linear_loop_matrix
 
-TABLE = Path(__file__).resolve().parents[1] / 'data' / 'string_stability_table1.csv'   # provenance: tests/data/README.md
+# provenance: tests/data/README.md
+TABLE = Path(__file__).resolve().parents[1] / 'data' / 'string_stability_table1.csv'
 
 
 @pytest.fixture(scope='module')

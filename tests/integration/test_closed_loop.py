@@ -14,14 +14,21 @@ file, with the glue written out here, not taken from the launcher) and listens t
      lags its heading by the steady sideslip beta(R), so LOS settles outside the arc at
          e_arc = d tan(2 zeta U / (omega_n (R + e_arc)) + |beta(R)|)
      (ship_guidance.los.pd_arc_offset's fixed point with the sideslip added; beta(R) from the
-     pure simulator turning steadily on radius R). The worst steady error of the route is thus
-     e_arc; the RMS error after settling must stay below it (a loop that oscillates, lags or
-     saturates does worse);
-   - settling: the approach from the start offset is nonlinear (the LOS intercept angle
-     saturates at atan(e/d)) until |e| <= d; from there the linearised loop
-     (ship_guidance.los.linear_loop_matrix) decays within 4 / |Re lambda_slowest|;
+     pure simulator turning steadily on radius R). That is the steady error: entering an arc,
+     the loop overshoots it (the heading lags the rotating tangent, so the hull turns faster
+     than U / R for a while and its sideslip overshoots too; about 0.61 m against 0.55 m
+     steady). So the check is on the arcs only, once that transient has died out: every
+     sample on an arc leg at least t_settle after the leg's first sample has |e| <= e_arc;
+   - settling: the whole loop linearised about the path (_full_loop_matrix: LOS, PD, rudder
+     servo and the hull's sway-yaw equations, five states) decays within
+     t_settle = 4 / |Re lambda_slowest| (~14 s for the AUV: its sway-yaw mode, slower than the
+     Nomoto loop of ship_guidance.los.linear_loop_matrix, whose 6 s would cut into the
+     overshoot);
    - the corners were turned: at the middle of each straight leg the heading is the leg's
-     course within atan(e_arc / d), the largest deviation LOS commands while |e| <= e_arc.
+     course within the envelope sum_i |c_i v_i[psi]| exp(Re lambda_i t) of the same linear loop
+     started from the measured state where the leg begins (on the first leg: where |e| <= d),
+     t the time from there to the middle (about 1.1 deg after the first corner, 0.25 deg after
+     the second).
 2. Determinism: the same graph twice gives bit-identical odom, heading_cmd and rudder_cmd
    streams, message by message (lockstep pairs by sequence, so wall-clock load cannot matter).
 """
@@ -38,7 +45,8 @@ from ship_autopilot.gains import autopilot_gains
 from ship_guidance.los import linear_loop_matrix
 from ship_planner.route_files import load_route
 from ship_sim.frames import wrap_angle
-from ship_sim.ros.conversions import quaternion_to_yaw
+from ship_sim.models import make_model
+from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.qos import LATCHED
 from ship_sim.simulator import VesselSimulator
 
@@ -128,6 +136,34 @@ def _steady_sideslip(model, radius, dt):
     raise AssertionError(f'no steady turn of radius {radius} m found (last {got:.2f} m)')
 
 
+def _full_loop_matrix(model, k1, k2, lookahead):
+    """System matrix of the LOS + PD loop of the NPS AUV II linearised about a straight path.
+
+    State x = (e, psi~, v, r, delta): cross-track error (m, + to starboard), heading minus the
+    path angle, sway (FRD) and yaw rate of the hull, actual rudder. Small angles:
+        e'     = U sin psi~ + v cos psi~            ~ U psi~ + v
+        psi~'  = r                                  (minus U kappa on an arc: a constant input)
+        v', r' = the model's linear sway-yaw equations (ship_sim.models.nps_auv2) at surge U
+        delta' = (delta_c - delta) / T_servo,  delta_c = k1 (psi - psi_c) + k2 r,
+        psi - psi_c = psi~ + atan(e / d)            ~ psi~ + e / d   (plain LOS).
+    """
+    U, L, tau = model.U, model.length, model.rudder_time_constant
+    return np.array([
+        [0.0, U, 1.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0, 0.0],
+        [0.0, 0.0, model.a11 * U / L, model.a12 * U, model.b1 * U ** 2 / L],
+        [0.0, 0.0, model.a21 * U / L ** 2, model.a22 * U / L, model.b2 * U ** 2 / L ** 2],
+        [k1 / (lookahead * tau), k1 / tau, 0.0, k2 / tau, -1.0 / tau]])
+
+
+def _heading_envelope(A, x0, t):
+    """Bound on |psi~(t)| of x' = A x from x0: sum over modes of |c_i v_i[1]| exp(Re lambda_i t),
+    x0 = sum c_i v_i (eigenvectors v_i; A's eigenvalues are distinct)."""
+    lam, vec = np.linalg.eig(A)
+    c = np.linalg.solve(vec, x0)
+    return float(np.sum(np.abs(vec[1] * c) * np.exp(lam.real * t)))
+
+
 def _arc_offset_bound(lookahead, radius, speed, zeta, omega_n, sideslip):
     """Steady LOS cross-track error (m) outside an arc: d tan(2 zeta r / omega_n + |beta|)."""
     e = 0.0
@@ -183,36 +219,62 @@ def test_graph_completes_the_route_with_bounded_cross_track_error(ros_graph):
     assert radii, 'the test route needs arcs'
     e_arc = max(_arc_offset_bound(d, R, speed, zeta, omega_n,
                                   _steady_sideslip(spec.model, R, dt)) for R in radii)
-    eig = np.linalg.eigvals(linear_loop_matrix(zeta, omega_n, speed, d))
+    # The guidance's own design loop (Nomoto heading loop + LOS) is stable ...
+    assert np.all(np.linalg.eigvals(linear_loop_matrix(zeta, omega_n, speed, d)).real < 0.0)
+    # ... and so is the whole loop with the hull's sway; its slowest mode sets the settling.
+    model = make_model(spec.model)
+    A = _full_loop_matrix(model, gains['pd']['k1'], gains['pd']['k2'], d)
+    eig = np.linalg.eigvals(A)
     assert np.all(eig.real < 0.0)
+    t_settle = 4.0 / np.min(-eig.real)
     k_linear = int(np.argmax(np.abs(xte) <= d))
     assert abs(xte[k_linear]) <= d, 'never came within the look-ahead of the path'
-    k_settled = k_linear + int(math.ceil(4.0 / np.min(-eig.real) / dt))
-    settled = xte[k_settled:]
-    rms = float(np.sqrt(np.mean(settled ** 2)))
-    print(f'route complete at step {k_end} (t = {k_end * dt:.1f} s, route {route.length:.1f} m); '
-          f'|e| <= d at t = {k_linear * dt:.1f} s, settled at t = {k_settled * dt:.1f} s; '
-          f'RMS xte after settling {rms:.3f} m, max {np.max(np.abs(settled)):.3f} m; '
-          f'bound e_arc {e_arc:.3f} m (U {speed:.3f} m/s, R {min(radii):.1f} m)')
-    assert len(settled) > 0.5 * len(xte), 'settling took most of the route'
-    assert rms < e_arc
 
-    # Corners turned: heading at the middle of each straight leg = the leg's course.
-    north = np.array([m.pose.pose.position.y for m in odom[:k_end + 1]])
-    east = np.array([m.pose.pose.position.x for m in odom[:k_end + 1]])
-    yaw = np.array([quaternion_to_yaw(m.pose.pose.orientation) for m in odom[:k_end + 1]])
-    tol = math.atan(e_arc / d)
-    lines = [leg for leg in route.legs if leg.kind == 'line']
+    # Arcs: past the entry transient the error is within the steady offset e_arc.
+    leg_of = np.array([p[2] for p in progress[:k_end + 1]]).astype(int)
+    arcs = [i for i, leg in enumerate(route.legs) if leg.kind == 'arc']
+    for i in arcs:
+        on = np.flatnonzero(leg_of == i)
+        assert len(on) and np.all(np.diff(on) == 1), f'arc leg {i} not passed once: {on}'
+        settled = on[on >= on[0] + int(math.ceil(t_settle / dt))]
+        assert len(settled) > 0, (
+            f'arc leg {i}: {len(on) * dt:.1f} s on it, t_settle {t_settle:.1f} s')
+        worst = float(np.max(np.abs(xte[settled])))
+        print(f'arc leg {i}: max |xte| {np.max(np.abs(xte[on])):.3f} m, after '
+              f't_settle = {t_settle:.1f} s ({len(settled)} samples) {worst:.3f} m; bound e_arc '
+              f'{e_arc:.3f} m (U {speed:.3f} m/s, R {route.legs[i].radius:.1f} m)')
+        assert worst <= e_arc, f'arc leg {i}: |xte| {worst:.3f} m > e_arc {e_arc:.3f} m'
+        # outside the arc: to port (e < 0) on a starboard turn and vice versa
+        assert np.all(np.sign(xte[settled]) == -np.sign(route.legs[i].curvature))
+    print(f'route complete at step {k_end} (t = {k_end * dt:.1f} s, route {route.length:.1f} m); '
+          f'|e| <= d at t = {k_linear * dt:.1f} s')
+
+    # Corners turned: heading at the middle of each straight leg = the leg's course, within what
+    # the linear loop leaves of the state where the leg begins.
+    nav = [odometry_to_ned(m) for m in odom[:k_end + 1]]
+    north = np.array([o.north for o in nav])
+    east = np.array([o.east for o in nav])
+    psi = np.array([o.psi for o in nav])
+    rudder = np.array([m.data for m in inbox['rudder_cmd'].messages[:k_end + 1]])
+    lines = [i for i, leg in enumerate(route.legs) if leg.kind == 'line']
     assert len(lines) >= 3
-    for leg in lines:
+    for i in lines:
+        leg = route.legs[i]
+        k0 = k_linear if i == 0 else int(np.flatnonzero(leg_of == i)[0])
+        assert leg_of[k0] == i, f'|e| <= d only at step {k0}, on leg {leg_of[k0]}'
         mid = leg.point_at(0.5 * leg.length)  # NED
         k = int(np.argmin(np.hypot(north - mid[0], east - mid[1])))
-        course = math.pi / 2 - leg.angle      # NED path angle -> ENU yaw
-        print(f'middle of {leg}: heading {math.degrees(yaw[k]):.2f} deg, course '
-              f'{math.degrees(course):.2f} deg (tolerance {math.degrees(tol):.1f} deg)')
-        assert abs(float(wrap_angle(yaw[k] - course))) < tol, (
-            f'heading {math.degrees(yaw[k]):.1f} deg at the middle of leg {leg}, course '
-            f'{math.degrees(course):.1f} deg')
+        assert k > k0
+        # rudder: the command of the step before (the servo's lag is one step, 0.1 s)
+        x0 = np.array([xte[k0], float(wrap_angle(psi[k0] - leg.angle)), nav[k0].v, nav[k0].r,
+                       rudder[k0 - 1] if k0 else 0.0])
+        tol = _heading_envelope(A, x0, (k - k0) * dt)
+        dev = float(wrap_angle(psi[k] - leg.angle))
+        print(f'middle of leg {i} {leg}: heading - course {math.degrees(dev):+.2f} deg '
+              f'(bound {math.degrees(tol):.2f} deg, {(k - k0) * dt:.1f} s after step {k0})')
+        assert abs(dev) < tol, (
+            f'heading {math.degrees(dev):+.2f} deg off the course of leg {leg} at its middle, '
+            f'bound {math.degrees(tol):.2f} deg')
     # The last odom of the route lies at its end (within the acceptance/normal criterion).
     assert math.hypot(north[-1] - route.end[0], east[-1] - route.end[1]) < e_arc + speed * dt
 

@@ -1,17 +1,48 @@
 """scripts/plan_route.py end to end on an image chart: route file + PNG, and the error exit."""
+import math
+
 import numpy as np
 
 import plan_route as cli
 from ship_planner.route_yaml import load_route_yaml
 
 
-def write_island_png(path):
+RES = 25.0  # m per pixel of the test chart
+
+
+def island_image(upsample=1):
+    """The test chart: 25 m pixels, 2 km x 3 km, an island of radius 375 m in the middle;
+    ``upsample`` splits every pixel into upsample x upsample pixels (the same land, finer)."""
+    img = np.full((80, 120), 255, dtype=np.uint8)
+    yy, xx = np.mgrid[0:80, 0:120]
+    img[(yy - 40) ** 2 + (xx - 60) ** 2 < 15 ** 2] = 0
+    return np.kron(img, np.ones((upsample, upsample), dtype=np.uint8))
+
+
+def write_island_png(path, upsample=1):
     import imageio.v3 as iio
 
-    img = np.full((80, 120), 255, dtype=np.uint8)           # 25 m pixels: 2 km x 3 km
-    yy, xx = np.mgrid[0:80, 0:120]
-    img[(yy - 40) ** 2 + (xx - 60) ** 2 < 15 ** 2] = 0        # an island of radius 375 m in the middle
-    iio.imwrite(path, img)
+    iio.imwrite(path, island_image(upsample))
+
+
+def route_samples(route, step=2.0):
+    """(n, 2) NED points along every leg of a path.Route, at most ``step`` m apart."""
+    out = []
+    for leg in route.legs:
+        t = np.linspace(0.0, leg.length, max(2, int(math.ceil(leg.length / step)) + 1))
+        n, e, _ = leg.point_at(t)
+        out.append(np.column_stack([n, e]))
+    return np.vstack(out)
+
+
+def distance_to_land_squares(points):
+    """Exact distance (m) from NED points to the land of the test chart: the union of its dark
+    pixels' squares (image_chart: north up, lower-left pixel centre at (RES/2, RES/2))."""
+    img = island_image()
+    yy, xx = np.nonzero(img < 128)
+    centres = np.column_stack([(img.shape[0] - 1 - yy + 0.5) * RES, (xx + 0.5) * RES])
+    gap = np.maximum(np.abs(points[:, None, :] - centres[None]) - 0.5 * RES, 0.0)
+    return np.hypot(gap[..., 0], gap[..., 1]).min(axis=1)
 
 
 def test_cli_plans_on_an_image_chart_and_writes_a_route_file_and_a_picture(tmp_path, capsys):
@@ -26,6 +57,20 @@ def test_cli_plans_on_an_image_chart_and_writes_a_route_file_and_a_picture(tmp_p
     assert plan.frame == 'enu'
     assert np.allclose(plan.waypoints_ned[0], [1000.0, 200.0]) and np.allclose(plan.waypoints_ned[-1], [1000.0, 2800.0])
     assert plan.route.length > 2600.0                       # it goes round the island
+    # The route (fillets included) keeps the clearance: exactly, from the land pixels' squares,
+    # and on a 5x finer raster of the same land, as the library tests check it (nearest fine
+    # cell's distance to land, less the fine cell's diagonal).
+    from ship_planner.chart import image_chart
+
+    pts = route_samples(plan.route, step=2.0)
+    assert distance_to_land_squares(pts).min() >= 100.0
+    fine_png = tmp_path / 'island_fine.png'
+    write_island_png(fine_png, upsample=5)
+    fine = image_chart(fine_png, RES / 5)
+    i, j, inside = fine.cell_index(pts)
+    assert inside.all(), 'the route leaves the chart'
+    assert fine.water[i, j].all()
+    assert fine.distance_to_land()[i, j].min() >= 100.0 - math.sqrt(2.0) * fine.resolution_m
     assert (tmp_path / 'route.png').stat().st_size > 10_000
     printed = capsys.readouterr().out
     assert 'length_ratio:' in printed and 'planning_time_s:' in printed

@@ -3,8 +3,9 @@
 
 Starts every node as its own process from the colcon install (run `make build` first, or use
 `make demo SCENARIO=...`), records a bag, and writes metrics and plots to runs/<name>-<time>/
-(runs/latest points there). Exit code 0 on success, 1 if a node failed or the run timed out,
-2 for an invalid scenario (checked before anything starts), 130 on Ctrl-C or SIGTERM.
+(runs/latest points there). Exit code 0 on success, 1 if a node failed, the run timed out or
+the run folder could not be written (one line naming the path and the OS error), 2 for an
+invalid scenario or option (checked before anything starts), 130 on Ctrl-C or SIGTERM.
 """
 import argparse
 import json
@@ -26,14 +27,15 @@ def main(argv=None):
     args = ap.parse_args(argv)
     try:
         scenario = load_scenario(args.scenario)
+        # The options first, so that the check sees what will run.
+        if args.duration is not None:
+            scenario.duration_s = args.duration
+        if args.stepping:
+            scenario.stepping = args.stepping
         check_scenario(scenario)
     except ScenarioError as exc:
         print(f'run_mission: {exc}', file=sys.stderr)
         return 2
-    if args.duration:
-        scenario.duration_s = args.duration
-    if args.stepping:
-        scenario.stepping = args.stepping
     kw = {'runs_root': args.runs} if args.runs else {}
     install_stop_handlers()   # Ctrl-C and SIGTERM stop every node, exit 130
     try:
@@ -42,6 +44,10 @@ def main(argv=None):
                                     wall_timeout_s=args.wall_timeout, **kw)
     except MissionFailed as exc:
         print(f'run_mission: FAILED: {exc}', file=sys.stderr)
+        return 1
+    except OSError as exc:   # writing the run folder (scenario copy, parameters, metrics, plots)
+        where = exc.filename or args.runs or 'runs/'
+        print(f'run_mission: FAILED: {where}: {exc.strerror or exc}', file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print('run_mission: interrupted; all nodes stopped', file=sys.stderr)

@@ -81,16 +81,46 @@ def install_stop_handlers():
         signal.signal(sig, _on_stop_signal)
 
 
+def node_parameter_names(package, executable):
+    """The parameters ``executable`` of ``package`` declares, from the package's own list:
+    config/<name>.yaml (``vessel_node`` -> ``vessel.yaml``), which lists every parameter of
+    its node, as installed in share/<package>/config (the source tree's before a build), plus
+    ``use_sim_time``, which rclpy declares on every node."""
+    name = executable.removesuffix('_node') + '.yaml'
+    for folder in (INSTALL / package / 'share' / package / 'config',
+                   REPO / 'ros_ws' / 'src' / package / 'config'):
+        if (folder / name).is_file():
+            from ship_planner.route_yaml import Loader
+            data = yaml.load((folder / name).read_text(), Loader=Loader) or {}
+            names = {'use_sim_time'}
+            for section in data.values():
+                names |= set((section or {}).get('ros__parameters') or {})
+            return names
+    raise ScenarioError(f'{executable}: no parameter list config/{name} in package {package}')
+
+
 def check_scenario(scenario):
-    """What load_scenario cannot check without the packages: model names and route files, and
-    for a platoon the stability of every look-ahead (mission.platoon.check_stability; its
-    warnings go to scenario.platoon.warnings).
+    """What load_scenario cannot check without the packages: model names, route files, start
+    points within their route, the number of steps (mission.scenario.MAX_STEPS), node
+    parameter names (node_parameter_names; an unknown one is named with the closest valid
+    one), and for a platoon the stability of every look-ahead (mission.platoon.check_stability;
+    its warnings go to scenario.platoon.warnings).
 
     Raises ScenarioError (one line naming the file and the key) before anything starts."""
+    import difflib
+    from mission.scenario import MAX_STEPS
     use_install_tree()
     from ship_planner.route_files import RouteError, load_route
     from ship_sim.models import MODEL_NAMES
     platoon = scenario.platoon
+    for key, v in (('duration_s', scenario.duration_s), ('dt_s', scenario.dt_s)):
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0.0):
+            raise ScenarioError(f'{scenario.file}: {key}: must be a positive number, got {v!r}')
+    if not scenario.duration_s / scenario.dt_s <= MAX_STEPS:
+        raise ScenarioError(f'{scenario.file}: duration_s: {scenario.duration_s:g} s is '
+                            f'{scenario.duration_s / scenario.dt_s:.3g} steps of dt_s '
+                            f'{scenario.dt_s:g} s; at most {MAX_STEPS:.0e} steps '
+                            f'({MAX_STEPS * scenario.dt_s:.3g} s)')
     for i, spec in enumerate(scenario.vessels):
         where = (f'{scenario.file}: vessels.{spec.namespace}.' if platoon is None
                  else f'{scenario.file}: platoon.vessels[{i}] ({spec.namespace}).')
@@ -98,10 +128,26 @@ def check_scenario(scenario):
             raise ScenarioError(f'{where}model: unknown model {spec.model!r}; one of '
                                 f'{", ".join(MODEL_NAMES)}')
         try:
-            load_route(spec.route_file)
+            plan = load_route(spec.route_file)
         except RouteError as exc:
             key = f'{where}route' if platoon is None else f'{scenario.file}: platoon.route'
             raise ScenarioError(f'{key}: {exc}') from None
+        along = spec.start.get('along_m')
+        if along is not None and not 0.0 <= along < plan.route.length:
+            raise ScenarioError(f'{where}start.along_m: {along:g} m is not on the route '
+                                f'({spec.route_file}, {plan.route.length:.1f} m long); give '
+                                f'0 <= along_m < {plan.route.length:.1f}')
+        guidance = vessel_nodes(spec)[1]
+        for block, params, (exe, pkg) in (('vessel', spec.vessel_params, ('vessel_node', 'ship_sim')),
+                                          ('guidance', spec.guidance_params, guidance),
+                                          ('autopilot', spec.autopilot_params, NODES[2])):
+            names = node_parameter_names(pkg, exe)
+            for key in params:
+                if key not in names:
+                    near = difflib.get_close_matches(str(key), sorted(names), n=1)
+                    hint = f' (did you mean "{near[0]}"?)' if near else ''
+                    raise ScenarioError(f'{where}{block}.{key}: {exe} has no parameter '
+                                        f'{key!r}{hint}')
     if platoon is not None:
         from mission.platoon import check_lead, check_stability
         check_lead(scenario)
@@ -130,12 +176,35 @@ def make_run_dir(scenario, root):
     while run.exists():
         n += 1
         run = root / f'{scenario.name}-{stamp}-{n}'
-    (run / 'params').mkdir(parents=True)
-    latest = root / 'latest'
-    if latest.is_symlink() or latest.exists():
-        latest.unlink()
-    latest.symlink_to(run.name)
+    try:
+        (run / 'params').mkdir(parents=True)
+        latest = root / 'latest'
+        if latest.is_symlink() or latest.exists():
+            latest.unlink()
+        latest.symlink_to(run.name)
+    except OSError as exc:
+        raise MissionFailed(f'cannot create the run folder {exc.filename or run}: '
+                            f'{exc.strerror or exc}') from None
     return run
+
+
+def write_run_json(run, summary):
+    """Write run.json whole or not at all (a temporary file renamed into place): a full or
+    read-only disk leaves no truncated file. MissionFailed names the path and the OS error."""
+    path = run / 'run.json'
+    tmp = run / '.run.json.tmp'
+    try:
+        with open(tmp, 'w') as f:
+            f.write(yaml.safe_dump(summary, sort_keys=False))
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except OSError as exc:
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
+        raise MissionFailed(f'cannot write {path}: {exc.strerror or exc}') from None
 
 
 def vessel_nodes(spec):
@@ -381,7 +450,13 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         summary = {'scenario': str(scenario.file), 'outcome': outcome, 'sim_time_s': sim_t,
                    'wall_time_s': wall, 'real_time_factor': sim_t / wall if wall > 0 else None,
                    'domain_id': domain_id, 'exit_codes': codes}
-        (run / 'run.json').write_text(yaml.safe_dump(summary, sort_keys=False))
+        in_flight = sys.exc_info()[1]   # the run's own failure, if it is on its way out
+        try:
+            write_run_json(run, summary)
+        except MissionFailed as exc:
+            if in_flight is None:
+                raise               # nothing else went wrong: this is the run's failure
+            progress(f'  {exc}')    # the run's own failure says more; it goes on
         progress(f'{outcome}: sim {sim_t:.1f} s in {wall:.1f} s wall '
                  f'(x{sim_t / max(wall, 1e-9):.1f} real time)')
     metrics = None

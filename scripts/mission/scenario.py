@@ -1,10 +1,11 @@
 """Scenario files: one YAML describes a run (vessels, routes, guidance, autopilot, timing).
 
-    name: flagship_mariner                  # run folder prefix
+    name: flagship_mariner                  # run folder prefix: a plain name (no '/', '\\', '..')
     source: "..."                            # citation of the experiment reproduced
     description: "..."
     duration_s: 1000.0                       # sim time limit (the run also ends when every
-                                             # vessel has completed its route)
+                                             # vessel has completed its route); at most
+                                             # MAX_STEPS steps of dt_s
     stepping: lockstep                       # lockstep | realtime
     speedup: 1.0                             # realtime only: sim seconds per wall second
     dt_s: 0.1                                # control period = simulator publish period
@@ -14,7 +15,7 @@
         model: mariner                       # ship_sim model
         route: routes/flagship_mariner.yaml  # route file, relative to this scenario file
         start:                               # relative to the route's start (default 0/0/0)
-          along_m: 0.0                       #   along the first leg
+          along_m: 0.0                       #   along the route, within [0, its length)
           cross_m: 200.0                     #   to starboard of the path (+)
           heading_deg: 0.0                   #   relative to the path direction (+ = starboard)
         # or absolute ENU: start: {x_m: 0, y_m: 0, yaw_deg: 90}
@@ -26,8 +27,10 @@
 
 Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
-the graph together (model, start pose, stepping mode, pairing, rates). Errors name the file and
-the key.
+the graph together (model, start pose, stepping mode, pairing, rates). The launcher's check
+(mission.launcher.check_scenario) refuses keys a node does not declare, naming the closest one.
+Errors name the file and the key. The file must be a regular UTF-8 file; numbers may be written
+``1e9`` (read as YAML 1.2 does, ship_planner.route_yaml.Loader, as route files are).
 
 A platoon (a string of vessels, each steering at its predecessor) is written as a `platoon:`
 section instead of `vessels:`; its schema and checks are in mission.platoon. Its vessels come out
@@ -40,11 +43,18 @@ from pathlib import Path
 
 import yaml
 
+from ship_planner.route_plan import TextFileError, read_text_file
+from ship_planner.route_yaml import Loader
+
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s'}
 VESSEL_KEYS = {'model', 'route', 'start', 'speed_mps', 'current', 'vessel', 'guidance',
                'autopilot', 'model_params'}
 STEPPING = ('lockstep', 'realtime')
+#: Most simulator steps a run may ask for (duration_s / dt_s): vessel_node's max_steps upper
+#: bound (ros_ws/src/ship_sim/ship_sim/vessel_node.py, 10**12), so the launcher's check refuses
+#: what the node would refuse after the graph has started.
+MAX_STEPS = 10**12
 
 
 class ScenarioError(ValueError):
@@ -106,18 +116,27 @@ def _unknown(d, allowed, file, where):
           f"unknown key; allowed: {', '.join(sorted(allowed))}")
 
 
+def check_name(name, file):
+    """A scenario name makes the run folder's name: non-empty text that is a single path
+    component (no '/', '\\', NUL, not '.' or '..', no '..' in it), so a run stays in --runs."""
+    _need(isinstance(name, str) and name.strip(), file, 'name', f'a non-empty string, got {name!r}')
+    _need(not any(c in name for c in '/\\\0') and '..' not in name and name != '.', file, 'name',
+          f"a plain name without '/', '\\' or '..' (it names the run folder), got {name!r}")
+
+
 def load_scenario(path):
     """Read and check a scenario file; ScenarioError names the file and the offending key."""
     path = Path(path)
     try:
-        data = yaml.safe_load(path.read_text())
-    except OSError as exc:
-        raise ScenarioError(f'{path}: cannot read: {exc.strerror}') from None
+        data = yaml.load(read_text_file(path), Loader=Loader)
+    except TextFileError as exc:
+        where = f'{path}:{exc.line}' if exc.line else f'{path}'
+        raise ScenarioError(f'{where}: cannot read: {exc.detail}') from None
     except yaml.YAMLError as exc:
-        raise ScenarioError(f'{path}: not valid YAML: {exc}') from None
+        raise ScenarioError(f'{path}: not valid YAML: ' + ' '.join(str(exc).split())) from None
     _need(isinstance(data, dict), path, '(top)', 'must be a mapping')
     _unknown(data, TOP_KEYS, path, '')
-    _need(isinstance(data.get('name'), str) and data['name'], path, 'name', 'a non-empty string')
+    check_name(data.get('name'), path)
     stepping = data.get('stepping', 'lockstep')
     _need(stepping in STEPPING, path, 'stepping', f"one of {', '.join(STEPPING)}, got {stepping!r}")
     lockstep_timeout = _number(data, 'lockstep_timeout_s', path, 10.0, lo=0.1)

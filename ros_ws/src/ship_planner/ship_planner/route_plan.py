@@ -81,20 +81,20 @@ def read_text_file(path, max_bytes=MAX_FILE_BYTES):
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, 'O_CLOEXEC', 0))
     except OSError as exc:
-        raise TextFileError(f'cannot read: {exc.strerror}') from None
+        raise TextFileError(exc.strerror) from None
     try:
         mode = os.fstat(fd).st_mode
         if not stat.S_ISREG(mode):
             kind = next((k for test, k in _FILE_KINDS if test(mode)), 'not a regular file')
-            raise TextFileError(f'is {kind}, not a regular file')
+            raise TextFileError(f'it is {kind}, not a regular file')
         with os.fdopen(fd, 'rb', closefd=False) as f:
             data = f.read(max_bytes + 1)
     except OSError as exc:
-        raise TextFileError(f'cannot read: {exc.strerror}') from None
+        raise TextFileError(exc.strerror) from None
     finally:
         os.close(fd)
     if len(data) > max_bytes:
-        raise TextFileError(f'is larger than {max_bytes} bytes')
+        raise TextFileError(f'it is larger than {max_bytes} bytes')
     try:
         return data.decode('utf-8')
     except UnicodeDecodeError as exc:

@@ -103,7 +103,7 @@ def load_route_yaml(path):
     try:
         text = read_text_file(path)
     except TextFileError as exc:
-        raise RouteError(f'route file {exc.detail}', file=path, line=exc.line) from None
+        raise RouteError(f'cannot read the route file: {exc.detail}', file=path, line=exc.line) from None
     plan = parse_route_yaml(text, path)
     plan.file = path
     return plan

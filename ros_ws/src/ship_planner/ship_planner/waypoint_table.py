@@ -66,7 +66,8 @@ def load_waypoint_table(path, length_unit_m=None):
     try:
         text = read_text_file(path)
     except TextFileError as exc:
-        raise RouteError(f'waypoint table {exc.detail}', file=path, line=exc.line) from None
+        raise RouteError(f'cannot read the waypoint table: {exc.detail}', file=path,
+                         line=exc.line) from None
     plan = parse_waypoint_table(text, path, length_unit_m)
     plan.file = path
     return plan

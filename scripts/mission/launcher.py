@@ -43,14 +43,16 @@ FOLLOWER_NODES = (('route_node', 'ship_planner'), ('follower_node', 'ship_guidan
 RECORD_ACK = 'record_ack'  # per vessel namespace: the recorder's lockstep acknowledgement
 
 
+def record_ack_arg(namespace, clock_master):
+    """The recorder's --ack argument for one vessel: the topics it publishes or gets every step."""
+    ns = f'/{namespace}'
+    topics = (['/clock'] if clock_master else []) + [f'{ns}/{t}' for t in ('odom', 'rudder', 'rudder_cmd')]
+    return ['--ack', f'{ns}/{RECORD_ACK}=' + ','.join(topics)]
+
+
 def record_ack_args(scenario):
-    """The recorder's --ack arguments: per vessel, the topics of every lockstep step."""
-    args = []
-    for i, spec in enumerate(scenario.vessels):
-        ns = f'/{spec.namespace}'
-        topics = (['/clock'] if i == 0 else []) + [f'{ns}/{t}' for t in ('odom', 'rudder', 'rudder_cmd')]
-        args += ['--ack', f'{ns}/{RECORD_ACK}=' + ','.join(topics)]
-    return args
+    """The recorder's --ack arguments for every vessel (the first is the clock master)."""
+    return [a for i, spec in enumerate(scenario.vessels) for a in record_ack_arg(spec.namespace, i == 0)]
 
 
 class MissionFailed(RuntimeError):

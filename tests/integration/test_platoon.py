@@ -19,7 +19,7 @@ AUV's sway, seed 003 Sec. III.B), far above the stability limit 0.46 m.
    e^-2 of its RMS in the first two seconds: a loose check that the errors decay (the linear
    chain of two such blocks is at (1 + 5) e^-5 = 0.04 of its start by then).
 2. Fallback: SIGKILL of the leader's vessel_node once the leader is 40 s into the run (in
-   lockstep nothing holds a leader back, so it runs ahead of its followers). Its follower goes
+   lockstep a leader runs up to lockstep_follower_window steps ahead of its follower). Its follower goes
    on with the leader's recorded samples, waits predecessor_wait_s once when they end, then
    runs on; at the first step where the leader's newest sample is more than
    predecessor_timeout_s (sim) old its `mode` topic says 'route_fallback' (follower_node's
@@ -138,7 +138,8 @@ def test_platoon_converges_and_falls_back_when_the_leader_dies(ros_graph, tmp_pa
             procs[f'{spec.namespace}/{exe}'] = ros_graph.start(
                 pkg, exe, namespace=f'/{spec.namespace}', label=f'{spec.namespace}.{exe}',
                 params=params[exe])
-        sims[spec.namespace] = params['vessel_node']
+        # No recorder acknowledges steps here (the test node only subscribes in its place).
+        sims[spec.namespace] = {**params['vessel_node'], 'lockstep_record_topic': ''}
     for ns in names:
         assert tn.wait_for_publishers(done[ns], timeout=30.0), ros_graph.report()
     for ns in names[1:]:
@@ -155,8 +156,8 @@ def test_platoon_converges_and_falls_back_when_the_leader_dies(ros_graph, tmp_pa
 
     # As the launcher: the simulators after all other nodes, predecessors first, a follower's
     # once its predecessor's has published step 0; each waits for its own subscribers.
-    # Meanwhile the leader runs ahead (in lockstep nothing holds it back; it covers its 200 s in
-    # a few seconds of wall time): its simulator is killed as soon as it is past
+    # Meanwhile the leader runs ahead (in lockstep up to lockstep_follower_window steps ahead of
+    # its follower, a few seconds of sim time): its simulator is killed as soon as it is past
     # KILL_LEADER_AT_S. Its followers go on with its recorded samples up to then, and fall back.
     waiting = list(start_order(scenario.platoon))
     leader_sim = None

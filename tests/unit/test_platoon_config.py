@@ -88,8 +88,10 @@ def test_shipped_scenario_wires_a_five_vessel_string():
         v = params['vessel_node']
         assert v['clock_master'] is (i == 0)
         assert v['stepping_mode'] == 'lockstep'
-        # own guidance/follower + autopilot + recorder, + the next vessel's follower
-        assert v['lockstep_odom_subscribers'] == (4 if i < 4 else 3)
+        # own guidance/follower + autopilot + recorder, + the next vessel's follower, + the
+        # predecessor's simulator (it keeps within lockstep_follower_window steps of this odom)
+        assert v['lockstep_odom_subscribers'] == 3 + int(i < 4) + int(i > 0)
+        assert v['lockstep_follower_odom_topics'] == ('' if i == 4 else f'/vessel_{i + 1}/odom')
         assert v['current_speed'] == 0.5 and v['current_direction_deg'] == 90.0
         exes = [exe for exe, _ in vessel_nodes(spec)]
         if i == 0:
@@ -137,7 +139,8 @@ def test_five_mixed_models_get_their_own_autopilot_design_and_speed(tmp_path):
         params, _ = node_parameters(sc, spec, i, record=False)
         assert params['vessel_node']['model'] == models[i]
         assert params['autopilot_node']['vessel_model'] == models[i]
-        assert params['vessel_node']['lockstep_odom_subscribers'] == (3 if i < 4 else 2)
+        # guidance + autopilot (no recorder), + the next follower, + the predecessor's gate
+        assert params['vessel_node']['lockstep_odom_subscribers'] == 2 + int(i < 4) + int(i > 0)
         if i == 0:
             continue
         f = params['follower_node']
@@ -161,7 +164,7 @@ def test_a_tree_counts_every_follower_of_a_vessel(tmp_path):
     check_scenario(sc)
     subs = [node_parameters(sc, s, i, True)[0]['vessel_node']['lockstep_odom_subscribers']
             for i, s in enumerate(sc.vessels)]
-    assert subs == [5, 3, 3]
+    assert subs == [5, 4, 4]   # followers: + the predecessor's simulator's gate
     f2 = node_parameters(sc, sc.vessels[2], 2, True)[0]['follower_node']
     assert f2['predecessor_odom_topic'] == '/vessel_0/odom'
 

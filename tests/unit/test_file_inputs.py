@@ -1,0 +1,381 @@
+"""Bad route files, scenario files and launcher inputs: one line, the right exit code, no traceback.
+
+1. files that are not UTF-8, not regular files (FIFO, directory, device) or too large are refused
+   in one line naming the file (and the line of the first bad byte), without blocking;
+2. generated routes are bounded (ship_planner.route_plan MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES):
+   a circle of 1e9 degrees, a sine of 1e9 m or with a 1e-9 m step are refused at once, in one
+   line with the line of the curve; curves within the bounds still load;
+3. coordinates beyond MAX_COORDINATE_M (1e7 m) are refused in YAML routes and waypoint tables;
+4. scenario names that would leave --runs, starts beyond the route's end and runs longer than
+   vessel_node's step bound are refused (exit 2, before anything is created);
+5. ``1e9`` (no dot) is a number in route and scenario files;
+6. a node-parameter key no node declares is refused, naming the closest valid key; the valid
+   keys are the packages' config/*.yaml lists;
+7. a run folder that cannot be written (its parent a file, a read-only or a full file system)
+   ends run_mission with one line naming the path and the OS error, and run.json is either
+   whole or absent.
+"""
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+import yaml
+
+from mission.launcher import (MissionFailed, check_scenario, make_run_dir, node_parameter_names,
+                              write_run_json)
+from mission.scenario import MAX_STEPS, ScenarioError, load_scenario
+from ship_planner.route_files import RouteError, load_route
+from ship_planner.route_plan import (MAX_COORDINATE_M, MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES,
+                                     TextFileError, read_text_file)
+from ship_planner.route_yaml import Loader, parse_route_yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+ROUTE = ROOT / 'scenarios' / 'routes' / 'flagship_mariner.yaml'
+HEAD = 'name: test\nsource: unit test\nframe: enu\n'
+
+
+@pytest.fixture(autouse=True)
+def _keep_sys_path(monkeypatch):
+    # check_scenario puts the colcon install tree on sys.path; keep the other tests' imports.
+    monkeypatch.setattr(sys, 'path', list(sys.path))
+
+
+def route_error(text, filename='bad.yaml'):
+    with pytest.raises(RouteError) as exc:
+        parse_route_yaml(text, filename)
+    msg = str(exc.value)
+    assert '\n' not in msg and msg.startswith(filename), msg
+    return exc.value
+
+
+def scenario_file(tmp_path, extra_vessel='', name='t', top=''):
+    text = (f'name: {name}\nsource: test\nduration_s: 100.0\n{top}vessels:\n  vessel_0:\n'
+            f'    model: mariner\n    route: {ROUTE}\n')
+    path = tmp_path / 'scenario.yaml'
+    path.write_text(text + textwrap.indent(textwrap.dedent(extra_vessel), '    '))
+    return path
+
+
+def run_mission(*args, timeout=60):
+    env = dict(os.environ)
+    src = [str(ROOT / 'ros_ws' / 'src' / p) for p in ('ship_sim', 'ship_guidance',
+                                                       'ship_autopilot', 'ship_planner')]
+    env['PYTHONPATH'] = os.pathsep.join(src + [str(ROOT / 'scripts')])
+    out = subprocess.run([sys.executable, str(ROOT / 'scripts' / 'run_mission.py'),
+                          *map(str, args)], capture_output=True, text=True, env=env,
+                         timeout=timeout, stdin=subprocess.DEVNULL)
+    lines = [ln for ln in out.stderr.splitlines() if ln.strip()]
+    assert 'Traceback' not in out.stderr + out.stdout, out.stderr
+    return out.returncode, lines
+
+
+# -- 1. unreadable files ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize('ext', ['.yaml', '.wpt'])
+def test_non_utf8_route_file_is_refused_with_the_line_of_the_bad_byte(tmp_path, ext):
+    path = tmp_path / f'latin1{ext}'
+    path.write_bytes('name: x\n# caf\u00e9\n'.encode('latin-1'))
+    with pytest.raises(RouteError) as exc:
+        load_route(path)
+    assert exc.value.file == str(path) and exc.value.line == 2
+    assert 'UTF-8' in str(exc.value) and '\n' not in str(exc.value)
+
+
+@pytest.mark.timeout(20)
+@pytest.mark.parametrize('ext', ['.yaml', '.wpt'])
+@pytest.mark.parametrize('kind', ['fifo', 'directory'])
+def test_non_regular_route_files_are_refused_without_blocking(tmp_path, ext, kind):
+    path = tmp_path / f'route{ext}'
+    os.mkfifo(path) if kind == 'fifo' else path.mkdir()
+    with pytest.raises(RouteError) as exc:
+        load_route(path)      # a FIFO without a writer would block an ordinary open()
+    assert exc.value.file == str(path)
+    assert 'not a regular file' in str(exc.value) and kind.replace('fifo', 'FIFO') in str(exc.value)
+
+
+def test_a_device_and_an_oversized_file_are_refused(tmp_path):
+    with pytest.raises(TextFileError, match='character device'):
+        read_text_file('/dev/zero')       # would never end
+    big = tmp_path / 'big.yaml'
+    big.write_text('#' * 100)
+    with pytest.raises(TextFileError, match='larger than 99 bytes'):
+        read_text_file(big, max_bytes=99)
+    assert read_text_file(big, max_bytes=100) == '#' * 100
+
+
+# -- 2. bounded curves -----------------------------------------------------------------------------
+
+@pytest.mark.timeout(20)
+@pytest.mark.parametrize('curve, bound', [
+    ('{type: circle, center: [0, 0], radius_m: 100, start_bearing_deg: 0, sweep_deg: 1.0e+9, '
+     'direction: clockwise}', 'length'),
+    ('{type: circle, center: [0, 0], radius_m: 1.0e-3, start_bearing_deg: 0, sweep_deg: 1.0e+9, '
+     'direction: clockwise}', 'samples'),
+    ('{type: sine, length_m: 1e9, amplitude_m: 100, wavelength_m: 1000}', 'length'),
+    ('{type: sine, length_m: 1000, amplitude_m: 100, wavelength_m: 1000, step_m: 1e-9}', 'samples'),
+    # short waves: the base line is short, the curve itself is 2e6 m long
+    ('{type: sine, length_m: 1000, amplitude_m: 500, wavelength_m: 1, step_m: 10}', 'length'),
+    ('{type: spline, points: [[0, 0], [5000, 1000], [9000, 0]], step_m: 1e-6}', 'samples'),
+])
+def test_generated_routes_beyond_the_bounds_are_refused_at_once(curve, bound):
+    text = HEAD + 'curve: ' + curve + '\n'
+    err = route_error(text)
+    assert err.line == 4 and 'curve' in err.detail
+    want = f'{MAX_ROUTE_LENGTH_M:.0e} m' if bound == 'length' else str(MAX_ROUTE_SAMPLES)
+    assert want in err.detail, err.detail
+
+
+def test_curves_within_the_bounds_still_load():
+    ten_turns = parse_route_yaml(HEAD + 'curve: {type: circle, center: [0, 0], radius_m: 500, '
+                                 'start_bearing_deg: 0, sweep_deg: 3600, direction: port}\n')
+    assert ten_turns.route.length == pytest.approx(10 * 2 * 3.141592653589793 * 500)
+    sine = parse_route_yaml(HEAD + 'curve: {type: sine, length_m: 20000, amplitude_m: 100, '
+                            'wavelength_m: 2000, step_m: 5}\n')
+    assert 4000 < len(sine.route.legs) <= MAX_ROUTE_SAMPLES
+
+
+def test_a_route_longer_than_the_bound_is_refused_whatever_its_form():
+    far = MAX_ROUTE_LENGTH_M * 1.5
+    err = route_error(HEAD + f'waypoints: [[0, 0], [{far}, 0]]\n')
+    assert f'{MAX_ROUTE_LENGTH_M:.0e} m' in err.detail and err.line == 4
+
+
+# -- 3. coordinates ----------------------------------------------------------------------------------
+
+@pytest.mark.parametrize('body, line', [
+    ('waypoints: [[0, 0], [1e308, 0]]\n', 4),
+    ('waypoints:\n  - [0, 0]\n  - {x_m: 0, y_m: -2.0e+7}\n', 6),
+    ('start: [0, 0]\nlegs:\n  - {course_deg: 10, length_m: 1.0e+308}\n', 6),
+    ('start: [1.0e+300, 0]\nlegs:\n  - {course_deg: 10, length_m: 100}\n', 4),
+])
+def test_non_physical_coordinates_are_refused_in_route_files(body, line):
+    err = route_error(HEAD + body)
+    assert err.line == line and f'{MAX_COORDINATE_M:.0e} m' in err.detail, err
+
+
+def test_large_but_physical_coordinates_are_accepted():
+    x = 0.99 * MAX_COORDINATE_M
+    plan = parse_route_yaml(HEAD + f'waypoints: [[{x}, {x}], [{x}, {x - 1000}]]\n')
+    assert plan.route.length == pytest.approx(1000.0)
+
+
+@pytest.mark.parametrize('row, unit', [('1e308 0 0 1 0 0 0 0', None), ('10 0 0 1 0 0 0 0', 2e6)])
+def test_non_physical_coordinates_are_refused_in_waypoint_tables(tmp_path, row, unit):
+    path = tmp_path / 'far.wpt'
+    path.write_text(f'#@ name: far\n#@ source: test\n{row}\n')
+    with pytest.raises(RouteError) as exc:
+        load_route(path, length_unit_m=unit)
+    assert exc.value.row == 1 and exc.value.line == 3
+    assert f'{MAX_COORDINATE_M:.0e} m' in str(exc.value)
+
+
+# -- 5. numbers without a dot ------------------------------------------------------------------------
+
+def test_exponent_numbers_without_a_dot_are_numbers_in_route_files():
+    a = parse_route_yaml(HEAD + 'curve: {type: sine, length_m: 5e3, amplitude_m: 1E2, '
+                         'wavelength_m: 2000, step_m: 1e1}\n')
+    b = parse_route_yaml(HEAD + 'curve: {type: sine, length_m: 5000.0, amplitude_m: 100.0, '
+                         'wavelength_m: 2000, step_m: 10.0}\n')
+    assert a.route.length == b.route.length and len(a.route.legs) == len(b.route.legs)
+
+
+def test_the_loader_changes_nothing_but_exponent_numbers():
+    data = yaml.load('a: 1e9\nb: -2E-3\nc: "1e9"\nd: e9\ne: 1.5\nf: 12\ng: 1_000\nh: .inf\n',
+                     Loader=Loader)
+    assert data['a'] == 1e9 and data['b'] == -2e-3
+    assert data == {**yaml.safe_load('c: "1e9"\nd: e9\ne: 1.5\nf: 12\ng: 1_000\nh: .inf\n'),
+                    'a': 1e9, 'b': -2e-3}
+
+
+def test_exponent_numbers_without_a_dot_are_numbers_in_scenario_files(tmp_path):
+    path = scenario_file(tmp_path, 'guidance: {lookahead_m: 3e2}\nspeed_mps: 7e0\n',
+                         top='dt_s: 1e-1\n')
+    sc = load_scenario(path)
+    assert sc.dt_s == 0.1 and sc.vessels[0].speed == 7.0
+    assert sc.vessels[0].guidance_params == {'lookahead_m': 300.0}
+
+
+# -- 4. scenario checks ------------------------------------------------------------------------------
+
+@pytest.mark.parametrize('name', ['../../escape', 'a/b', '..', '"a\\\\b"', '""', '"  "', '.'])
+def test_scenario_names_that_would_leave_the_runs_folder_are_refused(tmp_path, name):
+    path = scenario_file(tmp_path, name=name)
+    with pytest.raises(ScenarioError) as exc:
+        load_scenario(path)
+    assert str(exc.value).startswith(f'{path}: name:') and '\n' not in str(exc.value)
+
+
+def test_run_mission_refuses_an_escaping_name_before_creating_anything(tmp_path):
+    runs = tmp_path / 'a' / 'b' / 'runs'
+    path = scenario_file(tmp_path, name='../../escape')
+    rc, lines = run_mission(path, '--runs', runs)
+    assert rc == 2 and len(lines) == 1 and 'name' in lines[0] and str(path) in lines[0]
+    assert list(tmp_path.rglob('escape*')) == [] and not runs.exists()
+
+
+@pytest.mark.parametrize('along', [1.0e9, -1.0, 'end'])
+def test_a_start_beyond_the_route_is_refused(tmp_path, along):
+    length = load_route(ROUTE).route.length
+    along = length if along == 'end' else along
+    sc = load_scenario(scenario_file(tmp_path, f'start: {{along_m: {along!r}}}\n'))
+    with pytest.raises(ScenarioError) as exc:
+        check_scenario(sc)
+    msg = str(exc.value)
+    assert 'vessels.vessel_0.start.along_m' in msg and f'{length:.1f}' in msg, msg
+
+
+def test_a_start_on_the_route_is_accepted(tmp_path):
+    check_scenario(load_scenario(scenario_file(tmp_path, 'start: {along_m: 100.0}\n')))
+
+
+def test_a_run_beyond_the_vessel_nodes_step_bound_is_refused(tmp_path):
+    too_long = MAX_STEPS * 0.1 * 10
+    sc = load_scenario(scenario_file(tmp_path, top='dt_s: 0.1\n'))
+    sc.duration_s = too_long
+    with pytest.raises(ScenarioError, match='duration_s'):
+        check_scenario(sc)
+    sc.duration_s = MAX_STEPS * 0.1 * 0.5
+    check_scenario(sc)
+
+
+@pytest.mark.parametrize('where', ['file', 'option'])
+def test_run_mission_exits_2_for_a_run_beyond_the_step_bound(tmp_path, where):
+    path = scenario_file(tmp_path, top='dt_s: 0.1\n')
+    if where == 'file':
+        path.write_text(path.read_text().replace('duration_s: 100.0', 'duration_s: 1e12'))
+        extra = []
+    else:
+        extra = ['--duration', repr(MAX_STEPS * 0.1 * 10)]
+    rc, lines = run_mission(path, '--runs', tmp_path / 'runs', *extra)
+    assert rc == 2 and len(lines) == 1 and 'duration_s' in lines[0], lines
+    assert not (tmp_path / 'runs').exists()
+
+
+# -- 6. node parameter keys --------------------------------------------------------------------------
+
+@pytest.mark.parametrize('block, key, package, node, near', [
+    ('guidance', 'lookahed_m', 'ship_guidance', 'guidance_node', 'lookahead_m'),
+    ('vessel', 'curent_speed', 'ship_sim', 'vessel_node', 'current_speed'),
+    ('autopilot', 'omega', 'ship_autopilot', 'autopilot_node', 'omega_n'),
+])
+def test_an_undeclared_node_parameter_is_refused_with_the_closest_one(tmp_path, block, key,
+                                                                       package, node, near):
+    assert near in node_parameter_names(package, node)
+    path = scenario_file(tmp_path, f'{block}: {{{key}: 1.0}}\n')
+    sc = load_scenario(path)
+    with pytest.raises(ScenarioError) as exc:
+        check_scenario(sc)
+    msg = str(exc.value)
+    assert f'vessels.vessel_0.{block}.{key}' in msg and node in msg and f'"{near}"' in msg, msg
+    rc, lines = run_mission(path, '--runs', tmp_path / 'runs')
+    assert rc == 2 and lines == [f'run_mission: {msg}']
+
+
+@pytest.mark.parametrize('package, node', [('ship_sim', 'vessel_node'),
+                                           ('ship_guidance', 'guidance_node'),
+                                           ('ship_guidance', 'follower_node'),
+                                           ('ship_autopilot', 'autopilot_node'),
+                                           ('ship_planner', 'route_node')])
+def test_the_valid_keys_are_the_packages_config_lists(package, node):
+    cfg = ROOT / 'ros_ws' / 'src' / package / 'config' / (node.removesuffix('_node') + '.yaml')
+    listed = set(yaml.safe_load(cfg.read_text())['/**']['ros__parameters'])
+    assert node_parameter_names(package, node) == listed | {'use_sim_time'}
+
+
+def test_every_key_of_the_config_lists_passes_the_check(tmp_path):
+    path = scenario_file(tmp_path, 'guidance: {law: ilos, lookahead_m: 800.0, use_sim_time: true}\n'
+                                   'autopilot: {controller: pd}\nvessel: {depth: 30.0}\n')
+    check_scenario(load_scenario(path))
+
+
+# -- 1 (scenarios) -----------------------------------------------------------------------------------
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize('kind', ['latin1', 'fifo', 'directory'])
+def test_run_mission_refuses_unreadable_scenario_files_in_one_line(tmp_path, kind):
+    path = tmp_path / 'scenario.yaml'
+    if kind == 'latin1':
+        path.write_bytes(b'name: t\nsource: caf\xe9\n')
+    elif kind == 'fifo':
+        os.mkfifo(path)
+    else:
+        path.mkdir()
+    rc, lines = run_mission(path, '--runs', tmp_path / 'runs')
+    assert rc == 2 and len(lines) == 1 and str(path) in lines[0], lines
+    if kind == 'latin1':
+        assert f'{path}:2:' in lines[0] and 'UTF-8' in lines[0]
+
+
+def test_run_mission_refuses_a_scenario_whose_route_is_not_utf8(tmp_path):
+    route = tmp_path / 'route.yaml'
+    route.write_bytes(ROUTE.read_bytes() + b'# \xff\n')
+    path = scenario_file(tmp_path)
+    path.write_text(path.read_text().replace(str(ROUTE), str(route)))
+    rc, lines = run_mission(path, '--runs', tmp_path / 'runs')
+    assert rc == 2 and len(lines) == 1 and 'vessels.vessel_0.route' in lines[0]
+    assert str(route) in lines[0] and 'UTF-8' in lines[0]
+
+
+# -- 7. disk faults ----------------------------------------------------------------------------------
+
+class _Scenario:
+    name = 'disk'
+
+
+@pytest.fixture
+def tmpfs(tmp_path):
+    """mount(options) -> a fresh tmpfs mount point (root only; skipped elsewhere)."""
+    mounted = []
+
+    def mount(options):
+        point = tmp_path / f'mnt{len(mounted)}'
+        point.mkdir()
+        r = subprocess.run(['mount', '-t', 'tmpfs', '-o', options, 'tmpfs', str(point)],
+                           capture_output=True, text=True)
+        if r.returncode != 0:
+            pytest.skip(f'cannot mount a tmpfs here: {r.stderr.strip()}')
+        mounted.append(point)
+        return point
+
+    yield mount
+    for point in reversed(mounted):
+        subprocess.run(['umount', '-l', str(point)], capture_output=True)
+
+
+def test_a_run_folder_under_a_file_is_one_line_naming_the_path(tmp_path):
+    blocker = tmp_path / 'not_a_dir'
+    blocker.write_text('')
+    with pytest.raises(MissionFailed) as exc:
+        make_run_dir(_Scenario(), blocker / 'runs')
+    assert str(blocker) in str(exc.value) and os.strerror(20) in str(exc.value)
+    rc, lines = run_mission(scenario_file(tmp_path), '--runs', blocker / 'runs')
+    assert rc == 1 and len(lines) == 1 and str(blocker) in lines[0], lines
+    assert os.strerror(20) in lines[0]
+
+
+def test_a_read_only_runs_folder_is_one_line_naming_the_path(tmp_path, tmpfs):
+    ro = tmpfs('ro,size=1m')
+    rc, lines = run_mission(scenario_file(tmp_path), '--runs', ro)
+    assert rc == 1 and len(lines) == 1 and str(ro) in lines[0], lines
+    assert os.strerror(30) in lines[0]     # EROFS
+
+
+def test_run_json_on_a_full_disk_is_whole_or_absent(tmpfs):
+    disk = tmpfs('size=2m')
+    run = make_run_dir(_Scenario(), disk / 'runs')
+    write_run_json(run, {'outcome': 'first'})
+    with open(disk / 'filler', 'wb', buffering=0) as f:       # fill the file system
+        try:
+            while True:
+                f.write(b'\0' * 65536)
+        except OSError:
+            pass
+    with pytest.raises(MissionFailed) as exc:
+        write_run_json(run, {'outcome': 'second', 'pad': 'x' * 200_000})
+    msg = str(exc.value)
+    assert str(run / 'run.json') in msg and os.strerror(28) in msg and '\n' not in msg
+    assert yaml.safe_load((run / 'run.json').read_text()) == {'outcome': 'first'}
+    assert sorted(p.name for p in run.iterdir()) == ['params', 'run.json']

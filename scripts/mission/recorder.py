@@ -134,6 +134,7 @@ class BagWriter:
         self._connections = {}
         self._lock = threading.Lock()
         self.closed = False
+        self.error = None  # the first OSError (disk full, file system gone): writing stops there
 
     def add_topic(self, topic, msgtype, offered_qos=(), rihs01=None):
         """Declare a topic (``msgtype`` like 'nav_msgs/msg/Odometry'); returns its connection.
@@ -159,8 +160,11 @@ class BagWriter:
     def write(self, conn, t_ns, data):
         """Append one serialized CDR message at log time ``t_ns`` (ns). Ignored after close."""
         with self._lock:
-            if not self.closed:
-                self._writer.write(conn, t_ns, data)
+            if not self.closed and self.error is None:
+                try:
+                    self._writer.write(conn, t_ns, data)
+                except OSError as err:
+                    self.error = err
 
     @property
     def topics(self):
@@ -177,9 +181,12 @@ class BagWriter:
             if self.closed:
                 return
             self.closed = True
-            self._writer.close()
-            meta = self.path / 'metadata.yaml'
-            meta.write_text(_jazzy_distro(meta.read_text()))
+            try:
+                self._writer.close()
+                meta = self.path / 'metadata.yaml'
+                meta.write_text(_jazzy_distro(meta.read_text()))
+            except OSError as err:  # what was written before stays readable (mission.bag_recovery)
+                self.error = self.error or err
 
     def __enter__(self):
         return self
@@ -450,8 +457,8 @@ def main(argv=None):
                             on_subscribe=lambda t, m: print(f'recording {t} [{m}]', flush=True))
         executor = _make_executor(args.executor)
         executor.add_node(recorder.node)
-        while rclpy.ok():  # spin_once: Jazzy's EventsExecutor.spin() never fires our discovery timer
-            executor.spin_once(timeout_sec=0.1)
+        while rclpy.ok() and recorder.writer.error is None:  # spin_once: Jazzy's EventsExecutor.spin()
+            executor.spin_once(timeout_sec=0.1)                # never fires our discovery timer
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
@@ -460,6 +467,11 @@ def main(argv=None):
             print('recorded ' + json.dumps(counts, sort_keys=True), flush=True)
             recorder.node.destroy_node()
         rclpy.try_shutdown()
+    err = recorder.writer.error if recorder is not None else None
+    if err is not None:
+        print(f'recorder: cannot write {err.filename or args.bag}: {err.strerror or err}',
+              file=sys.stderr, flush=True)
+        return 1
     return 0
 
 

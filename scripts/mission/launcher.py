@@ -83,20 +83,30 @@ def install_stop_handlers():
         signal.signal(sig, _on_stop_signal)
 
 
+#: Parameters rclpy (Jazzy) declares on every node itself (see ship_sim.ros.params.check_overrides).
+RCLPY_PARAMETERS = ('use_sim_time', 'start_type_description_service')
+
+
 def node_parameter_names(package, executable):
     """The parameters ``executable`` of ``package`` declares, from the package's own list:
     config/<name>.yaml (``vessel_node`` -> ``vessel.yaml``), which lists every parameter of
     its node, as installed in share/<package>/config (the source tree's before a build), plus
-    ``use_sim_time``, which rclpy declares on every node."""
+    those rclpy declares on every node (RCLPY_PARAMETERS). A list parameter without a default
+    (an empty list has no type in a ROS parameter file, e.g. guidance_node's
+    course_schedule_deg) is listed in a comment as ``<name>: [...]``."""
+    import re
     name = executable.removesuffix('_node') + '.yaml'
     for folder in (INSTALL / package / 'share' / package / 'config',
                    REPO / 'ros_ws' / 'src' / package / 'config'):
         if (folder / name).is_file():
             from ship_planner.route_yaml import Loader
-            data = yaml.load((folder / name).read_text(), Loader=Loader) or {}
-            names = {'use_sim_time'}
-            for section in data.values():
+            text = (folder / name).read_text()
+            names = set(RCLPY_PARAMETERS)
+            for section in (yaml.load(text, Loader=Loader) or {}).values():
                 names |= set((section or {}).get('ros__parameters') or {})
+            for line in text.splitlines():
+                if line.lstrip().startswith('#'):
+                    names |= set(re.findall(r'\b([a-z][a-z0-9_]*): \[', line))
             return names
     raise ScenarioError(f'{executable}: no parameter list config/{name} in package {package}')
 

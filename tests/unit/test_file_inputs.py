@@ -24,7 +24,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from mission.launcher import (MissionFailed, check_scenario, make_run_dir, node_parameter_names,
+from mission.launcher import (RCLPY_PARAMETERS, MissionFailed, check_scenario, make_run_dir,
+                              node_parameter_names,
                               write_run_json)
 from mission.scenario import MAX_STEPS, ScenarioError, load_scenario
 from ship_planner.route_files import RouteError, load_route
@@ -282,7 +283,18 @@ def test_an_undeclared_node_parameter_is_refused_with_the_closest_one(tmp_path, 
 def test_the_valid_keys_are_the_packages_config_lists(package, node):
     cfg = ROOT / 'ros_ws' / 'src' / package / 'config' / (node.removesuffix('_node') + '.yaml')
     listed = set(yaml.safe_load(cfg.read_text())['/**']['ros__parameters'])
-    assert node_parameter_names(package, node) == listed | {'use_sim_time'}
+    names = node_parameter_names(package, node)
+    assert listed | set(RCLPY_PARAMETERS) <= names
+    for extra in names - listed - set(RCLPY_PARAMETERS):   # list parameters without a default
+        assert f'{extra}: [' in cfg.read_text()
+
+
+SCENARIOS = sorted((ROOT / 'scenarios').glob('*.yaml'))
+
+
+@pytest.mark.parametrize('path', SCENARIOS, ids=[p.stem for p in SCENARIOS])
+def test_every_shipped_scenario_passes_the_launchers_check(path):
+    check_scenario(load_scenario(path))
 
 
 def test_every_key_of_the_config_lists_passes_the_check(tmp_path):

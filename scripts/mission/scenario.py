@@ -43,7 +43,7 @@ from pathlib import Path
 
 import yaml
 
-from ship_planner.route_plan import TextFileError, read_text_file
+from ship_planner.route_plan import MAX_COORDINATE_M, TextFileError, read_text_file
 from ship_planner.route_yaml import Loader
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
@@ -184,8 +184,10 @@ def parse_vessel(ns, v, route, path, where):
     _need(set(start) <= absolute | relative and not (set(start) & absolute
                                                      and set(start) & relative),
           path, where + 'start', f'either {sorted(absolute)} or {sorted(relative)}')
-    for k in start:
-        _number(start, k, path, 0.0, where=where + 'start.')
+    for k in start:   # positions as physical as route points (ship_planner.route_plan);
+        # along_m is checked against its route's length (mission.launcher.check_scenario)
+        bound = MAX_COORDINATE_M if k in ('x_m', 'y_m', 'cross_m') else None
+        _number(start, k, path, 0.0, lo=bound and -bound, hi=bound, where=where + 'start.')
     speed = v.get('speed_mps')
     if speed is not None:
         speed = _number(v, 'speed_mps', path, None, lo=0.0, hi=50.0, where=where)

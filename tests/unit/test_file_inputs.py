@@ -228,6 +228,14 @@ def test_a_start_beyond_the_route_is_refused(tmp_path, along):
     assert 'vessels.vessel_0.start.along_m' in msg and f'{length:.1f}' in msg, msg
 
 
+@pytest.mark.parametrize('start', ['{x_m: 1.0e+308, y_m: 0.0}', '{along_m: 0.0, cross_m: -2.0e+7}'])
+def test_a_non_physical_start_position_is_refused(tmp_path, start):
+    path = scenario_file(tmp_path, f'start: {start}\n')
+    with pytest.raises(ScenarioError) as exc:
+        load_scenario(path)
+    assert 'vessels.vessel_0.start.' in str(exc.value) and str(MAX_COORDINATE_M) in str(exc.value)
+
+
 def test_a_start_on_the_route_is_accepted(tmp_path):
     check_scenario(load_scenario(scenario_file(tmp_path, 'start: {along_m: 100.0}\n')))
 

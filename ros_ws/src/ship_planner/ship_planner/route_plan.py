@@ -72,6 +72,12 @@ class TextFileError(ValueError):
         super().__init__(detail if line is None else f'line {line}: {detail}')
 
 
+def _check_regular(mode):
+    if not stat.S_ISREG(mode):
+        kind = next((k for test, k in _FILE_KINDS if test(mode)), 'not a regular file')
+        raise TextFileError(f'it is {kind}, not a regular file')
+
+
 def read_text_file(path, max_bytes=MAX_FILE_BYTES):
     """The UTF-8 text of the regular file ``path``; TextFileError (one line) otherwise.
 
@@ -79,14 +85,12 @@ def read_text_file(path, max_bytes=MAX_FILE_BYTES):
     directory or a device is refused without waiting for a writer; a file over ``max_bytes``
     or with bytes that are not UTF-8 (line and byte offset given) is refused too."""
     try:
+        _check_regular(os.stat(path).st_mode)     # before opening: opening a device may act
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, 'O_CLOEXEC', 0))
     except OSError as exc:
         raise TextFileError(exc.strerror) from None
     try:
-        mode = os.fstat(fd).st_mode
-        if not stat.S_ISREG(mode):
-            kind = next((k for test, k in _FILE_KINDS if test(mode)), 'not a regular file')
-            raise TextFileError(f'it is {kind}, not a regular file')
+        _check_regular(os.fstat(fd).st_mode)      # and what was opened (it may have been swapped)
         with os.fdopen(fd, 'rb', closefd=False) as f:
             data = f.read(max_bytes + 1)
     except OSError as exc:

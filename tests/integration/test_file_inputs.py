@@ -8,13 +8,19 @@
    it); the node stays up, a good edit is published again, and the node ends with exit code 0;
 3. every parameter a node declares is in its package's config list, which the launcher's check
    (mission.launcher.node_parameter_names) reads: the check never refuses a valid key (the
-   unit tests check the other direction: every listed key is one of the file's keys).
+   unit tests check the other direction: every listed key is one of the file's keys);
+4. a run on a full disk (2 MB tmpfs) fails with exit code 1 and no traceback, and what the
+   launcher wrote (parameter files, the scenario copy, run.json if any) is whole.
 """
 import os
+import subprocess
+import sys
 
 import pytest
+import yaml
 from nav_msgs.msg import Path as PathMsg
 
+from harness import REPO_ROOT
 from mission.launcher import node_parameter_names
 from ship_sim.ros.qos import LATCHED
 
@@ -144,3 +150,36 @@ def test_the_launchers_parameter_lists_are_what_the_nodes_declare(ros_graph, pac
     assert tn.spin_until(future.done, timeout=10.0)
     declared = set(future.result().result.names)
     assert declared <= node_parameter_names(package, executable)
+
+
+@pytest.mark.timeout(240)
+def test_a_run_on_a_full_disk_ends_without_a_traceback_leaving_readable_files(tmp_path):
+    """run_mission on a 2 MB tmpfs: the run fails (exit 1) without a traceback, and what the
+    launcher wrote (parameters, scenario copy, run.json if any) is whole."""
+    disk = tmp_path / 'disk'
+    disk.mkdir()
+    r = subprocess.run(['mount', '-t', 'tmpfs', '-o', 'size=2m', 'tmpfs', str(disk)],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        pytest.skip(f'cannot mount a tmpfs here: {r.stderr.strip()}')
+    try:
+        out = subprocess.run([sys.executable, str(REPO_ROOT / 'scripts' / 'run_mission.py'),
+                              str(REPO_ROOT / 'scenarios' / 'flagship_mariner.yaml'), '--runs',
+                              str(disk), '--duration', '600', '--wall-timeout', '150'],
+                             capture_output=True, text=True, timeout=200,
+                             stdin=subprocess.DEVNULL)
+        assert out.returncode == 1, out.stderr
+        assert 'Traceback' not in out.stderr + out.stdout, out.stderr
+        assert out.stderr.startswith('run_mission: FAILED:'), out.stderr
+        run = (disk / 'latest').resolve()
+        for f in (run / 'params').iterdir():
+            assert yaml.safe_load(f.read_text())['/**']['ros__parameters'], f
+        assert (run / 'scenario.yaml').read_bytes() == \
+            (REPO_ROOT / 'scenarios' / 'flagship_mariner.yaml').read_bytes()
+        if (run / 'run.json').exists():
+            assert yaml.safe_load((run / 'run.json').read_text())['outcome']
+        else:
+            assert f'cannot write {run / "run.json"}' in out.stdout
+        assert not (run / '.run.json.tmp').exists()
+    finally:
+        subprocess.run(['umount', '-l', str(disk)], capture_output=True)

@@ -4,7 +4,9 @@
     .wpt           003-style waypoint table (ship_planner.waypoint_table)
 
 Both return a RoutePlan (ship_guidance.path.Route in NED + metadata) or raise RouteError whose
-message names the file and the line (or table row).
+message names the file and the line (or table row). Both read only regular UTF-8 files and
+apply the same bounds (coordinates, route length, number of legs, file size), all defined in
+ship_planner.route_plan.
 """
 import os
 

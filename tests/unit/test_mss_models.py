@@ -79,10 +79,12 @@ def test_mss_limit_values():
     assert Mariner.rudder_max == pytest.approx(deg(40)) and Mariner.rudder_rate_max == deg(5)
     assert Tanker.rudder_max == pytest.approx(deg(10))
     assert Tanker.rudder_rate_max == pytest.approx(deg(2.33))
-    assert (Tanker.shaft_min, Tanker.shaft_max) == (-80.0, 80.0)
+    # MSS saturates the shaft command at +-80 / +-160 rpm, but both models describe forward
+    # motion only (astern drives u <= 0, outside their domain): ours stop at 0 and 1 rpm.
+    assert (Tanker.shaft_min, Tanker.shaft_max) == (0.0, 80.0)
     assert Container.rudder_max == pytest.approx(deg(10))
     assert Container.rudder_rate_max == pytest.approx(deg(5))
-    assert (Container.shaft_min, Container.shaft_max) == (-160.0, 160.0)
+    assert (Container.shaft_min, Container.shaft_max) == (1.0, 160.0)
 
 
 @pytest.mark.parametrize('name, shaft_cmd, limit', [('tanker', 120.0, 80.0),

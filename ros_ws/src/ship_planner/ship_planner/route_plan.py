@@ -6,7 +6,7 @@ geodetic origin (if any), the corner points as written, and reader-specific extr
 
 Bounds every route reader applies (one place; a route beyond them is refused with a RouteError):
 
-- MAX_COORDINATE_M: |north| and |east| of every point, 1e7 m from the origin, the same value as
+- MAX_COORDINATE_M: |north| and |east| of every point, 1e7 m from the origin: the bound of
   ship_guidance.path.MAX_COORDINATE_M (which the nodes apply to incoming Path messages): beyond
   the scale of the Earth a number is not a place but a fault (1e308 overflows to inf);
 - MAX_ROUTE_LENGTH_M (1000 km) and MAX_ROUTE_SAMPLES (100,000 legs, i.e. curve samples): a
@@ -22,9 +22,8 @@ from dataclasses import dataclass, field
 from typing import Any, Optional
 
 import numpy as np
+from ship_guidance.path import MAX_COORDINATE_M  # one bound for route files and Path messages
 
-#: Largest |north| or |east| (m) of a route point; equals ship_guidance.path.MAX_COORDINATE_M.
-MAX_COORDINATE_M = 1e7
 #: Longest route (m) a route file may describe or generate.
 MAX_ROUTE_LENGTH_M = 1e6
 #: Most legs a route may have (= samples of a generated curve).

@@ -5,8 +5,12 @@
 (AMENT_PREFIX_PATH, PYTHONPATH) instead of sourcing bash, so the launcher and the tests need no
 shell and no ros2 CLI. Every process gets its own session (process group) so it can be stopped
 with all its children; `ProcessGroup.stop()` escalates SIGINT -> SIGTERM -> SIGKILL and is safe to
-call twice, from `finally:` blocks and signal handlers alike.
+call twice, from `finally:` blocks and signal handlers alike. Every process also gets SIGTERM
+when the process that started it dies, even by SIGKILL (Linux's parent-death signal), so a
+killed launcher leaves no orphans, and the recorder, which finalises its bag on SIGTERM, a
+readable bag.
 """
+import ctypes
 import math
 import os
 import re
@@ -135,6 +139,19 @@ def ros_args(namespace=None, params=None, node_name=None, log_level=None):
     return args
 
 
+PR_SET_PDEATHSIG = 1
+
+
+def die_with_parent():
+    """In a child before exec: SIGTERM when its parent dies (PR_SET_PDEATHSIG; Linux).
+
+    The signal follows the thread that forked, so start processes from the main thread."""
+    libc = ctypes.CDLL('libc.so.6', use_errno=True)
+    libc.prctl(PR_SET_PDEATHSIG, signal.SIGTERM)
+    if os.getppid() == 1:   # the parent died before prctl took effect
+        os.kill(os.getpid(), signal.SIGTERM)
+
+
 class NodeProcess:
     """One node process with its output in a log file."""
 
@@ -146,7 +163,8 @@ class NodeProcess:
         self.log_path = log_dir / f"{label.strip('/').replace('/', '.')}.log"
         self._log = open(self.log_path, 'wb')
         self.popen = subprocess.Popen(self.argv, env=env, stdout=self._log, stderr=subprocess.STDOUT,
-                                      stdin=subprocess.DEVNULL, start_new_session=True)
+                                      stdin=subprocess.DEVNULL, start_new_session=True,
+                                      preexec_fn=die_with_parent)
 
     @property
     def returncode(self):

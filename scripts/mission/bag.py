@@ -25,6 +25,7 @@ from their CDR bytes with vectorised numpy (no per-message deserialisation; the 
 variable-length frame-id strings are computed for all messages at once). Path (only the latest
 message) and the progress topic (any type) go through the rosbags typestore.
 """
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
@@ -34,6 +35,8 @@ import yaml
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 from ship_sim.ros import odometry_cdr as cdr
+
+from mission import bag_recovery
 
 NS_PER_S = 1e9
 
@@ -225,6 +228,11 @@ def _open(path):
     path = Path(path)
     if not path.exists():
         raise BagError(f'{path}: no such file or directory')
+    if bag_recovery.needs_recovery(path):   # the recorder was killed: rebuild what it wrote
+        try:
+            print(bag_recovery.recover_bag(path), file=sys.stderr, flush=True)
+        except (bag_recovery.RecoveryError, OSError) as err:
+            raise BagError(f'{path}: interrupted recording, not recoverable: {err}') from err
     if not path.is_dir() or not (path / 'metadata.yaml').is_file():
         raise BagError(f'{path} is not a rosbag2 bag (a directory with metadata.yaml); '
                        'an interrupted recording may lack it')

@@ -16,6 +16,7 @@ Run folder: runs/<scenario>-<timestamp>/ with params/ (one ROS parameter file pe
 logs/ (one log per process), bag/ (rosbag2 MCAP), metrics.json, *.png; runs/latest points at it.
 """
 import fcntl
+import json
 import math
 import os
 import signal
@@ -471,14 +472,29 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             progress(f'  {exc}')    # the run's own failure says more; it goes on
         progress(f'{outcome}: sim {sim_t:.1f} s in {wall:.1f} s wall '
                  f'(x{sim_t / max(wall, 1e-9):.1f} real time)')
-    metrics = None
-    if analyse and record:
-        from mission.report import analyse_bag
-        platoon = None
-        if scenario.platoon is not None:
-            platoon = {f'/{s.namespace}': f'/{s.predecessor}' if s.predecessor else None
-                       for s in scenario.vessels}
-        metrics = analyse_bag(run / 'bag', run, settle_s=scenario.settle_s, platoon=platoon)
-        metrics['run'] = summary
-        progress(f'metrics and plots written to {run}')
+        if in_flight is not None and analyse and record:
+            # A failed or interrupted run still gets metrics and plots of what was recorded.
+            try:
+                _analyse(scenario, run, summary, progress, partial=True)
+            except Exception as exc:  # noqa: BLE001 - the run's own failure is what is reported
+                progress(f'  no metrics for this run ({type(exc).__name__}: {exc}); '
+                         f'try: scripts/replay_bag.py {run / "bag"}')
+    metrics = _analyse(scenario, run, summary, progress) if analyse and record else None
     return run, metrics
+
+
+def _analyse(scenario, run, summary, progress, partial=False):
+    """metrics.json and the plots of a run's bag; prints whether the record is complete."""
+    from mission.integrity import summary_line
+    from mission.report import analyse_bag
+    platoon = None
+    if scenario.platoon is not None:
+        platoon = {f'/{s.namespace}': f'/{s.predecessor}' if s.predecessor else None
+                   for s in scenario.vessels}
+    metrics = analyse_bag(run / 'bag', run, settle_s=scenario.settle_s, platoon=platoon)
+    metrics['run'] = summary
+    with open(run / 'metrics.json', 'w') as f:   # with the run's summary beside the metrics
+        json.dump(metrics, f, indent=2, allow_nan=False)
+    progress(summary_line(metrics['record']))
+    progress(f'metrics and plots {"of what was recorded " if partial else ""}written to {run}')
+    return metrics

@@ -1,0 +1,77 @@
+"""Faults leave a usable record.
+
+1. SIGKILL of the launcher mid-run: every child gets its parent-death signal (SIGTERM), so no
+   node or recorder outlives it, and the recorder finalises the bag on that SIGTERM.
+2. SIGKILL of the recorder mid-run (realtime): the launcher fails the run (exit 1) and still analyses
+   what was recorded: the bag (MCAP without summary nor metadata.yaml) is recovered from its
+   flushed chunks, and metrics.json covers the steps that reached the disk.
+3. Ctrl-C: the interrupted run gets its metrics and plots of what was recorded.
+"""
+import json
+import os
+import signal
+import time
+
+import pytest
+
+from mission.bag import read_bag
+
+from test_launcher import NS, SCENARIO, launch, run_processes  # noqa: F401 (launch: fixture)
+
+
+def wait_gone(marker, timeout):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        left = run_processes(marker)
+        if not left:
+            return []
+        time.sleep(0.2)
+    return run_processes(marker)
+
+
+def started(run, log='vessel_0.vessel_node', text='publishing step 0'):
+    assert run.wait_for_log(log, text, timeout=40.0), run.report()
+    time.sleep(1.0)   # some steps into the run
+
+
+@pytest.mark.timeout(120)
+def test_killing_the_launcher_leaves_no_orphans_and_a_readable_bag(launch):
+    run = launch(SCENARIO, '--duration', 10000, '--wall-timeout', 90)
+    started(run)
+    assert len(run_processes(str(run.runs))) == 6   # the launcher, 4 nodes, the recorder
+    os.kill(run.popen.pid, signal.SIGKILL)
+    assert run.wait(10.0) == -signal.SIGKILL
+    assert wait_gone(str(run.runs), 15.0) == [], 'children outlived the launcher'
+    data = read_bag(run.run_dir() / 'bag')   # finalised on SIGTERM, or recovered
+    assert len(data.vessels[NS].t) > 10
+
+
+@pytest.mark.timeout(120)
+def test_a_killed_recorder_fails_the_run_and_its_bag_is_recovered(launch):
+    # realtime x1: the route takes minutes, so the run is still going when the recorder dies
+    run = launch(SCENARIO, '--duration', 10000, '--wall-timeout', 90, '--stepping', 'realtime')
+    started(run, 'recorder', f'recording {NS}/odom')
+    time.sleep(1.5)   # the recorder flushes its chunk every second
+    rec = [pid for pid, argv in run_processes(str(run.runs)) if any('recorder.py' in a for a in argv)]
+    assert len(rec) == 1
+    os.kill(rec[0], signal.SIGKILL)
+    assert run.wait(60.0) == 1, run.report()
+    out = run.stdout() + run.stderr()
+    assert 'recorder exited' in out and 'recovered an interrupted recording' in out, run.report()
+    metrics = json.loads((run.run_dir() / 'metrics.json').read_text())
+    assert metrics['run']['outcome'] == 'failed'
+    assert metrics['vessels'][NS]['odom_samples'] > 10
+    assert run_processes(str(run.runs)) == []
+
+
+@pytest.mark.timeout(120)
+def test_an_interrupted_run_gets_metrics_of_what_was_recorded(launch):
+    run = launch(SCENARIO, '--duration', 10000, '--wall-timeout', 90)
+    started(run)
+    run.popen.send_signal(signal.SIGINT)
+    assert run.wait(30.0) == 130, run.report()
+    assert 'metrics and plots of what was recorded written' in run.stdout() + run.stderr()
+    metrics = json.loads((run.run_dir() / 'metrics.json').read_text())
+    assert metrics['run']['outcome'] == 'interrupted'
+    assert metrics['record']['complete'], metrics['record']
+    assert any(p.suffix == '.png' for p in run.run_dir().iterdir())

@@ -40,8 +40,11 @@ subscribed and matched to a publisher, so no step 0 is missed; vessel_node's
 ahead. In realtime nobody waits: losses are counted by ``mission.bag.record_integrity``.
 
 Stopping: SIGINT/SIGTERM (the launcher's ``ProcessGroup.stop``) end the spin and ``close()``
-finalises the bag, so an interrupted run still leaves a complete bag. Only SIGKILL leaves an
-MCAP without summary and without metadata.yaml (and empty below rosbags' 1 MiB chunk size).
+finalises the bag, so an interrupted run still leaves a complete bag. SIGKILL leaves an MCAP
+without summary and without metadata.yaml; the recorder closes its chunk and flushes the file
+every FLUSH_PERIOD_S, and writes its custom data to ``recording.yaml`` at the start, so
+``mission.bag_recovery`` (run by ``mission.bag`` whenever such a bag is opened) gets back all
+but the last second. A write error (disk full) ends the recording with one line and exit 1.
 
 CLI (one process of the launcher)::
 
@@ -61,10 +64,10 @@ import struct
 import sys
 import threading
 import time
+from io import BytesIO
 from pathlib import Path
 
-from io import BytesIO
-
+import yaml
 from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.rosbag2 import storage_mcap
@@ -74,6 +77,8 @@ CLOCK_TOPIC = '/clock'
 DEFAULT_EXCLUDE = r'^/(rosout|parameter_events)$'
 BAG_VERSION = 9  # rosbag2 metadata version written by Jazzy
 ROS_DISTRO = 'jazzy'
+RECORDING_FILE = 'recording.yaml'  # custom data, written at open (mission.bag_recovery reads it)
+FLUSH_PERIOD_S = 1.0               # a killed recorder loses at most about this much
 
 
 # -- the bag file (no rclpy) -------------------------------------------------------------------
@@ -121,7 +126,7 @@ class BagWriter:
     ``close()``; both are idempotent and safe from a ``finally`` block.
     """
 
-    def __init__(self, path, storage='mcap', typestore=None, custom_data=None):
+    def __init__(self, path, storage='mcap', typestore=None, custom_data=None, side_file=True):
         plugin = {'mcap': StoragePlugin.MCAP, 'sqlite3': StoragePlugin.SQLITE3}[storage]
         self.path = Path(path)
         self.typestore = typestore or get_typestore(Stores.ROS2_JAZZY)
@@ -129,8 +134,12 @@ class BagWriter:
         for key, value in (custom_data or {}).items():
             self._writer.set_custom_data(str(key), str(value))
         self._writer.open()
-        if plugin == StoragePlugin.MCAP:
+        self._mcap = plugin == StoragePlugin.MCAP
+        if self._mcap:
             _as_rosbag2_mcap(self._writer.storage)
+        if side_file:  # metadata.yaml comes only at close: what mission.bag_recovery needs before
+            (self.path / RECORDING_FILE).write_text(yaml.safe_dump(
+                {'custom_data': {str(k): str(v) for k, v in (custom_data or {}).items()}}))
         self._connections = {}
         self._lock = threading.Lock()
         self.closed = False
@@ -165,6 +174,20 @@ class BagWriter:
                     self._writer.write(conn, t_ns, data)
                 except OSError as err:
                     self.error = err
+
+    def flush(self):
+        """Put what is pending on disk (MCAP: close the open chunk), so that a recorder killed
+        now loses nothing before it (mission.bag_recovery reads the rest back)."""
+        with self._lock:
+            if self.closed or self.error is not None or not self._mcap:
+                return
+            storage = self._writer.storage
+            try:
+                if storage.chunk.msgs:
+                    storage.close_chunk()
+                storage.bio.flush()
+            except OSError as err:
+                self.error = err
 
     @property
     def topics(self):
@@ -301,6 +324,7 @@ class Recorder:
         if self.wanted is not None:
             self.wanted |= set(self._seen)
         self._discovery = self.node.create_timer(discovery_period_s, self.discover)
+        self._flush = self.node.create_timer(FLUSH_PERIOD_S, self.writer.flush)
         self.discover()
 
     # topics

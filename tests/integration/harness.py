@@ -28,7 +28,6 @@ Usage (fixture ``ros_graph`` from conftest.py)::
         assert tn.wait_for_message(odom, timeout=10.0) is not None
         assert ros_graph.stop(sim) == 0
 """
-import ctypes
 import fcntl
 import os
 import re
@@ -41,7 +40,7 @@ import rclpy
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 
-from mission.processes import executable, format_param
+from mission.processes import die_with_parent, executable, format_param
 from ship_sim.ros.qos import STREAM
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -89,10 +88,7 @@ class DomainLease:
 
 # -- node processes ------------------------------------------------------------------------------
 
-def _die_with_parent():
-    # In the child before exec: SIGTERM when the test process dies (even by SIGKILL).
-    libc = ctypes.CDLL('libc.so.6', use_errno=True)
-    libc.prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
+_die_with_parent = die_with_parent  # SIGTERM when the test process dies (even by SIGKILL)
 
 
 class NodeProcess:

@@ -11,6 +11,8 @@ from pathlib import Path
 import pytest
 from catkin_pkg.package import parse_package
 
+from harness import DomainLease
+
 REPO = Path(__file__).resolve().parents[2]
 SRC = REPO / 'ros_ws' / 'src'
 INSTALL = REPO / 'ros_ws' / 'install'
@@ -74,7 +76,16 @@ def setup_bash_env():
 
 @pytest.mark.parametrize('pkg', PACKAGES)
 def test_executables_run_and_refuse_a_bad_parameter_in_one_line(pkg, setup_bash_env):
-    env = dict(setup_bash_env, ROS_DOMAIN_ID='231', ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+    lease = DomainLease()   # the domain scheme every test shares
+    env = dict(setup_bash_env, ROS_DOMAIN_ID=str(lease.domain_id),
+               ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+    try:
+        _refuse_bad_parameters(pkg, env)
+    finally:
+        lease.close()
+
+
+def _refuse_bad_parameters(pkg, env):
     for exe in console_scripts(pkg):
         assert exe in BAD_PARAMETER, f'add a bad parameter for {exe} to BAD_PARAMETER'
         name, value = BAD_PARAMETER[exe]

@@ -18,15 +18,17 @@ import yaml
 from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Odometry, Path as PathMsg
 from rosgraph_msgs.msg import Clock
-from std_msgs.msg import Float64
+from std_msgs.msg import Float64, UInt64
 
 from mission.bag import read_bag
+from mission.processes import die_with_parent
 from ship_sim.ros.qos import LATCHED, STREAM
 
 RECORDER = Path(__file__).resolve().parents[2] / 'scripts' / 'mission' / 'recorder.py'
 NS = '/vessel_0'
 STEP_NS = 100_000_000
 N = 200
+ACK = '/recorder_ack'  # the recorder's acknowledgement of complete steps (--ack)
 
 
 def _wait_for(path, pattern, timeout, proc):
@@ -57,10 +59,14 @@ def test_recorder_process_records_a_late_latched_route_and_every_step(ros_graph,
     rudder_pub = tn.publisher(f'{NS}/rudder', Float64, STREAM)
 
     bag = tmp_path / 'run' / 'bag'
+    covered = ','.join(('/clock', f'{NS}/odom', f'{NS}/rudder'))
+    acks = tn.subscribe(ACK, UInt64)
     out = tmp_path / 'recorder.out'
     with open(out, 'wb') as fout:
-        rec = subprocess.Popen([sys.executable, str(RECORDER), str(bag)], env=ros_graph.env, stdout=fout,
-                               stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL, start_new_session=True)
+        rec = subprocess.Popen([sys.executable, str(RECORDER), str(bag), '--ack', f'{ACK}={covered}'],
+                               env=ros_graph.env, stdout=fout,
+                               stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL, start_new_session=True,
+                               preexec_fn=die_with_parent)
     try:
         for topic in ('/clock', f'{NS}/odom', f'{NS}/rudder', f'{NS}/route'):
             assert _wait_for(out, f'recording {re.escape(topic)} ', 20.0, rec), out.read_text()
@@ -78,7 +84,9 @@ def test_recorder_process_records_a_late_latched_route_and_every_step(ros_graph,
             rudder_pub.publish(Float64(data=0.001 * k))
             tn.spin_once(0.0)
             time.sleep(0.002)
-        tn.spin_for(1.0)  # let reliable delivery finish
+        # The recorder's lockstep acknowledgement: every step of the three topics is written.
+        assert tn.spin_until(lambda: len(acks) and acks.last.data == N, timeout=20.0), (
+            [m.data for m in acks.messages[-3:]], out.read_text())
         rec.send_signal(signal.SIGINT)
         assert rec.wait(timeout=10.0) == 0, out.read_text()
     finally:

@@ -16,11 +16,8 @@ import time
 
 import numpy as np
 import pytest
-import rclpy
 from builtin_interfaces.msg import Time
 from nav_msgs.msg import Path
-from rclpy.context import Context
-from rclpy.parameter import Parameter
 from rclpy.serialization import serialize_message
 
 from ship_guidance.path import MAX_COORDINATE_M, Line, Route
@@ -28,7 +25,7 @@ from ship_guidance.ros import path_msgs
 from ship_guidance.ros.odom_gate import CONFIRM_SAMPLES, JUMP_MARGIN_M, OdomGate
 from ship_guidance.ros.path_msgs import (MAX_ROUTE_POSES, accept_route, path_msg_to_route,
                                          route_to_path_msg)
-from ship_sim.ros.params import NodeParameters, ParameterError, check_overrides
+from ship_sim.ros.params import ParameterError, check_overrides
 from ship_sim.ros.run import rcl_reason
 from ship_sim.simulator import VesselSimulator
 
@@ -49,25 +46,6 @@ def test_rcl_reason_is_one_line_without_c_source_locations():
     text = rcl_reason(exc)
     assert '\n' not in text and '.c:' not in text and 'Error opening YAML file' in text
     assert '--foo' in rcl_reason(UnknownROSArgsError(['--foo']))
-
-
-@pytest.fixture
-def make_node():
-    ctx = Context()
-    rclpy.init(context=ctx, domain_id=98)   # no communication happens
-    nodes = []
-
-    def make(**overrides):
-        node = rclpy.create_node(f'inputs_test_{len(nodes)}', context=ctx,
-                                 parameter_overrides=[Parameter(k, value=v)
-                                                      for k, v in overrides.items()])
-        nodes.append(node)
-        return node, NodeParameters(node)
-
-    yield make
-    for node in nodes:
-        node.destroy_node()
-    ctx.try_shutdown()
 
 
 def test_undeclared_parameter_is_refused_naming_the_closest_declared_one(make_node):

@@ -6,14 +6,12 @@ r_FLU = -r_FRD; Odometry pose in 'map' (ENU), twist in the body frame FLU.
 import math
 
 import pytest
-import rclpy
-from rclpy.context import Context
 from rclpy.parameter import Parameter
 
 from ship_sim.ros.conversions import (base_link_frame, make_odometry, msg_to_nanoseconds,
                                       msg_to_time, odometry_to_ned, quaternion_to_yaw,
                                       time_to_msg, yaw_to_quaternion)
-from ship_sim.ros.params import NodeParameters, ParameterError
+from ship_sim.ros.params import ParameterError
 
 
 def test_odometry_from_ned_by_hand():
@@ -73,25 +71,6 @@ def test_base_link_frame():
 
 
 # -- params ----------------------------------------------------------------------------------
-
-@pytest.fixture
-def make_node():
-    ctx = Context()
-    rclpy.init(context=ctx, domain_id=99)   # no communication happens; the id is irrelevant
-    nodes = []
-
-    def make(**overrides):
-        node = rclpy.create_node(f'params_test_{len(nodes)}', context=ctx,
-                                 parameter_overrides=[Parameter(k, value=v)
-                                                      for k, v in overrides.items()])
-        nodes.append(node)
-        return node, NodeParameters(node)
-
-    yield make
-    for node in nodes:
-        node.destroy_node()
-    ctx.try_shutdown()
-
 
 def test_start_values_are_checked(make_node):
     node, p = make_node(dt=0.05)

@@ -15,6 +15,7 @@ import time
 import pytest
 
 from mission.bag import read_bag
+from mission.bag_recovery import scan
 
 from test_launcher import NS, SCENARIO, launch, run_processes  # noqa: F401 (launch: fixture)
 
@@ -27,6 +28,19 @@ def wait_gone(marker, timeout):
             return []
         time.sleep(0.2)
     return run_processes(marker)
+
+
+def wait_flushed(bag, timeout, n=20):
+    """Until the recorder has put n odometry messages on disk (it closes a chunk every second)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        for mcap in bag.glob('*.mcap'):
+            _schemas, channels, messages = scan(mcap)
+            odom = {cid for cid, ch in channels.items() if ch[0] == f'{NS}/odom'}
+            if sum(1 for m in messages if m[0] in odom) >= n:
+                return True
+        time.sleep(0.2)
+    return False
 
 
 def started(run, log='vessel_0.vessel_node', text='publishing step 0'):
@@ -51,7 +65,7 @@ def test_a_killed_recorder_fails_the_run_and_its_bag_is_recovered(launch):
     # realtime x1: the route takes minutes, so the run is still going when the recorder dies
     run = launch(SCENARIO, '--duration', 10000, '--wall-timeout', 90, '--stepping', 'realtime')
     started(run, 'recorder', f'recording {NS}/odom')
-    time.sleep(1.5)   # the recorder flushes its chunk every second
+    assert wait_flushed(run.run_dir() / 'bag', 20.0), 'the recorder flushed no odometry'
     rec = [pid for pid, argv in run_processes(str(run.runs)) if any('recorder.py' in a for a in argv)]
     assert len(rec) == 1
     os.kill(rec[0], signal.SIGKILL)

@@ -21,7 +21,8 @@ from mission.report import analyse_bag  # noqa: E402
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    p.add_argument('bag', help='rosbag2 directory (with metadata.yaml)')
+    p.add_argument('bag', help='rosbag2 directory (one without metadata.yaml, left by a killed '
+                   'recorder, is recovered first: mission.bag_recovery)')
     p.add_argument('--out', default=None, help='output directory (default: the bag\'s parent)')
     p.add_argument('--settle', type=float, default=None, metavar='S',
                    help='seconds excluded at the start (default: 10 %% of the run)')

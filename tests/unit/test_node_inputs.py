@@ -1,5 +1,5 @@
 """Bad input to the nodes, at the level of the shared helpers (no node processes; those are in
-tests/integration/test_node_inputs.py):
+tests/integration/test_node_input_processes.py):
 
 - run_node's one-line reason from rcl's errors, and check_overrides refusing an undeclared
   parameter with the closest declared one;

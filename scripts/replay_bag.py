@@ -16,6 +16,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from mission import metrics  # noqa: E402
 from mission.bag import BagError  # noqa: E402
+from mission.integrity import summary_line  # noqa: E402
 from mission.report import analyse_bag  # noqa: E402
 
 
@@ -48,6 +49,9 @@ def main(argv=None):
         print(f'replay_bag: {err}', file=sys.stderr)
         return 2
     out = Path(args.out) if args.out else Path(args.bag).resolve().parent
+    if result.get('recovered'):
+        print(result['recovered'])
+    print(summary_line(result['record']))
     for ns, m in result['vessels'].items():
         if 'error' in m:
             print(f'{ns}: {m["error"]}')

@@ -25,7 +25,6 @@ from their CDR bytes with vectorised numpy (no per-message deserialisation; the 
 variable-length frame-id strings are computed for all messages at once). Path (only the latest
 message) and the progress topic (any type) go through the rosbags typestore.
 """
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
@@ -112,6 +111,7 @@ class BagData:
     vessels: dict  # namespace -> VesselData
     custom_data: dict = field(default_factory=dict)  # metadata.yaml custom_data (str -> str)
     clock: np.ndarray | None = None  # the /clock values (sim s) in recording order, if recorded
+    recovered: str | None = None     # the recovery's report when the recording was interrupted
 
 
 # -- vectorised CDR decoding -------------------------------------------------------------------
@@ -228,11 +228,6 @@ def _open(path):
     path = Path(path)
     if not path.exists():
         raise BagError(f'{path}: no such file or directory')
-    if bag_recovery.needs_recovery(path):   # the recorder was killed: rebuild what it wrote
-        try:
-            print(bag_recovery.recover_bag(path), file=sys.stderr, flush=True)
-        except (bag_recovery.RecoveryError, OSError) as err:
-            raise BagError(f'{path}: interrupted recording, not recoverable: {err}') from err
     if not path.is_dir() or not (path / 'metadata.yaml').is_file():
         raise BagError(f'{path} is not a rosbag2 bag (a directory with metadata.yaml); '
                        'an interrupted recording may lack it')
@@ -242,6 +237,16 @@ def _open(path):
     except Exception as err:  # rosbags raises AnyReaderError, ReaderError, ... : name the bag either way
         raise BagError(f'{path}: cannot open bag: {err}') from err
     return reader
+
+
+def recover_if_needed(path):
+    """Rebuild a bag whose recorder was killed (mission.bag_recovery); its one-line report or None."""
+    if not bag_recovery.needs_recovery(path):
+        return None
+    try:
+        return bag_recovery.recover_bag(path)
+    except (bag_recovery.RecoveryError, OSError) as err:
+        raise BagError(f'{path}: interrupted recording, not recoverable: {err}') from err
 
 
 def read_custom_data(path):
@@ -259,6 +264,7 @@ def read_bag(path, topics=None, namespaces=None, pair_by_sequence=True):
     Raises BagError when the path is not a bag or no vessel (Odometry topic) is in it.
     """
     names = {**DEFAULT_TOPICS, **(topics or {})}
+    recovered = recover_if_needed(path)
     reader = _open(path)
     try:
         conns = {c.topic: c for c in reader.connections}
@@ -296,7 +302,7 @@ def read_bag(path, topics=None, namespaces=None, pair_by_sequence=True):
     finally:
         reader.close()
     return BagData(path=Path(path), topics=info, time_source=source, vessels=vessels, custom_data=custom,
-                   clock=clock)
+                   clock=clock, recovered=recovered)
 
 
 def _clock_values(clock_datas):

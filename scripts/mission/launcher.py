@@ -495,6 +495,8 @@ def _analyse(scenario, run, summary, progress, partial=False):
     metrics['run'] = summary
     with open(run / 'metrics.json', 'w') as f:   # with the run's summary beside the metrics
         json.dump(metrics, f, indent=2, allow_nan=False)
+    if metrics.get('recovered'):
+        progress(metrics['recovered'])
     progress(summary_line(metrics['record']))
     progress(f'metrics and plots {"of what was recorded " if partial else ""}written to {run}')
     return metrics

@@ -62,6 +62,8 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
     result = {'bag': str(bag_dir), 'time_source': data.time_source,
               'topics': {t: {'type': ty, 'count': n} for t, (ty, n) in sorted(data.topics.items())},
               'record': record, 'vessels': {}}
+    if data.recovered:
+        result['recovered'] = data.recovered
     for ns, v in data.vessels.items():
         if len(v.t) < 2:
             result['vessels'][ns] = {'error': 'fewer than two odometry messages', 'missing_topics': v.missing}

@@ -10,7 +10,11 @@ LOCALHOST):
   recorder. The launcher's own progress monitor (an rclpy node following /clock) is not
   started: it is no part of the graph and would take CPU from it.
 - ``graph + recorder``: the same with the launcher's bag recorder (scripts/mission/recorder.py,
-  MCAP, every topic), as ``make demo`` records.
+  MCAP, every topic), as ``make demo`` records: lossless, the simulator waits for the
+  recorder's acknowledgements (vessel_node ``lockstep_record_topic``).
+- ``graph + recorder, no handshake``: the recorder without that handshake (as before it
+  existed; it may lose messages on a loaded machine). Goal: the handshake costs at most 20 %
+  of the real-time factor (GOAL_RECORDER_RATIO).
 - ``graph, no /clock subscribers`` (diagnostic): the graph with use_sim_time false on route,
   guidance and autopilot, so nobody follows the /clock the vessel publishes every step (those
   nodes time everything from odom stamps and have no timers; see NO_CLOCK_PARAMS): the cost of
@@ -63,6 +67,7 @@ QUICK_SIM_TIME_S = 200.0
 REPEATS = 2
 GOAL_RTF = 50.0
 GOAL_RECORDER_RATIO = 0.8
+NO_HANDSHAKE = 'graph + recorder, no handshake'
 GOAL_FLOOR_RATIO = 1.5
 START_TIMEOUT_S = 60.0
 POLL_S = 0.01
@@ -139,10 +144,12 @@ def _domain_id():
     return lease_domain_id()
 
 
-def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL):
+def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL, handshake=True):
     """The flagship graph in lockstep for ``steps`` steps; figures from the vessel node's log.
     ``overrides``: {executable: {parameter: value}} on top of the launcher's parameters;
-    ``install``: the colcon install tree to run (A/B comparisons of two builds)."""
+    ``install``: the colcon install tree to run (A/B comparisons of two builds);
+    ``handshake``: with ``record``, the recorder's lockstep acknowledgements (False: the
+    simulator does not wait for the recorder, which may then lose messages)."""
     from mission.launcher import NODES, RECORDER, node_parameters, record_ack_arg, write_params
     from mission.scenario import load_scenario
     scenario = load_scenario(SCENARIO)
@@ -155,6 +162,8 @@ def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL):
     params, _plan = node_parameters(scenario, spec, 0, record)
     for exe, extra in (overrides or {}).items():
         params[exe].update(extra)
+    if not handshake:
+        params['vessel_node']['lockstep_record_topic'] = ''
     group = ProcessGroup(install_env(domain_id=_domain_id(), install=install), run / 'logs')
     t_start = time.time()
     out = {'config': label, 'steps': steps, 'sim_time_s': steps * scenario.dt_s}
@@ -164,7 +173,7 @@ def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL):
                 group.start_argv('recorder', [sys.executable, RECORDER, run / 'bag',
                                               '--time-source', 'sim', '--exclude',
                                               r'^/(rosout|parameter_events)$',
-                                              *record_ack_arg(ns, True)])
+                                              *(record_ack_arg(ns, True) if handshake else [])])
             f = write_params(run, ns, exe, params[exe])
             group.start_argv(f'{ns}/{exe}', [executable(pkg, exe, install), '--ros-args', '-r',
                                              f'__ns:=/{ns}', '--params-file', f])
@@ -248,6 +257,7 @@ def run(quick=False):
     configs = {
         'graph': lambda d: graph_run(steps, False, 'graph', d),
         'graph + recorder': lambda d: graph_run(steps, True, 'graph + recorder', d),
+        NO_HANDSHAKE: lambda d: graph_run(steps, True, NO_HANDSHAKE, d, handshake=False),
         NO_CLOCK: lambda d: graph_run(steps, False, NO_CLOCK, d, overrides=NO_CLOCK_PARAMS),
         'relay floor': lambda d: relay_run(steps, d, raw=True),
         'relay, deserialising': lambda d: relay_run(steps, d, raw=False),
@@ -270,6 +280,7 @@ def run(quick=False):
         rows.append(row)
     g = rows[0]
     rec = next(r for r in rows if r['config'] == 'graph + recorder')
+    loose = next(r for r in rows if r['config'] == NO_HANDSHAKE)
     walls = '; '.join(k + ' ' + ', '.join(f"{r['stepping_s']:.2f}" for r in v)
                       for k, v in results.items())
     notes = [f'{steps} steps ({sim_time:g} s sim), best of {repeats} repeat(s) per row; '
@@ -306,7 +317,7 @@ def run(quick=False):
                   common.goal('stepping time / relay floor', g['floor_ratio'],
                               GOAL_FLOOR_RATIO, 'x'),
                   # the lossless recorder handshake may cost at most 20 % of the rate
-                  common.goal('RT factor with the recorder / without', rec['rtf'] / g['rtf'],
+                  common.goal('RT factor with the recorder handshake / without', rec['rtf'] / loose['rtf'],
                               GOAL_RECORDER_RATIO, '', below=False)],
         'notes': notes, 'runs': results,
         'failed': bool(bad),

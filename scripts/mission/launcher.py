@@ -16,7 +16,6 @@ Run folder: runs/<scenario>-<timestamp>/ with params/ (one ROS parameter file pe
 logs/ (one log per process), bag/ (rosbag2 MCAP), metrics.json, *.png; runs/latest points at it.
 """
 import fcntl
-import json
 import math
 import os
 import signal
@@ -248,12 +247,11 @@ def node_parameters(scenario, spec, index, record):
         'lockstep_odom_subscribers': (2 + int(record)) if scenario.platoon is None else
         scenario.platoon.odom_subscribers(spec.namespace, record),
     }
-    if scenario.platoon is not None and lockstep:
-        # A predecessor never runs so far ahead that its odom queue overwrites a sample its
-        # followers have not taken; its subscription to a follower's odom is one more of those.
+    if scenario.platoon is not None:
+        # A predecessor never runs so far ahead (lockstep) that its odom queue overwrites a
+        # sample its followers have not taken.
         followers = scenario.platoon.followers_of(spec.namespace)
         vessel['lockstep_follower_odom_topics'] = ','.join(f'/{f}/odom' for f in followers)
-        vessel['lockstep_odom_subscribers'] += int(spec.predecessor is not None)
     if spec.speed is not None:
         vessel['initial_speed'] = spec.speed
     cur = spec.current
@@ -491,10 +489,8 @@ def _analyse(scenario, run, summary, progress, partial=False):
     if scenario.platoon is not None:
         platoon = {f'/{s.namespace}': f'/{s.predecessor}' if s.predecessor else None
                    for s in scenario.vessels}
-    metrics = analyse_bag(run / 'bag', run, settle_s=scenario.settle_s, platoon=platoon)
-    metrics['run'] = summary
-    with open(run / 'metrics.json', 'w') as f:   # with the run's summary beside the metrics
-        json.dump(metrics, f, indent=2, allow_nan=False)
+    metrics = analyse_bag(run / 'bag', run, settle_s=scenario.settle_s, platoon=platoon,
+                          extra={'run': summary})
     if metrics.get('recovered'):
         progress(metrics['recovered'])
     progress(summary_line(metrics['record']))

@@ -128,8 +128,10 @@ class Platoon:
 
     def odom_subscribers(self, namespace, record):
         """Subscribers a vessel_node waits for before step 0 in lockstep: its guidance or
-        follower, its autopilot, the recorder, and the followers of the vessel."""
-        return 2 + int(bool(record)) + len(self.followers_of(namespace))
+        follower, its autopilot, the recorder, the followers of the vessel, and for a follower
+        its predecessor's simulator (which keeps within lockstep_follower_window steps of it)."""
+        return (2 + int(bool(record)) + len(self.followers_of(namespace))
+                + int(self.predecessors.get(namespace) is not None))
 
 
 def start_order(platoon):

@@ -43,13 +43,14 @@ RUDDER_LIMIT_KEY = 'mission.rudder_limit_rad'
 
 
 def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, topics=None, namespaces=None,
-                reward_step_s=metrics.REWARD_STEP_S, episode_s=None, make_pngs=True, platoon=None):
+                reward_step_s=metrics.REWARD_STEP_S, episode_s=None, make_pngs=True, platoon=None,
+                extra=None):
     """Write ``metrics.json`` and the plots for ``bag_dir`` into ``out_dir`` (default: the bag's parent).
 
     Returns the metrics dict: {'bag', 'time_source', 'topics': {topic: {type, count}},
     'vessels': {namespace: vessel_metrics(...) + 'missing_topics'}, 'plots': [file names]}.
     ``platoon``: {namespace: predecessor namespace or None} for a platoon run (module docstring);
-    adds 'platoon' to the result.
+    adds 'platoon' to the result. ``extra``: more top-level entries (e.g. the run's summary).
     Raises ``mission.bag.BagError`` when the path is not a bag or has no vessel odometry.
     """
     bag_dir = Path(bag_dir)
@@ -93,6 +94,7 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
         result['plots'] = [p.name for p in plots.make_plots(data.vessels, out, limits, settle_shown)]
         if platoon:
             result['plots'] += [p.name for p in plot_platoon(gaps, result['platoon'], out, settle_shown)]
+    result.update(extra or {})
     with open(out / 'metrics.json', 'w') as f:
         json.dump(result, f, indent=2, sort_keys=False, allow_nan=False)
     return result

@@ -1,7 +1,7 @@
 """Standard manoeuvres (turning circle, zig-zag) run on a plant model and measured.
 
-Method (as /work/shared/reference/mss_golden/maneuvers.json documents it, so our numbers are
-comparable with MSS run under Octave; cf. the IMO manoeuvring standards and Fossen, Handbook
+Method (as the MSS reference runs under Octave document it, tests/data/mss_golden/maneuvers.json,
+so our numbers are comparable with MSS; cf. the IMO manoeuvring standards and Fossen, Handbook
 of Marine Craft Hydrodynamics and Motion Control, 2nd ed., Sec. 16.1):
 
 - Start from the model's straight-running trim (``model.initial_state``), rudder 0, and

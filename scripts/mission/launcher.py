@@ -350,6 +350,23 @@ def _wait_for_step0(proc, vparams, monitor, group):
         monitor.spin(0.05)
 
 
+def _last_line(proc):
+    """The last line a process printed: a node's or the recorder's one-line reason for failing
+    (the whole log is in its file)."""
+    lines = [ln.strip() for ln in proc.output().splitlines() if ln.strip()]
+    return lines[-1] if lines else 'it printed nothing'
+
+
+def _exit_status(code):
+    """'code 1', or 'SIGKILL' for a process a signal ended (Popen gives -signum)."""
+    if code is not None and code < 0:
+        try:
+            return signal.Signals(-code).name
+        except ValueError:
+            pass
+    return f'code {code}'
+
+
 def _tail(proc, n=8):
     lines = proc.output().strip().splitlines()
     return '\n'.join('    ' + ln for ln in lines[-n:])
@@ -427,8 +444,8 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             crashed = [p for p in dead if p not in vessels_done]
             if crashed:
                 p = crashed[0]
-                raise MissionFailed(f'{p.label} exited with code {p.returncode}; its log '
-                                    f'({p.log_path}) ends with:\n{_tail(p)}')
+                raise MissionFailed(f'{p.label} exited with {_exit_status(p.returncode)}, its last '
+                                    f'line: {_last_line(p)} (log: {p.log_path})')
             if all(monitor.complete.values()):
                 outcome = 'completed'
                 break

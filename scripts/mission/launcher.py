@@ -348,8 +348,9 @@ def _wait_for_ready(proc, namespace, vparams, monitor, group):
         if _stop_signals:
             raise KeyboardInterrupt(_stop_signals[0])
         if time.monotonic() > deadline:
-            raise MissionFailed(f'{proc.label} did not publish step 0 (/{namespace}/ready) within '
-                                f'{limit:.0f} s; its log ({proc.log_path}) ends with:\n{_tail(proc)}')
+            raise MissionFailed(f'{proc.label} did not publish step 0 (/{namespace}/ready) '
+                                f'within {limit:.0f} s; its log ({proc.log_path}) ends with:\n'
+                                f'{_tail(proc)}')
         monitor.spin(0.05)
 
 

@@ -70,7 +70,8 @@ class AutopilotNode(Node):
                          hi=90.0, unit='deg', read_only=True)
         rrate = p.declare('rudder_rate_max_deg', 0.0, 'rudder rate limit (0: the model\'s)',
                           lo=0.0, hi=1e3, unit='deg/s', read_only=True)
-        shape = p.declare('saturation', 'hard', 'rudder saturation form (tanh: Angelopoulos 2011, eq. 15)',
+        shape = p.declare('saturation', 'hard', 'rudder saturation form (tanh: Angelopoulos '
+                          '2011, eq. 15)',
                           choices=('hard', 'tanh'), read_only=True)
         self.pairing = p.declare('pairing', 'sequence', 'how odom and heading_cmd are paired',
                                  choices=('sequence', 'latest'), read_only=True)

@@ -10,10 +10,10 @@ How the route is followed:
   route, so a restarted node resumes mid-route; ``reset(s=0.0)`` starts from the beginning.
 - The route is cut at CORNERS, joins where the tangent jumps by more than ``corner_angle``
   (default 1 deg), into smooth stretches. Within a stretch the reference is the closest point
-  of the path (Martinsen and Lekkas 2018, eqs. 1-3, ``Route.project``), searched only within ``window`` of arc
-  length around the previous one so progress never jumps to another branch of a self-crossing
-  or hairpin path. Tangent joins (line -> tangent arc, sampled curves) are thus followed
-  without switching logic.
+  of the path (Martinsen and Lekkas 2018, eqs. 1-3, ``Route.project``), searched only within
+  ``window`` of arc length around the previous one so progress never jumps to another branch
+  of a self-crossing or hairpin path. Tangent joins (line -> tangent arc, sampled curves) are
+  thus followed without switching logic.
 - At the end of a stretch the guidance switches to the next one when the vessel is within the
   acceptance circle (radius ``acceptance_radius``, Simakis 1992 "TURN = circle", Lee 2004) of the
   corner, or has passed the normal to the path at the corner, whichever comes first (the
@@ -114,7 +114,8 @@ class GuidanceOutput:
 class Guidance:
     """Follow ``route`` (path.Route) with LOS, ILOS or a course schedule (module docstring).
 
-    Parameters (SI): law 'los' | 'ilos' | 'course'; lookahead d (m, > 0); acceptance_radius (m, >= 0);
+    Parameters (SI): law 'los' | 'ilos' | 'course'; lookahead d (m, > 0); acceptance_radius
+    (m, >= 0);
     integral_gain sigma (m/s, > 0, ILOS only); corner_angle (rad, tangent jump that makes a
     corner); window (m, half-width of the progress search, default 2 d, widened to 3x the
     distance moved since the previous update); zeta, omega_n (rad/s), speed (m/s): the paired

@@ -47,7 +47,7 @@ def main(argv=None):
 
     from ship_sim.ros.qos import STREAM
     from ship_sim.ros.run import finish, run_node
-    from ship_sim.vessel_node import START_GRACE_S
+    from ship_sim.pacing import START_GRACE_S
 
     class SimRelay(Node):
         def __init__(self):

@@ -13,7 +13,8 @@ Times (s): Odometry and Path use their header stamps (exact sim time). Unstamped
   odom is paired with it message by message, as the graph itself pairs them (DESIGN.md: in
   lockstep every producer publishes exactly one message per step; the simulator's ``rudder``
   goes out with each odom, the guidance answers each odom once, the autopilot each pair):
-  the n-th message gets the n-th odom stamp, exactly;
+  the n-th message gets the n-th odom stamp, exactly (ship_sim.pacing.paired_record, the
+  rule the nodes pair by);
 - otherwise (a count differs: a recorder that started late, a lost message) the bag's log
   time: the latest ``/clock`` the recorder had seen (``mission.time_source: sim``), which can
   lag or lead by a few steps when the recorder falls behind the graph; for a wall-clock bag
@@ -33,6 +34,7 @@ import numpy as np
 import yaml
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
+from ship_sim.pacing import paired_record
 from ship_sim.ros import odometry_cdr as cdr
 
 from mission import bag_recovery
@@ -339,9 +341,10 @@ def _vessel(ns, names, conns, datas, stamps, reader, to_sim, pair_by_sequence):
 
     def times(key):
         t = topic[key]
-        if pair_by_sequence and len(datas[t]) == len(odom['t']):
+        paired = paired_record(odom['t'], len(datas[t])) if pair_by_sequence else None
+        if paired is not None:
             timing[names[key]] = 'odom sequence'
-            return odom['t'].copy()
+            return paired
         timing[names[key]] = 'log time'
         return _log_times(stamps[t], to_sim)
 

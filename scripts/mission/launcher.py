@@ -305,6 +305,7 @@ class Monitor:
         self.t = 0.0
         self.xte = {ns: math.nan for ns in namespaces}
         self.complete = {ns: False for ns in namespaces}
+        self.ready = {ns: False for ns in namespaces}   # the vessel_node has published step 0
         self.node.create_subscription(Clock, '/clock', self._on_clock,
                                       QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))
         # Display only: the latest value is enough, and a reliable queue of every step of every
@@ -315,6 +316,9 @@ class Monitor:
                                           lambda m, ns=ns: self.xte.__setitem__(ns, m.data), latest)
             self.node.create_subscription(Bool, f'/{ns}/route_complete',
                                           lambda m, ns=ns: self.complete.__setitem__(ns, m.data),
+                                          LATCHED)
+            self.node.create_subscription(Bool, f'/{ns}/ready',
+                                          lambda m, ns=ns: self.ready.__setitem__(ns, m.data),
                                           LATCHED)
 
     def _on_clock(self, msg):
@@ -331,22 +335,22 @@ class Monitor:
         self.rclpy.try_shutdown(context=self.context)
 
 
-def _wait_for_step0(proc, vparams, monitor, group):
-    """Wait until the lockstep simulator ``proc`` has published its step 0 (its log says so),
-    so that a follower started next never waits for a predecessor that has not begun: its
-    first wait would run out and the run would no longer be deterministic. Returns early if a
-    process has exited (the run loop reports it)."""
-    from mission.platoon import STEP0_LINE
+def _wait_for_ready(proc, namespace, vparams, monitor, group):
+    """Wait until the lockstep simulator ``proc`` of ``namespace`` has published its step 0
+    (its latched ``ready`` topic says so), so that a follower started next never waits for a
+    predecessor that has not begun: its first wait would run out and the run would no longer
+    be deterministic. Returns early if a process has exited (the run loop reports it)."""
     limit = float(vparams.get('lockstep_start_timeout', 30.0)) + 15.0
     deadline = time.monotonic() + limit
-    while STEP0_LINE not in proc.output():
+    while not monitor.ready[namespace]:
         if group.failed():
             return
         if _stop_signals:
             raise KeyboardInterrupt(_stop_signals[0])
         if time.monotonic() > deadline:
-            raise MissionFailed(f'{proc.label} did not publish step 0 within {limit:.0f} s; its '
-                                f'log ({proc.log_path}) ends with:\n{_tail(proc)}')
+            raise MissionFailed(f'{proc.label} did not publish step 0 (/{namespace}/ready) '
+                                f'within {limit:.0f} s; its log ({proc.log_path}) ends with:\n'
+                                f'{_tail(proc)}')
         monitor.spin(0.05)
 
 
@@ -429,7 +433,8 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             vessel_params.sort(key=lambda item: rank[item[0].namespace])
         for spec, vparams, _plan in vessel_params:
             if spec.predecessor is not None and scenario.stepping == 'lockstep':
-                _wait_for_step0(simulators[spec.predecessor], vparams, monitor, group)
+                _wait_for_ready(simulators[spec.predecessor], spec.predecessor, vparams, monitor,
+                                group)
             f = write_params(run, spec.namespace, 'vessel_node', vparams)
             simulators[spec.namespace] = group.start(
                 f'{spec.namespace}/vessel_node', 'ship_sim', 'vessel_node',

@@ -166,7 +166,7 @@ def test_auv_scenarios_pass_the_vehicle_rudder_limits_to_the_autopilot(path):
 # -- guidance_node: the course law's schedule -----------------------------------------------------
 
 def test_course_schedule_parse_and_lookup():
-    from ship_guidance.guidance_node import course_at, parse_course_schedule
+    from ship_guidance.guidance import course_at, parse_course_schedule
     times, courses = parse_course_schedule([0.0, 90.0, 50, 120, 100.0, -45.0])
     assert times == [0.0, 50.0, 100.0]
     assert courses == pytest.approx([math.pi / 2, 2 * math.pi / 3, -math.pi / 4])
@@ -180,7 +180,7 @@ def test_course_schedule_parse_and_lookup():
                                  [10.0, 0.0, 5.0, 1.0], [0.0, float('nan')], [0.0, True],
                                  ['0', '10']])
 def test_course_schedule_refuses_bad_values(bad):
-    from ship_guidance.guidance_node import parse_course_schedule
+    from ship_guidance.guidance import parse_course_schedule
     with pytest.raises(ValueError):
         parse_course_schedule(bad)
 

@@ -1,11 +1,14 @@
-"""autopilot_node: heading command + odom -> rudder command (PD or fuzzy PID).
+"""autopilot_node: heading command + odom -> rudder command (PD, fuzzy PID or a learned policy).
 
 Subscribes `odom` (nav_msgs/Odometry, ENU) and `heading_cmd` (std_msgs/Float64, ENU yaw, rad);
 publishes `rudder_cmd` (std_msgs/Float64, rad, positive turns to port), one per control step.
+The law is one of ship_autopilot.steering (HeadingSteering, PolicySteering): the node feeds
+it odometry and commands and publishes what it returns.
 
 Pairing (`pairing` parameter):
   sequence  the n-th odom is paired with the n-th heading_cmd and the rudder is computed when
-            both are held (lockstep: deterministic, one rudder_cmd per simulator step);
+            both are held (lockstep: deterministic, one rudder_cmd per simulator step;
+            ship_sim.pacing.SequencePairer);
   latest    the rudder is computed on every odom with the latest heading command (realtime).
 Stale command (latest pairing): if no heading_cmd arrived for `heading_timeout_s` of sim time,
 the autopilot keeps steering the last commanded heading (course keeping) and warns; before the
@@ -19,14 +22,12 @@ identified Nomoto K, T) for `vessel_model`, unless `k1`/`k2` (PD) are given (> 0
 `omega_n`/`zeta` are given to redesign PD gains from the identified Nomoto a, b.
 Rudder limits default to the vessel model's (`rudder_max_deg`/`rudder_rate_max_deg` override).
 
-`controller: policy` runs a learned policy (learning.policy) on the guidance node's path_state;
+`controller: policy` runs a learned policy (learning.policy) on the guidance node's path_state
+(in place of heading_cmd, paired the same way);
 with `policy_recovery` (default true) ILOS + the gain-table PD takes over outside the region the
 policy was trained in (learning.policy.Recovery) and hands back inside it.
 """
-import collections
 import math
-
-import numpy as np
 
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
@@ -34,12 +35,16 @@ from std_msgs.msg import Float64, Float64MultiArray
 
 from ship_autopilot.gains import CONTROLLERS, autopilot_gains, build_autopilot, nomoto_gains
 from ship_autopilot.pd import pd_gains
-from ship_sim.frames import yaw_to_psi
+from ship_autopilot.steering import HeadingSteering, PolicySteering
 from ship_sim.models import MODEL_NAMES, make_model
+from ship_sim.pacing import SequencePairer
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import STREAM
 from ship_sim.ros.run import run_node
+
+# The message type of each steering law's command topic (ship_autopilot.steering).
+COMMAND_TYPES = {'heading_cmd': Float64, 'path_state': Float64MultiArray}
 
 
 class AutopilotNode(Node):
@@ -65,7 +70,8 @@ class AutopilotNode(Node):
                          hi=90.0, unit='deg', read_only=True)
         rrate = p.declare('rudder_rate_max_deg', 0.0, 'rudder rate limit (0: the model\'s)',
                           lo=0.0, hi=1e3, unit='deg/s', read_only=True)
-        shape = p.declare('saturation', 'hard', 'rudder saturation form (tanh: seed 001 eq. 15)',
+        shape = p.declare('saturation', 'hard', 'rudder saturation form (tanh: Angelopoulos '
+                          '2011, eq. 15)',
                           choices=('hard', 'tanh'), read_only=True)
         self.pairing = p.declare('pairing', 'sequence', 'how odom and heading_cmd are paired',
                                  choices=('sequence', 'latest'), read_only=True)
@@ -82,28 +88,24 @@ class AutopilotNode(Node):
         vessel = make_model(model)
         max_angle = math.radians(rmax) if rmax else vessel.rudder_max
         max_rate = math.radians(rrate) if rrate else vessel.rudder_rate_max
-        self.steer = None
         if kind == 'policy':
-            self.steer = self._load_policy(model, policy_file, max_angle, recovery, vessel)
+            self.steer = PolicySteering(self._load_policy(model, policy_file, max_angle,
+                                                          recovery, vessel))
         else:
             self._build_classical(kind, model, k1, k2, omega_n, zeta, max_angle, max_rate, shape)
+            self.steer = HeadingSteering(self.controller)
 
         self.pub = self.create_publisher(Float64, 'rudder_cmd', STREAM)
-        self.odoms = collections.deque()
-        self.headings = collections.deque()  # heading commands, or path states (policy)
-        self.psi_c = None           # last heading command (NED)
-        self.state = None           # last path state (policy, latest pairing)
-        self.t_cmd = None           # sim time of the last heading command (latest pairing)
-        self.t_prev = None
+        self.pairer = SequencePairer()  # sequence pairing: A odometry, B commands
+        self.latest = None          # latest pairing: the last accepted command
+        self.t_cmd = None           # sim time of the last command (latest pairing)
         self.stale = False
-        self.n_bad_cmd = 0          # non-finite heading commands refused
+        self.n_bad_cmd = 0          # commands refused (non-finite heading_cmd)
         self.msg = Float64()
-        # raw: odometry_to_ned reads the CDR bytes (rclpy's conversion costs ~20x more).
+        # raw: odometry_to_ned reads the CDR bytes (rclpy's conversion costs more).
         self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
-        if self.steer is None:
-            self.create_subscription(Float64, 'heading_cmd', self._on_heading, STREAM)
-        else:
-            self.create_subscription(Float64MultiArray, 'path_state', self._on_state, STREAM)
+        self.create_subscription(COMMAND_TYPES[self.steer.command_topic],
+                                 self.steer.command_topic, self._on_command, STREAM)
 
     def _load_policy(self, model, policy_file, max_angle, recovery, vessel):
         from ship_autopilot.learning.policy import (LearnedSteering, PolicyError, Recovery,
@@ -143,90 +145,51 @@ class AutopilotNode(Node):
             f'{kind} autopilot for {model}: rudder limit {math.degrees(max_angle):.1f} deg, '
             f'{math.degrees(max_rate):.2f} deg/s, gains {gains.get("pd", gains) if kind == "pd" else "fuzzy table"}')
 
-    def _on_state(self, msg):
-        # A state of the wrong length counts as non-finite: the policy holds its command.
-        state = np.asarray(msg.data, dtype=float)
-        if state.shape != (9,):
-            state = np.full(9, np.nan)
-        if self.pairing == 'sequence':
-            self.headings.append(state)
-            self._drain()
-        else:
-            self.state = state
-
-    def _on_heading(self, msg):
-        psi_c = float(yaw_to_psi(msg.data)) if math.isfinite(msg.data) else math.nan
-        if self.pairing == 'sequence':
-            self.headings.append(psi_c)
-            self._drain()
-        elif math.isfinite(psi_c):
-            self.psi_c = psi_c
-            self.t_cmd = None  # stamped with the next odom's sim time
-        else:
+    def _on_command(self, msg):
+        cmd = self.steer.decode(msg.data)
+        if cmd is None:
             self._refuse_command(msg.data)
+        if self.pairing == 'sequence':
+            self.pairer.push_b(cmd)     # a refused command still answers its odom
+            self._drain()
+        elif cmd is not None:
+            self.latest = cmd
+            self.t_cmd = None  # stamped with the next odom's sim time
 
     def _refuse_command(self, value):
         self.n_bad_cmd += 1
-        self.get_logger().warning(f'heading_cmd {value} refused (not finite): holding the '
-                                  f'previous command ({self.n_bad_cmd} so far)',
+        self.get_logger().warning(f'{self.steer.command_topic} {value} refused (not finite): '
+                                  f'holding the previous command ({self.n_bad_cmd} so far)',
                                   throttle_duration_sec=5.0)
 
     def _on_odom(self, msg):
         o = odometry_to_ned(msg)
         if self.pairing == 'sequence':
-            self.odoms.append(o)
+            self.pairer.push_a(o)
             self._drain()
             return
-        if self.steer is not None:
-            self._step(o, self.state if self.state is not None else np.full(9, np.nan))
-            return
-        if self.psi_c is None:
-            self.psi_c = o.psi  # no command yet: hold the current heading
-            self.t_cmd = o.t
         if self.t_cmd is None:
-            self.t_cmd = o.t
+            self.t_cmd = o.t   # before the first command: from the first odom
         stale = o.t - self.t_cmd > self.timeout
         if stale and not self.stale:
-            self.get_logger().warning(f'heading_cmd stale for {o.t - self.t_cmd:.1f} s: holding '
-                                      f'the last commanded heading')
+            self.get_logger().warning(f'{self.steer.command_topic} stale for '
+                                      f'{o.t - self.t_cmd:.1f} s: holding the last command')
         self.stale = stale
-        self._step(o, self.psi_c)
+        self._step(o, self.latest)
 
     def _drain(self):
-        while self.odoms and self.headings:
-            o = self.odoms.popleft()
-            cmd = self.headings.popleft()
-            if self.steer is None and not math.isfinite(cmd):
-                self._refuse_command(cmd)
-                cmd = self.psi_c if self.psi_c is not None else o.psi
+        for o, cmd in self.pairer.pairs():
             self._step(o, cmd)
 
-    def _step(self, o, psi_c):
-        if self.steer is not None:  # psi_c is the path state here
-            n_bad, recovering = self.steer.n_rejected, self.steer.recovering
-            self.msg.data = self.steer.update(psi_c, o.t)
-            if self.steer.recovering != recovering:
-                self.get_logger().info(
-                    f'cross-track {psi_c[0]:.0f} m: ' + ('outside the policy\'s training region, '
-                                                         'ILOS + PD steers' if self.steer.recovering
-                                                         else 'the policy steers again'))
-            if self.steer.n_rejected != n_bad:
-                self.get_logger().warning(f'invalid path_state held the rudder '
-                                          f'({self.steer.n_rejected} so far)',
-                                          throttle_duration_sec=5.0)
-            self.pub.publish(self.msg)
-            return
-        dt = 0.0 if self.t_prev is None else o.t - self.t_prev
-        self.t_prev = o.t
-        self.psi_c = psi_c
-        n_bad = self.controller.n_rejected
-        # A first step (dt = 0) only initialises the rate limiter's memory.
-        rudder = self.controller.update(o.psi, o.r, psi_c, dt if dt > 0.0 else 1e-9)
-        if self.controller.n_rejected != n_bad:
-            self.get_logger().warning(f'non-finite input held the rudder '
-                                      f'({self.controller.n_rejected} so far)',
-                                      throttle_duration_sec=5.0)
-        self.msg.data = float(rudder) if math.isfinite(rudder) else 0.0
+    def _step(self, o, cmd):
+        steer = self.steer
+        n_bad, mode = steer.n_rejected, steer.mode
+        self.msg.data = steer.update(o.t, o.psi, o.r, cmd)
+        if steer.mode != mode:
+            self.get_logger().info(steer.mode_text(cmd))
+        if steer.n_rejected != n_bad:
+            self.get_logger().warning(f'{steer.rejected_text} held the rudder '
+                                      f'({steer.n_rejected} so far)', throttle_duration_sec=5.0)
         self.pub.publish(self.msg)
 
 

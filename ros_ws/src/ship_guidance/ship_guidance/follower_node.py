@@ -62,7 +62,7 @@ from ship_guidance.follower import (AIMS, FALLBACK, FOLLOW, MAX_SPEED_CORRECTION
                                     speed_to_shaft)
 from ship_guidance.path import Line, Route
 from ship_guidance.ros.odom_gate import OdomGate
-from ship_guidance.ros.outputs import GuidanceOutputs
+from ship_guidance.ros.outputs import GuidancePublishers
 from ship_guidance.ros.path_msgs import accept_route
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
@@ -174,7 +174,7 @@ class FollowerNode(Node):
         for w in probe.warnings:
             self.get_logger().warning(w)
 
-        self.out = GuidanceOutputs(self)
+        self.out = GuidancePublishers(self)
         self.pub_gap = self.create_publisher(Float64, 'gap_error', STREAM)
         self.pub_speed = self.create_publisher(Float64, 'speed_cmd', STREAM)
         self.pub_shaft = (self.create_publisher(Float64, 'shaft_cmd', STREAM)

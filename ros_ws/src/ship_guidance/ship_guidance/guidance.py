@@ -1,4 +1,5 @@
-"""Route-following guidance (pure): progress along a Route, waypoint switching, LOS / ILOS.
+"""Route-following guidance (pure): progress along a Route, waypoint switching, LOS / ILOS /
+course schedule.
 
 The guidance node wraps one ``Guidance`` per vessel; Monte Carlo and learning code use it
 in-process. Units m, s, rad; positions and headings NED (see path.py, los.py for the laws and
@@ -9,12 +10,12 @@ How the route is followed:
   route, so a restarted node resumes mid-route; ``reset(s=0.0)`` starts from the beginning.
 - The route is cut at CORNERS, joins where the tangent jumps by more than ``corner_angle``
   (default 1 deg), into smooth stretches. Within a stretch the reference is the closest point
-  of the path (seed 000 eqs. 1-3, ``Route.project``), searched only within ``window`` of arc
-  length around the previous one so progress never jumps to another branch of a self-crossing
-  or hairpin path. Tangent joins (line -> tangent arc, sampled curves) are thus followed
-  without switching logic.
+  of the path (Martinsen and Lekkas 2018, eqs. 1-3, ``Route.project``), searched only within
+  ``window`` of arc length around the previous one so progress never jumps to another branch
+  of a self-crossing or hairpin path. Tangent joins (line -> tangent arc, sampled curves) are
+  thus followed without switching logic.
 - At the end of a stretch the guidance switches to the next one when the vessel is within the
-  acceptance circle (radius ``acceptance_radius``, seeds 003 "TURN = circle" and 004) of the
+  acceptance circle (radius ``acceptance_radius``, Simakis 1992 "TURN = circle", Lee 2004) of the
   corner, or has passed the normal to the path at the corner, whichever comes first (the
   normal catches vessels that miss the circle, e.g. with R = 0). Until then the reference is
   the stretch's last leg extended along its end tangent; right after a switch, while the vessel
@@ -27,19 +28,25 @@ How the route is followed:
 - Law: 'los' psi_c = alpha - atan(e/d); 'ilos' psi_c = alpha - atan((e + sigma e_int)/d) with
   the integrator of Borhaug et al. (2008), frozen once finished. The integrator is kept across
   switches (a steady current needs a similar correction on the next leg) unless
-  ``reset_integral_at_corners``.
+  ``reset_integral_at_corners``. 'course' (course-change experiments, Lee 2004, sec. 5.2,
+  Figs. 5.7-5.11): psi_c follows a time schedule (``course_schedule``, see
+  ``parse_course_schedule``; course_i from t_i on, course0 before t0; needs the sim time ``t``
+  in ``update``) and ignores the route's geometry; cross-track and progress still refer to the
+  route, followed as with LOS, but the law never reports the route complete
+  (``reports_completion``): a course experiment ends at its duration.
 - Optional turn-rate lead (``curvature_lead``, needs the autopilot's zeta, omega_n and the
-  speed): psi_c += (2 zeta U / omega_n) kappa(s). On an arc the heading loop lags a turning
-  command by 2 zeta r / omega_n (its velocity error); the lead cancels it. Measured on the
-  flagship route (Mariner, d = 250 m, omega_n = 0.12 rad/s): RMS cross-track 28.7 -> 13.7 m.
+  speed; LOS / ILOS): psi_c += (2 zeta U / omega_n) kappa(s). On an arc the heading loop lags
+  a turning command by 2 zeta r / omega_n (its velocity error); the lead cancels it (its effect
+  on the flagship route: README, Flagship scenario).
 
 Stability check: given the paired PD autopilot's zeta and omega_n (rad/s) and the speed U (m/s)
 the constructor refuses a look-ahead at or below U / (2 zeta omega_n) for LOS, or
-(U + 4 zeta^2 sigma) / (2 zeta omega_n) for ILOS, unless ``allow_unstable=True``. The seeds
-(001 eq. 34, 003 eq. 3.5) write d > 1 / (2 zeta omega_n) in non-dimensional units (d in ship
-lengths, omega_n in units of U/L); convert with los.omega_n_from_nondim and
-los.ship_lengths_to_metres. See los.py for the derivation.
+(U + 4 zeta^2 sigma) / (2 zeta omega_n) for ILOS, unless ``allow_unstable=True``.
+Angelopoulos 2011 (eq. 34) and Simakis 1992 (eq. 3.5) write d > 1 / (2 zeta omega_n) in
+non-dimensional units (d in ship lengths, omega_n in units of U/L); convert with
+los.omega_n_from_nondim and los.ship_lengths_to_metres. See los.py for the derivation.
 """
+import bisect
 import math
 from dataclasses import dataclass
 
@@ -50,12 +57,44 @@ from ship_sim.frames import wrap_angle
 from .los import critical_lookahead
 from .path import Route
 
-LAWS = ('los', 'ilos')
+LAWS = ('los', 'ilos', 'course')
+COURSE_LAW = 'course'
+
+
+def parse_course_schedule(values):
+    """[t0, c0_deg, t1, c1_deg, ...] -> (times (s), NED courses (rad)); ValueError says why not."""
+    values = list(values or [])
+    if not values or len(values) % 2:
+        raise ValueError('needs pairs [t0, course0_deg, t1, course1_deg, ...], got '
+                         f'{len(values)} values')
+    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+               for v in values):
+        raise ValueError(f'needs finite numbers, got {values}')
+    times = [float(t) for t in values[0::2]]
+    if any(b <= a for a, b in zip(times, times[1:])):
+        raise ValueError(f'times must increase strictly, got {times}')
+    return times, [math.radians(c) for c in values[1::2]]
+
+
+def course_schedule_for(law, values):
+    """The course schedule ``law`` takes from [t0, c0_deg, ...]: parsed for the course law, None
+    for the others (whose ``values`` must be empty); ValueError says why not."""
+    if law != COURSE_LAW:
+        if values:
+            raise ValueError(f'empty unless law is {COURSE_LAW!r} (law is {law!r})')
+        return None
+    return parse_course_schedule(values)
+
+
+def course_at(times, courses, t):
+    """The scheduled course (rad) at sim time t: the last course whose time is <= t, else the first."""
+    return courses[max(bisect.bisect_right(times, t) - 1, 0)]
 
 
 @dataclass(frozen=True, slots=True)
 class GuidanceOutput:
-    """One guidance step. heading_cmd: NED heading command psi_c (rad, wrapped); cross_track: e
+    """One guidance step. heading_cmd: NED heading command psi_c (rad, wrapped; the course law's
+    as scheduled); cross_track: e
     (m, positive to starboard of the path); s: arc length of the reference point (m); leg_index:
     its leg; distance_remaining: route length - s (m); finished: end reached (latched);
     path_angle: alpha (rad); curvature: signed curvature of the path there (1/m, + clockwise);
@@ -73,20 +112,22 @@ class GuidanceOutput:
 
 
 class Guidance:
-    """Follow ``route`` (path.Route) with LOS or ILOS. See the module docstring.
+    """Follow ``route`` (path.Route) with LOS, ILOS or a course schedule (module docstring).
 
-    Parameters (SI): law 'los' | 'ilos'; lookahead d (m, > 0); acceptance_radius (m, >= 0);
+    Parameters (SI): law 'los' | 'ilos' | 'course'; lookahead d (m, > 0); acceptance_radius
+    (m, >= 0);
     integral_gain sigma (m/s, > 0, ILOS only); corner_angle (rad, tangent jump that makes a
     corner); window (m, half-width of the progress search, default 2 d, widened to 3x the
     distance moved since the previous update); zeta, omega_n (rad/s), speed (m/s): the paired
     autopilot and speed for the stability check (all three or none); allow_unstable: skip the
-    refusal. Raises ValueError naming the offending parameter.
+    refusal; course_schedule: (times (s), NED courses (rad)) of the course law
+    (``parse_course_schedule``). Raises ValueError naming the offending parameter.
     """
 
     def __init__(self, route, law='los', lookahead=100.0, acceptance_radius=0.0, *,
                  integral_gain=0.5, corner_angle=math.radians(1.0), window=None,
                  zeta=None, omega_n=None, speed=None, allow_unstable=False,
-                 reset_integral_at_corners=False, curvature_lead=False):
+                 reset_integral_at_corners=False, curvature_lead=False, course_schedule=None):
         if not isinstance(route, Route):
             raise ValueError('route must be a ship_guidance.path.Route, '
                              f'got {type(route).__name__}')
@@ -96,6 +137,9 @@ class Guidance:
         _check_positive('acceptance_radius', acceptance_radius, allow_zero=True)
         if law == 'ilos':
             _check_positive('integral_gain', integral_gain)
+        if (law == COURSE_LAW) != (course_schedule is not None):
+            raise ValueError(f'course_schedule is given for law {COURSE_LAW!r} and only for it '
+                             f'(law {law!r}, course_schedule {course_schedule!r})')
         if not 0.0 <= float(corner_angle) <= math.pi:
             raise ValueError(f'corner_angle must be in [0, pi] rad, got {corner_angle}')
         if window is not None:
@@ -107,6 +151,9 @@ class Guidance:
         self.integral_gain = float(integral_gain) if law == 'ilos' else 0.0
         self.window = 2.0 * self.lookahead if window is None else float(window)
         self.reset_integral_at_corners = bool(reset_integral_at_corners)
+        self.course_schedule = course_schedule
+        #: False for the course law: its run ends at its duration, not at the route's end.
+        self.reports_completion = law != COURSE_LAW
         self.critical_lookahead = None
         given = [x is not None for x in (zeta, omega_n, speed)]
         if any(given):
@@ -115,14 +162,15 @@ class Guidance:
                                  f'zeta={zeta}, omega_n={omega_n}, speed={speed}')
             self.critical_lookahead = critical_lookahead(zeta, omega_n, speed, self.integral_gain)
             if not self.lookahead > self.critical_lookahead and not allow_unstable:
-                limit = ('U / (2 zeta omega_n)' if law == 'los'
-                         else '(U + 4 zeta^2 sigma) / (2 zeta omega_n)')
+                limit = ('(U + 4 zeta^2 sigma) / (2 zeta omega_n)' if law == 'ilos'
+                         else 'U / (2 zeta omega_n)')
                 raise ValueError(
                     f'lookahead {self.lookahead:.2f} m is not above the stability limit '
                     f'{self.critical_lookahead:.2f} m = {limit} of the paired autopilot '
                     f'(zeta={zeta}, omega_n={omega_n} rad/s, speed={speed} m/s'
                     + (f', sigma={self.integral_gain} m/s' if law == 'ilos' else '')
-                    + '; seeds 001 eq. 34 / 003 eq. 3.5 in metres). Increase lookahead or pass '
+                    + '; Angelopoulos 2011 eq. 34 / Simakis 1992 eq. 3.5 in metres). Increase '
+                    'lookahead or pass '
                     'allow_unstable=True.')
         # Turn-rate lead (s): a heading loop of damping zeta and frequency omega_n follows a
         # heading ramp of rate r_d with a steady lag 2 zeta r_d / omega_n; on a path of
@@ -179,9 +227,12 @@ class Guidance:
         return (proj.s >= hi - self.route.s_tol
                 and self.route.along(leg, north, east) >= self.route.leg_lengths[leg])
 
-    def update(self, north, east, psi=0.0, dt=0.0):
+    def update(self, north, east, psi=0.0, dt=0.0, t=None):
         """One guidance step at NED position (m) and heading psi (rad; only used for
-        heading_error), dt (s) since the previous step (integrates ILOS). -> GuidanceOutput."""
+        heading_error), dt (s) since the previous step (integrates ILOS), sim time t (s; the
+        course law's schedule). -> GuidanceOutput."""
+        if self.course_schedule is not None and t is None:
+            raise ValueError('the course law needs the sim time t')
         n, e, psi, dt = float(north), float(east), float(psi), float(dt)
         isfinite = math.isfinite
         if not (isfinite(n) and isfinite(e) and isfinite(psi) and isfinite(dt)):
@@ -217,13 +268,15 @@ class Guidance:
 
         alpha, err, d = proj.path_angle, proj.cross_track, self.lookahead
         if self.law == 'los':
-            psi_c = alpha - math.atan(err / d)
-        else:
+            psi_c = float(wrap_angle(alpha - math.atan(err / d) + self._lead * proj.curvature))
+        elif self.law == 'ilos':
             sigma = self.integral_gain
             psi_c = alpha - math.atan((err + sigma * self.integral) / d)
             if not self.finished:
                 self.integral += dt * d * err / ((err + sigma * self.integral) ** 2 + d * d)
-        psi_c = float(wrap_angle(psi_c + self._lead * proj.curvature))
+            psi_c = float(wrap_angle(psi_c + self._lead * proj.curvature))
+        else:   # course: the schedule, as given (not wrapped)
+            psi_c = course_at(*self.course_schedule, float(t))
         return GuidanceOutput(
             heading_cmd=psi_c, cross_track=err, s=proj.s, leg_index=proj.leg_index,
             distance_remaining=max(0.0, route.length - proj.s), finished=self.finished,

@@ -26,59 +26,34 @@ If the paired autopilot's `autopilot_zeta`, `autopilot_omega_n` and the `speed` 
 a look-ahead below the stability limit d > U / (2 zeta omega_n) is refused unless
 `allow_unstable` is true.
 
-Law `course` (course-change experiments, seed 004 sec. 5.2, Figs. 5.7-5.11): the heading
-command follows the time schedule `course_schedule_deg` = [t0, course0, t1, course1, ...] (sim time
-in s, strictly increasing; course in degrees, NED, clockwise from north) and ignores the
-route's geometry: course_i from t_i on, course0 before t0. cross_track_error and progress
-still refer to the route (followed with LOS, for the metrics), but `route_complete` is never
+The law (`law`) is one of ship_guidance.guidance: los, ilos, or course (course-change
+experiments, Lee 2004, sec. 5.2): the heading command follows the time schedule
+`course_schedule_deg` = [t0, course0, t1, course1, ...] (sim time in s, strictly increasing;
+course in degrees, NED, clockwise from north) and ignores the route's geometry;
+cross_track_error and progress still refer to the route, but `route_complete` is never
 reported: a course experiment ends at its duration.
 """
-import bisect
-import math
 
 from nav_msgs.msg import Odometry, Path
 from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.node import Node
 from std_msgs.msg import Bool, Float64MultiArray, MultiArrayDimension
 
-from ship_guidance.guidance import LAWS, Guidance
+from ship_guidance.guidance import LAWS, Guidance, course_schedule_for
 from ship_guidance.ros.odom_gate import OdomGate
-from ship_guidance.ros.outputs import GuidanceOutputs
+from ship_guidance.ros.outputs import GuidancePublishers
 from ship_guidance.ros.path_msgs import accept_route
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED, STREAM
 from ship_sim.ros.run import run_node
 
-COURSE_LAW = 'course'
-
-
-def parse_course_schedule(values):
-    """[t0, c0_deg, t1, c1_deg, ...] -> (times (s), NED courses (rad)); ValueError says why not."""
-    values = list(values or [])
-    if not values or len(values) % 2:
-        raise ValueError('needs pairs [t0, course0_deg, t1, course1_deg, ...], got '
-                         f'{len(values)} values')
-    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-               for v in values):
-        raise ValueError(f'needs finite numbers, got {values}')
-    times = [float(t) for t in values[0::2]]
-    if any(b <= a for a, b in zip(times, times[1:])):
-        raise ValueError(f'times must increase strictly, got {times}')
-    return times, [math.radians(c) for c in values[1::2]]
-
-
-def course_at(times, courses, t):
-    """The scheduled course (rad) at sim time t: the last course whose time is <= t, else the first."""
-    return courses[max(bisect.bisect_right(times, t) - 1, 0)]
-
-
 class GuidanceNode(Node):
     def __init__(self):
         super().__init__('guidance_node')
         p = self.params = NodeParameters(self)
         self.law = p.declare('law', 'ilos', 'guidance law (course: follow course_schedule_deg)',
-                             choices=LAWS + (COURSE_LAW,), read_only=True)
+                             choices=LAWS, read_only=True)
         self.schedule = self._declare_course_schedule()
         self.lookahead_m = p.declare('lookahead_m', 500.0, 'LOS look-ahead distance', lo=1e-3,
                                      hi=1e6, unit='m', read_only=True)
@@ -125,7 +100,7 @@ class GuidanceNode(Node):
                                  f'(got {zeta}, {omega}, {speed}); set all three or none')
         self._validate_lookahead()
 
-        self.out = GuidanceOutputs(self)
+        self.out = GuidancePublishers(self)
         self.features = self.pub_state = None
         if self.want_path_state:
             # Imported only when asked for: the one implementation the policy was trained on.
@@ -153,13 +128,8 @@ class GuidanceNode(Node):
             'NED course (deg, clockwise from north) from that time on', dynamic_typing=True,
             read_only=True)
         values = self.declare_parameter('course_schedule_deg', [], desc).value
-        if self.law != COURSE_LAW:
-            if values:
-                raise ParameterError('course_schedule_deg', values, f'empty unless law is '
-                                     f'{COURSE_LAW!r} (law is {self.law!r})')
-            return None
         try:
-            return parse_course_schedule(values)
+            return course_schedule_for(self.law, values)
         except (TypeError, ValueError) as exc:
             raise ParameterError('course_schedule_deg', values, str(exc)) from None
 
@@ -173,12 +143,10 @@ class GuidanceNode(Node):
             raise ParameterError(name, message=f'{name}: {exc}') from None
 
     def _make_guidance(self, route):
-        # The course law still follows the route with LOS for cross_track_error and progress.
-        law = 'los' if self.law == COURSE_LAW else self.law
-        return Guidance(route, law=law, lookahead=self.lookahead,
+        return Guidance(route, law=self.law, lookahead=self.lookahead,
                         acceptance_radius=self.acceptance, integral_gain=self.sigma,
-                        allow_unstable=self.allow_unstable,
-                        curvature_lead=self.curvature_lead, **self.stability)
+                        allow_unstable=self.allow_unstable, curvature_lead=self.curvature_lead,
+                        course_schedule=self.schedule, **self.stability)
 
     def _on_route(self, msg):
         route = accept_route(msg, self.get_logger())
@@ -193,7 +161,7 @@ class GuidanceNode(Node):
         self.get_logger().info(f'route received: {len(route.legs)} legs, {route.length:.1f} m, '
                                f'law {self.law}, look-ahead {self.lookahead:.1f} m')
         if self.odom_sub is None:
-            # raw: odometry_to_ned reads the CDR bytes (rclpy's conversion costs ~20x more).
+            # raw: odometry_to_ned reads the CDR bytes (cheaper than rclpy's conversion).
             self.odom_sub = self.create_subscription(Odometry, 'odom', self._on_odom, STREAM,
                                                      raw=True)
 
@@ -211,7 +179,7 @@ class GuidanceNode(Node):
         if bad is None:
             dt = 0.0 if self.t_prev is None else o.t - self.t_prev
             try:
-                out = self.guidance.update(o.north, o.east, o.psi, max(dt, 0.0))
+                out = self.guidance.update(o.north, o.east, o.psi, max(dt, 0.0), t=o.t)
             except ValueError as exc:
                 bad = str(exc)
         if out is None:
@@ -224,17 +192,16 @@ class GuidanceNode(Node):
                 self.pub_state.publish(self.m_state)
             return
         self.t_prev = o.t
-        psi_c = course_at(*self.schedule, o.t) if self.schedule else out.heading_cmd
-        self.out.publish_route(out, psi_c)
+        self.out.publish_route(out)
         if self.pub_state is not None:
             self.m_state.data = self.features(out.cross_track, out.path_angle, out.curvature,
                                               o.psi, o.u, o.v, o.r, max(dt, 0.0)).tolist()
             self.pub_state.publish(self.m_state)
-        if out.finished and not self.completed and not self.schedule and self.gate.consistent:
+        if (out.finished and not self.completed and self.guidance.reports_completion
+                and self.gate.consistent):
             self.completed = True
             self.pub_complete.publish(Bool(data=True))
             self.get_logger().info(f'route complete at t = {o.t:.1f} s')
-
 
 
 def main(args=None):

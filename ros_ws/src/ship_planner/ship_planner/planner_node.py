@@ -1,6 +1,6 @@
 """planner_node: plans an optimal route on a chart once at start and publishes it on `route`.
 
-Method: ship_planner.optimal_route (seeds/004 Chapter 3: closing + thinning of the navigable-water
+Method: ship_planner.optimal_route (Lee 2004, Chapter 3: closing + thinning of the navigable-water
 image -> candidate routes, adjacent convex polygons -> crossing lines, real-coded GA trading
 distance against turning; fillets sized for the vessel). Charts: ship_planner.chart (GSHHG / OSM
 shoreline of a latitude/longitude box, an S-57 ENC cell, or an image with dark land).
@@ -34,19 +34,23 @@ Parameters (all read-only; see config/planner.yaml for a commented example):
   route_name          name written in that file
   max_arc_step_m      longest sub-arc between two Path poses (m)
 
-Planning runs in the constructor, before the node spins, with progress logged (chart build,
-candidates, GA generations every 50, result); Ctrl-C or SIGTERM during planning ends the node
-at the next progress line. Any problem at start (a bad parameter, a point on land or inside the
+The constructor only checks the parameters; planning runs once the node spins (a one-shot
+timer: the node is on the graph while it plans), with progress logged from start to end (chart
+build, candidates, GA generations every 50, result); Ctrl-C or SIGTERM during planning ends the
+node at the next progress line. Any problem (a bad parameter, a point on land or inside the
 clearance, no navigable connection, a box too large for the resolution, an unreadable chart file)
 ends the node with ONE line on stderr, naming the parameter or carrying ChartError's suggested
-fix, and exit code 2 (ship_sim.ros.run.run_node); it never publishes a fallback straight line.
+fix, and exit code 2 (as ship_sim.ros.run.run_node does at start); it never publishes a fallback
+straight line.
 Replanning on a parameter change is not supported: restart the node.
 """
 import math
 import os
+import sys
 import time
 
 from nav_msgs.msg import Path
+from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 
@@ -60,7 +64,7 @@ from ship_planner.route_yaml import load_route_yaml
 from ship_sim.frames import enu_to_ned_xy
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED
-from ship_sim.ros.run import run_node
+from ship_sim.ros.run import finish, run_node
 
 NAN = float('nan')
 POINTS_FRAMES = ('wgs84', 'enu')
@@ -81,8 +85,28 @@ class PlannerNode(Node):
         super().__init__('planner_node')
         self.params = NodeParameters(self)
         self._t0 = time.perf_counter()
-        p = self._declare_all()
+        self._p = self._declare_all()
         self.pub = self.create_publisher(Path, 'route', LATCHED)
+        # Plan once the node spins (it is on the graph meanwhile): a one-shot steady timer, so
+        # it fires without /clock under use_sim_time.
+        self._plan_timer = self.create_timer(0.0, self._plan_once,
+                                             clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self.get_logger().info('parameters accepted; planning starts as soon as the node spins')
+
+    def _plan_once(self):
+        self._plan_timer.cancel()
+        try:
+            self._plan_and_publish(self._p)
+        except ParameterError as exc:
+            # The same one line and exit code as a refusal at start (ship_sim.ros.run.run_node).
+            prog = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else 'planner_node'
+            print(f'{prog}: {exc}', file=sys.stderr, flush=True)
+            finish(self, 2)
+        except ExternalShutdownException:
+            pass   # Ctrl-C or SIGTERM while planning: the spin ends with the context
+
+    def _plan_and_publish(self, p):
+        self._say('planning the route')
         chart, start, goal = self._chart_and_points(p)
         plan = self._plan(p, chart, start, goal)
         if p['route_file_out']:
@@ -244,7 +268,7 @@ class PlannerNode(Node):
         out = os.path.abspath(p['route_file_out'])
         cfg = plan.config
         comments = [
-            'Planned by ship_planner planner_node (ship_planner.optimal_route: seeds/004 Chapter 3).',
+            'Planned by ship_planner planner_node (ship_planner.optimal_route: Lee 2004, Chapter 3).',
             f'Chart: {chart.source}; clearance {cfg.clearance_m:g} m (+ {chart.grid_margin:.0f} m grid margin).',
             f'Route {plan.length / 1e3:.3f} km with fillets; exact-grid shortest path '
             f'{plan.shortest.length / 1e3:.3f} km (ratio {plan.length_ratio:.4f}); planning '
@@ -252,7 +276,7 @@ class PlannerNode(Node):
             '',
         ]
         text = route_yaml_text(
-            plan, chart, p['route_name'], f'planned by planner_node on {chart.source}; method of seeds/004 '
+            plan, chart, p['route_name'], f'planned by planner_node on {chart.source}; method of Lee 2004, '
             'Chapter 3 (ship_planner.optimal_route)',
             description=f'Optimal route, clearance {cfg.clearance_m:g} m, fillet radius {self._fillet_radius:g} m, '
                         f'energy weight {cfg.energy_weight:g} m/rad', comments=comments)

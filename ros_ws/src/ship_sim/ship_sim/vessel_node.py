@@ -7,13 +7,16 @@ ship_sim.ros.qos.STREAM = reliable, keep-last 100):
              rudder      std_msgs/Float64    actual rudder angle (rad, positive turns to port)
              /clock      rosgraph_msgs/Clock sim time, when clock_master (reliable, depth 10;
                                              rclpy's best-effort /clock subscribers match it)
+             ready       std_msgs/Bool       true once step 0 is out (latched: reliable +
+                                             transient_local); the launcher starts a platoon
+                                             follower's simulator after it
   subscribes rudder_cmd  std_msgs/Float64    rudder command (rad, positive turns to port)
              shaft_cmd   std_msgs/Float64    shaft speed command (rpm), models with a shaft only
 
 One "step" of the node is one publish period 1/publish_rate, made of an integer number of
 integration steps dt. Step k publishes /clock, odom and rudder for sim time k/publish_rate.
 
-Stepping modes (parameter stepping_mode):
+Stepping modes (parameter stepping_mode; the pacing rules live in ship_sim.pacing):
 - realtime: wall-clock paced (x speedup; a steady-clock timer, steps that fell behind are
   caught up at once, at most MAX_CATCHUP per tick, so sim time keeps pace with wall time), the
   latest command is held. The pacing lateness of every step is measured and logged at shutdown.
@@ -36,18 +39,11 @@ message). Out-of-range commands are saturated by the simulator. If the model lea
 domain (e.g. the tanker's surge speed drops to zero) the node logs an error and ends with exit
 code 1. max_steps > 0 ends the run cleanly (exit 0) after publishing step max_steps.
 
-Executor: run_node spins with rclpy.experimental.EventsExecutor, the faster one. Measured
-lockstep round trips, vessel_node (mariner, dt 0.1 s, 10 Hz) + a Python echo node answering
-each odom with a rudder_cmd, 2000 steps, 2 runs each, on the 2-core build machine while other
-jobs ran (steps/s; sim executor / echo executor):
-    events / events  1980, 3651     events / single  1400, 1631
-    single / events  1140, 1089     single / single   631,  860
-i.e. EventsExecutor roughly triples the loop rate (0.27-0.5 ms per round trip against
-1.2-1.6 ms). The simulator step itself (MSS mariner, float RK4 path) costs about 41 us.
+Executor: run_node spins with rclpy.experimental.EventsExecutor, which runs the lockstep loop
+several times faster than SingleThreadedExecutor (the measured round trips and the cost of a
+simulator step are in the README and `make bench`).
 """
-import collections
 import math
-import time
 
 from nav_msgs.msg import Odometry
 import rclpy.logging
@@ -56,14 +52,15 @@ from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock as ClockMsg
-from std_msgs.msg import Float64, UInt64
+from std_msgs.msg import Bool, Float64, UInt64
 
 from ship_sim.current import OceanCurrent
 from ship_sim.frames import yaw_to_psi
 from ship_sim.models import MODEL_NAMES, ModelStateError, make_model
+from ship_sim.pacing import LockstepPacer, RealtimePacer, StepGate
 from ship_sim.ros.conversions import base_link_frame, fill_odometry, time_to_msg
 from ship_sim.ros.params import NodeParameters, ParameterError
-from ship_sim.ros.qos import STREAM
+from ship_sim.ros.qos import LATCHED, STREAM
 from ship_sim.ros.run import finish, run_node
 from ship_sim.simulator import VesselSimulator
 
@@ -77,59 +74,7 @@ MODEL_KWARGS = {
     'nomoto2': {'preset': 'preset', 'U0': 'U'},
     'nps_auv2': {'U0': 'U'},
 }
-# Extra wall time after the lockstep graph has matched, before step 0 goes out: our matching
-# is seen from our side only; the controller's rudder_cmd writer must also have matched our
-# reader, or its first command is lost (a volatile reader gets nothing sent before matching).
-START_GRACE_S = 0.25
-# Realtime: most steps run in one timer tick when catching up; beyond it the pace is reset.
-MAX_CATCHUP = 50
 CLOCK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
-
-
-class _RunningStats:
-    """Mean / standard deviation / max of a stream of numbers (Welford), no storage."""
-
-    __slots__ = ('n', 'mean', 'm2', 'max')
-
-    def __init__(self):
-        self.n, self.mean, self.m2, self.max = 0, 0.0, 0.0, -math.inf
-
-    def add(self, x):
-        self.n += 1
-        d = x - self.mean
-        self.mean += d / self.n
-        self.m2 += d * (x - self.mean)
-        if x > self.max:
-            self.max = x
-
-    @property
-    def std(self):
-        return math.sqrt(self.m2 / (self.n - 1)) if self.n > 1 else 0.0
-
-
-class StepGate:
-    """Lockstep: someone who must keep up with the steps (the recorder, a platoon follower).
-
-    ``acked`` is how many steps it has taken (None before it was heard from); step k may go out
-    while k <= acked + window. One that falls behind for a whole lockstep_timeout is given up
-    (no longer waited for) rather than stopping the run.
-    """
-
-    __slots__ = ('name', 'window', 'needed_at_start', 'acked', 'waits', 'given_up', 'sub')
-
-    def __init__(self, name, window, needed_at_start=False, heard=None):
-        self.name, self.window, self.needed_at_start = name, int(window), needed_at_start
-        self.acked, self.waits, self.given_up, self.sub = heard, 0, False, None
-
-    @property
-    def ready(self):
-        return not self.needed_at_start or self.acked is not None
-
-    def acknowledge(self, steps):
-        self.acked = steps
-
-    def open_for(self, k):
-        return self.given_up or self.acked is None or k <= self.acked + self.window
 
 
 class VesselNode(Node):
@@ -139,26 +84,15 @@ class VesselNode(Node):
         self._declare_and_build()
         self._make_topics()
         self._n_rejected = 0      # non-finite commands refused
-        self._n_timeouts = 0      # lockstep steps run with a held command after a timeout
-        self._n_stale = 0         # lockstep commands that came after their step's timeout
-        self._n_consecutive = 0   # lockstep timeouts in a row
         self._running = False
         self._done = False
-        steady = Clock(clock_type=ClockType.STEADY_TIME)
         if self.mode == 'realtime':
-            self._lateness = _RunningStats()
-            self._interval = _RunningStats()
-            self._last_pub_wall = None
+            self._pacer = RealtimePacer(self.period, self.speedup)
             self._tick_timer = None
             self._start_realtime()
         else:
-            self._n_cmd = 0
-            self._pending = collections.deque()
-            self._t_start_wait = time.monotonic()
-            self._matched_at = None
-            self._waiting_since = None
-            self._gate_closed_since = None
-            self._check_timer = self.create_timer(0.05, self._lockstep_watchdog, clock=steady)
+            self._check_timer = self.create_timer(
+                0.05, self._lockstep_watchdog, clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.get_logger().info(
             f'{self.sim.model.name} ({self.sim.model.source}); dt {self.sim.dt} s, '
             f'{self.rate:g} Hz ({self.n_sub} integration steps per step), {self.mode}'
@@ -332,21 +266,33 @@ class VesselNode(Node):
         self._odom.child_frame_id = base_link_frame(self.get_namespace())
         self._rudder_msg = Float64()
         self._clock_msg = ClockMsg()
+        self._ready_msg = Bool(data=False)
         on_cmd = self._on_rudder_cmd_lockstep if self.mode == 'lockstep' else self._on_rudder_cmd
         self._cmd_sub = self.create_subscription(Float64, 'rudder_cmd', on_cmd, STREAM)
         self._shaft_sub = (self.create_subscription(Float64, 'shaft_cmd', self._on_shaft_cmd,
                                                     STREAM)
                            if self.sim.model.has_shaft else None)
+        self._ready_pub = self.create_publisher(Bool, 'ready', LATCHED)
         # Lockstep step gates: who must keep up before the next step goes out.
-        self._gates = []
+        self._lockstep = None
         if self.mode == 'lockstep':
+            gates = []
             if self.record_topic:
-                self._add_gate(StepGate(f'the recorder ({self.record_topic})', self.record_window,
-                                        needed_at_start=True), UInt64, self.record_topic,
-                               lambda g, msg: g.acknowledge(msg.data), CLOCK_QOS)
+                gates.append(self._gate(StepGate(f'the recorder ({self.record_topic})',
+                                                 self.record_window, needed_at_start=True),
+                                        UInt64, self.record_topic,
+                                        lambda g, msg: g.acknowledge(msg.data), CLOCK_QOS))
             for topic in filter(None, (t.strip() for t in self.follower_topics.split(','))):
-                self._add_gate(StepGate(f'follower {topic}', self.follower_window, heard=0),
-                               Odometry, topic, lambda g, msg: g.acknowledge(g.acked + 1), STREAM)
+                gates.append(self._gate(StepGate(f'follower {topic}', self.follower_window,
+                                                 heard=0), Odometry, topic,
+                                        lambda g, msg: g.acknowledge(g.acked + 1), STREAM))
+            log = self.get_logger()
+            self._lockstep = LockstepPacer(
+                start=self._start_lockstep, step=self._lockstep_step, stop=self._stop,
+                warn=log.warning, error=log.error, graph=self._graph_matched,
+                describe_graph=self._describe_graph, timeout=self.lockstep_timeout,
+                max_timeouts=self.max_timeouts, start_timeout=self.start_timeout, gates=gates,
+                command=self._rudder_cmd)
         self._t_last_cmd = self.sim.t        # realtime: sim time of the latest rudder_cmd
         self._centred = False
 
@@ -361,6 +307,9 @@ class VesselNode(Node):
                 self._clock_pub.publish(self._clock_msg)
             self._odom_pub.publish(self._odom)
             self._rudder_pub.publish(self._rudder_msg)
+            if not self._ready_msg.data:
+                self._ready_msg.data = True
+                self._ready_pub.publish(self._ready_msg)
         except Exception:  # noqa: BLE001 - re-raised unless we are shutting down
             if self.context.ok():
                 raise
@@ -434,165 +383,86 @@ class VesselNode(Node):
     # -- realtime -----------------------------------------------------------------------------
     def _start_realtime(self):
         self._running = True
-        self._anchor_k = self._step_index()
-        self._anchor_wall = time.monotonic()
+        self._pacer.start(self._step_index())
         self._publish()
-        self._last_pub_wall = self._anchor_wall
         self._after_publish()
         self._make_tick_timer()
 
     def _make_tick_timer(self):
         if self._tick_timer is not None:
             self.destroy_timer(self._tick_timer)
-        self._tick_timer = self.create_timer(self.period / self.speedup, self._on_tick,
+        self._tick_timer = self.create_timer(self._pacer.wall_period, self._on_tick,
                                              clock=Clock(clock_type=ClockType.STEADY_TIME))
 
     def _set_speedup(self, value):
         self.speedup = float(value)
         if self.mode == 'realtime' and self._running:
-            self._anchor_k = self._step_index()
-            self._anchor_wall = time.monotonic()
+            self._pacer.set_speedup(self.speedup, self._step_index())
             self._make_tick_timer()
             self.get_logger().info(f'speedup now x{self.speedup:g}')
 
     def _on_tick(self):
         if not self._running:
             return
-        now = time.monotonic()
-        wall_period = self.period / self.speedup
-        due = self._anchor_k + int((now - self._anchor_wall) / wall_period)
         k = self._step_index()
-        if due - k > MAX_CATCHUP:
-            self.get_logger().warning(f'step {k}: {due - k} steps behind the wall clock at '
+        due, behind = self._pacer.due(k)
+        if behind:
+            self.get_logger().warning(f'step {k}: {behind} steps behind the wall clock at '
                                       f'x{self.speedup:g}; resetting the pace',
                                       throttle_duration_sec=5.0)
-            due = k + MAX_CATCHUP
-            self._anchor_k = due
-            self._anchor_wall = now
         while k < due and self._running:
             self._check_command_age()
             if not self._advance():
                 return
             k += 1
             self._publish()
-            t_pub = time.monotonic()
-            self._lateness.add(t_pub - (self._anchor_wall + (k - self._anchor_k) * wall_period))
-            self._interval.add(t_pub - self._last_pub_wall)
-            self._last_pub_wall = t_pub
+            self._pacer.published(k)
             self._after_publish()
 
-    # -- lockstep -----------------------------------------------------------------------------
+    # -- lockstep (the rules: ship_sim.pacing.LockstepPacer) ------------------------------------
     def _set_lockstep_timeout(self, value):
         self.lockstep_timeout = float(value)
+        if self._lockstep is not None:
+            self._lockstep.timeout = self.lockstep_timeout
+
+    def _graph_matched(self):
+        return (self._odom_pub.get_subscription_count() >= self.min_odom_subs
+                and self._cmd_sub.get_publisher_count() > 0)
+
+    def _describe_graph(self):
+        return (f'odom has {self._odom_pub.get_subscription_count()} of {self.min_odom_subs} '
+                f'subscribers and rudder_cmd {self._cmd_sub.get_publisher_count()} publishers')
 
     def _lockstep_watchdog(self):
-        now = time.monotonic()
-        if not self._running:
-            if self._done:
-                return
-            matched = (self._odom_pub.get_subscription_count() >= self.min_odom_subs
-                       and self._cmd_sub.get_publisher_count() > 0
-                       and all(g.ready for g in self._gates))
-            if matched and self._matched_at is None:
-                self._matched_at = now
-            if self._matched_at is not None and now - self._matched_at >= START_GRACE_S:
-                self._start_lockstep()
-            elif now - self._t_start_wait > self.start_timeout:
-                self.get_logger().warning(
-                    f'lockstep: after {self.start_timeout:g} s odom has '
-                    f'{self._odom_pub.get_subscription_count()} of {self.min_odom_subs} '
-                    f'subscribers and rudder_cmd {self._cmd_sub.get_publisher_count()} '
-                    'publishers' + ''.join(f', nothing yet from {g.name}' for g in self._gates
-                                           if not g.ready)
-                    + '; starting anyway (step 0 may be lost)')
-                self._start_lockstep()
+        if self._done or (self._lockstep.started and not self._running):
             return
-        if self.lockstep_timeout <= 0.0:
-            return
-        if self._pending:  # the command is here: waiting for the recorder
-            if (self._gate_closed_since is not None
-                    and now - self._gate_closed_since > self.lockstep_timeout):
-                for g in self._gates:
-                    if not g.open_for(self._step_index() + 1):
-                        g.given_up = True
-                        self.get_logger().warning(
-                            f'lockstep: {g.name} took {g.acked} steps and no more within '
-                            f'{self.lockstep_timeout:g} s; going on without waiting for it (it may '
-                            'miss messages)')
-                self._drain()
-            return
-        if self._waiting_since is not None and now - self._waiting_since > self.lockstep_timeout:
-            k = self._step_index()
-            self._n_timeouts += 1
-            self._n_consecutive += 1
-            if self.max_timeouts and self._n_consecutive >= self.max_timeouts:
-                self.get_logger().error(
-                    f'lockstep: no rudder_cmd for {self._n_consecutive} consecutive steps (up to '
-                    f'step {k}, {self.lockstep_timeout:g} s each; lockstep_max_timeouts '
-                    f'{self.max_timeouts}): is the controller running? Stopping')
-                self._stop(1)
-                return
-            self.get_logger().warning(
-                f'lockstep: no rudder_cmd for step {k} within {self.lockstep_timeout:g} s; '
-                f'holding {self._rudder_cmd:.4f} rad for this step ({self._n_timeouts} timeouts '
-                'so far; the run is no longer deterministic)')
-            self._lockstep_step()
+        self._lockstep.watchdog()
 
     def _start_lockstep(self):
+        """Publish step 0; whether the node still runs."""
         self._running = True
         self.get_logger().info('lockstep: publishing step 0')
         self._publish()
-        self._waiting_since = time.monotonic()
         self._after_publish()
-        # A command may have come before step 0 went out (it is then step 0's).
-        self._drain()
+        return self._running
 
     def _on_rudder_cmd_lockstep(self, msg):
-        index = self._n_cmd
-        self._n_cmd = index + 1
-        value = msg.data if self._finite(msg.data, 'rudder_cmd') else None
-        if index < self._step_index():
-            self._n_stale += 1  # its step already went by on a timeout: pairing stays aligned
-            return
-        self._n_consecutive = 0
-        self._pending.append(value)
-        self._drain()
+        self._lockstep.on_command(msg.data if self._finite(msg.data, 'rudder_cmd') else None)
 
-    def _add_gate(self, gate, msg_type, topic, on_msg, qos):
+    def _gate(self, gate, msg_type, topic, on_msg, qos):
         def callback(msg):
             on_msg(gate, msg)
-            if self._running:
-                self._drain()
+            self._lockstep.on_gate()
         gate.sub = self.create_subscription(msg_type, topic, callback, qos)
-        self._gates.append(gate)
+        return gate
 
-    def _gates_open(self):
-        """May the next step go out? Every gate must be within its window of it."""
-        k = self._step_index() + 1
-        closed = [g for g in self._gates if not g.open_for(k)]
-        for g in closed:
-            g.waits += 1
-        return not closed
-
-    def _drain(self):
-        pending = self._pending
-        while pending and self._running:
-            if not self._gates_open():
-                if self._gate_closed_since is None:
-                    self._gate_closed_since = time.monotonic()
-                return
-            self._gate_closed_since = None
-            value = pending.popleft()
-            if value is not None:
-                self._rudder_cmd = value
-            self._lockstep_step()
-
-    def _lockstep_step(self):
-        if not self._advance():
-            return
-        self._publish()
-        self._waiting_since = time.monotonic()
-        self._after_publish()
+    def _lockstep_step(self, command):
+        """One step with ``command`` (rad), published; whether the node still runs."""
+        self._rudder_cmd = command
+        if self._advance():
+            self._publish()
+            self._after_publish()
+        return self._running
 
     # -- shutdown -----------------------------------------------------------------------------
     def destroy_node(self):
@@ -605,18 +475,15 @@ class VesselNode(Node):
         k = self._step_index()
         text = (f'end: {k} steps, sim time {self.sim.t:.3f} s, {self._n_rejected} non-finite '
                 'commands refused')
-        if self.mode == 'lockstep':
-            text += (f', {self._n_timeouts} lockstep timeouts, {self._n_stale} late commands '
-                     'dropped' + ('' if self._n_timeouts else ' (deterministic run)'))
-            for g in self._gates:
+        if self._lockstep is not None:
+            ls = self._lockstep
+            text += (f', {ls.n_timeouts} lockstep timeouts, {ls.n_stale} late commands '
+                     'dropped' + ('' if ls.n_timeouts else ' (deterministic run)'))
+            for g in ls.gates:
                 text += (f'; {g.name} took {g.acked} steps, {g.waits} waits for it'
                          + (', then went on without it' if g.given_up else ''))
-        elif self._lateness.n:
-            L, I = self._lateness, self._interval
-            text += (f'; realtime x{self.speedup:g} pacing over {L.n} steps: lateness mean '
-                     f'{L.mean * 1e3:.3f} ms, sd {L.std * 1e3:.3f} ms, max {L.max * 1e3:.3f} '
-                     f'ms; interval mean {I.mean * 1e3:.3f} ms (nominal '
-                     f'{self.period / self.speedup * 1e3:.3f}), sd {I.std * 1e3:.3f} ms')
+        elif self._pacer.lateness.n:
+            text += '; ' + self._pacer.summary()
         log.info(text)
         super().destroy_node()
 

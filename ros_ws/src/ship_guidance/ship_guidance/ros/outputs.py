@@ -26,7 +26,7 @@ def progress_values(out):
             float(psi_to_yaw(out.path_angle)), -out.curvature]
 
 
-class GuidanceOutputs:
+class GuidancePublishers:
     """Publishers and reused messages of heading_cmd, cross_track_error and progress."""
 
     def __init__(self, node, qos=STREAM):

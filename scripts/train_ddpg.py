@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Train the learned steering policy of seed 000 with DDPG; export it as a numpy policy file.
+"""Train the learned steering policy of Martinsen and Lekkas 2018 with DDPG; export it as a numpy policy file.
 
     scripts/train_ddpg.py train --model mariner --schedule transfer [--transitions 120000]
     scripts/train_ddpg.py train --model mariner --schedule continue \
@@ -9,7 +9,7 @@
     scripts/train_ddpg.py compare --model mariner       # transfer vs scratch time-to-threshold
     scripts/train_ddpg.py plot --model mariner          # training curves (PNG) from the logs
 
-Source: Martinsen & Lekkas, seeds/000_9df48a050e3ea7fc.txt, Sec. III and Algorithm 1: DDPG
+Source: Martinsen and Lekkas 2018, Sec. III and Algorithm 1: DDPG
 (Lillicrap et al. 2016), actor and critic with two fully connected ReLU layers of 400 and 300
 units, learning rates 1e-4 (actor) and 1e-3 (critic), soft target updates tau = 1e-3, discount
 gamma = 0.99, minibatches of 64 from a replay buffer (size 1e6 here), 1000 s episodes with random

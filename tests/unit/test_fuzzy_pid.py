@@ -1,10 +1,10 @@
-"""Fuzzy PID autopilot of seed 004 Chapter 5.
+"""Fuzzy PID autopilot of Lee 2004 Chapter 5.
 
 The fuzzy blocks are checked against the seed's own closed forms, written here by hand:
 eqs. (5.11)-(5.12) and Table 5.1 (block 1), eqs. (5.13)-(5.14) and Table 5.1 (block 2), and
 the gains at the origin GU G / 4 (eqs. 5.18-5.22). Behaviour: course changes of 30/45/60/90 deg
-(seed 004 Figs. 5.8-5.11) on a linear first-order Nomoto plant (K = 0.185 1/s, T = 107.3 s,
-the cargo ship of seed 004 Table 4.1) with a constant rudder offset as disturbance: the PD
+(Lee 2004 Figs. 5.8-5.11) on a linear first-order Nomoto plant (K = 0.185 1/s, T = 107.3 s,
+the cargo ship of Lee 2004 Table 4.1) with a constant rudder offset as disturbance: the PD
 keeps the steady-state error -d/k1 (r_dot = 0 needs delta = -d, i.e. k1 e = -d), the fuzzy
 PID removes it.
 """

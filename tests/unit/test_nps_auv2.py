@@ -1,4 +1,4 @@
-"""NPS AUV II (seed 003): equations of motion, Nomoto reduction, the seed's PD gains, closed loop.
+"""NPS AUV II (Simakis 1992): equations of motion, Nomoto reduction, the seed's PD gains, closed loop.
 
 Vehicle data below are copied by hand from the seed's listings (NOMO.FOR / SIMU.FOR) so that
 the tests check the model's algebra against the original equations (2.1)-(2.2), not against
@@ -11,7 +11,7 @@ from ship_sim.integrators import rk4_step
 from ship_sim.models import make_model
 from ship_sim.models.nps_auv2 import NpsAuv2
 
-# Seed 003 listings: weight 435 lb, Iz 45 slug ft^2, L 7.3 ft, rho 1.94 slug/ft^3, g 32.2,
+# Simakis 1992 listings: weight 435 lb, Iz 45 slug ft^2, L 7.3 ft, rho 1.94 slug/ft^3, g 32.2,
 # xG 0.0104 ft; nondimensional derivatives; bow/stern ratio -1.
 L_FT, RHO = 7.3, 1.94
 MASS = 435.0 / 32.2 / (0.5 * RHO * L_FT ** 3)
@@ -103,7 +103,7 @@ def test_nomoto_reduction_keeps_static_gain_and_first_moment():
 
 
 def test_seed_pd_gains_at_wn_3_zeta_0_8():
-    # Seed 003, Sec. III.B: for wn = 3.0, zeta = 0.8 "the gains k1, k2 are about 3.2 and 1.2"
+    # Simakis 1992, Sec. III.B: for wn = 3.0, zeta = 0.8 "the gains k1, k2 are about 3.2 and 1.2"
     # (read from its Fig. 4, nondimensional). Eqs. (2.15)-(2.16):
     wn, zeta = 3.0, 0.8
     a, b = nondimensional_model().nomoto_ab()

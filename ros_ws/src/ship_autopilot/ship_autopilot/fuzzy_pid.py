@@ -1,6 +1,6 @@
-"""Fuzzy PID heading autopilot of seed 004, Chapter 5 (two fuzzy blocks, scheduled gains).
+"""Fuzzy PID heading autopilot of Lee 2004, Chapter 5 (two fuzzy blocks, scheduled gains).
 
-Source: seed 004 (B. Lee, "An Optimal Route Decision and LOS Guidance System for Automatic
+Source: Lee 2004 (B. Lee, "An Optimal Route Decision and LOS Guidance System for Automatic
 Navigation of Ships", Korea Maritime University), Section 5.1, eqs. (5.11)-(5.23), Tables 5.1
 and 5.2, Figs. 5.4-5.6; simulations in Section 5.2 (Figs. 5.7-5.11: 30/45/60/90 deg course
 changes, where the PD autopilot keeps a steady-state error and the fuzzy PID removes it).
@@ -127,7 +127,7 @@ def fuzzy_block2(x_r, x_a, L=1.0):
 
 @dataclass(frozen=True)
 class FuzzyPIDGains:
-    """Scaling gains of seed 004 Ch. 5: GE (1/rad), GR (s/rad), GA (1/(rad s)), GU (rad), L."""
+    """Scaling gains of Lee 2004 Ch. 5: GE (1/rad), GR (s/rad), GA (1/(rad s)), GU (rad), L."""
 
     GE: float
     GR: float
@@ -175,7 +175,7 @@ def scheduled_gains(psi_e, psi_r, psi_a, g):
 
 
 class FuzzyPIDAutopilot(HeadingController):
-    """Fuzzy PID of seed 004 Ch. 5 + shared rudder shaping; state: the error integral psi_a.
+    """Fuzzy PID of Lee 2004 Ch. 5 + shared rudder shaping; state: the error integral psi_a.
 
     ``FuzzyPIDAutopilot(gains, limiter, anti_windup=True, integration_band=None)``; ``gains``
     a FuzzyPIDGains; ``integration_band`` (rad, > 0): integrate only while |psi_e| is below

@@ -1,9 +1,9 @@
 """Platoon follower guidance (pure): steer at the predecessor, keep the gap, fall back to the route.
 
 Units m, s, rad, m/s, rpm; positions and headings NED (psi clockwise from north); cross-track e
-positive to STARBOARD of the path (path.py, 000 eq. 2). No ROS here: follower_node.py wraps it.
+positive to STARBOARD of the path (path.py, Martinsen and Lekkas 2018 eq. 2). No ROS here: follower_node.py wraps it.
 
-Source: seed 001 (Angelopoulos, "String stability of multiple surface marine vessels", NPS 2011),
+Source: Angelopoulos 2011 (Angelopoulos, "String stability of multiple surface marine vessels", NPS 2011),
 Sec. II.E.2, Figure 8 and eqs. 31-32: "the first vessel attempts to direct its longitudinal axis
 toward a target point D, whereas the second vessel points its longitudinal axis toward the first
 one ... d1 is the distance between the target point D and the first vessel, and d2 the distance
@@ -11,7 +11,7 @@ between the two vessels always measured on the commanded path." Eq. 31 (with the
 eq. 32, which carries the -b2 k12 / d2 y1 term the OCR lost from the printed equation) is
     delta_2 = k12 (psi_2 + (y2 - y1) / d2) + k22 r2,
 i.e. the linearised heading command psi_c2 = -(y2 - y1) / d2 about a path along the x axis; the
-nonlinear form, as 001 eq. 21/23 for one vessel, is psi_c2 = -atan((y2 - y1) / d2).
+nonlinear form, as Angelopoulos 2011 eq. 21/23 for one vessel, is psi_c2 = -atan((y2 - y1) / d2).
 
 So the aim point IS the predecessor: d2 ahead along the path, at the predecessor's cross-track.
 On a route we write it in path coordinates (the follower at arc length s_f, offset e_f; the
@@ -29,7 +29,7 @@ overtake: it then aims at a path point d_min ahead, at the predecessor's offset)
 behind (g > d_max; d_max None = no cap). Past the route's end (and before its start) P and n
 continue along the end (start) tangent, so the law is defined there too.
 
-Stability (001 eqs. 33-34, 41): the look-ahead of eq. 31 is the gap itself; linearised about
+Stability (Angelopoulos 2011 eqs. 33-34, 41): the look-ahead of eq. 31 is the gap itself; linearised about
 equal speeds it is constant and the follower's loop is stable iff d > U / (2 zeta omega_n)
 (metres; the document's d > 1 / (2 zeta omega_n) in ship lengths). Since d >= d_min whatever
 the gap, ``FollowerGuidance`` checks d_min (and the fallback look-ahead) against that limit
@@ -38,11 +38,11 @@ small for our autopilots (omega_n L / U = 1 gives 0.625 ship lengths): a real sp
 above it.
 
 Stable is not the same as "errors do not grow down the platoon". Follower i's cross-track
-answers its predecessor's through (linearised, 001 eq. 37 row 5 with y' = U psi)
+answers its predecessor's through (linearised, Angelopoulos 2011 eq. 37 row 5 with y' = U psi)
     G(s) = y_i / y_{i-1} = a0 / (s^3 + 2 zeta w s^2 + w^2 s + a0),   a0 = U w^2 / d,
 with G(0) = 1. Near the Routh limit G has a sharp resonance at s ~ i w (peak 19 at d = 1.1 d*,
 zeta = 0.8), so a disturbance of the leader is amplified by up to that factor per vessel before
-it decays: string instability in the sense of the automated-highway literature 001 cites
+it decays: string instability in the sense of the automated-highway literature Angelopoulos 2011 cites
 (Swaroop, ref. [3]: sup |G(i nu)| <= 1). |G(i nu)| <= 1 for all nu holds iff
     d >= 4 zeta U / w              (zeta >= 1/sqrt 2)
     d >= U / (w zeta (1 - zeta^2)) (zeta <  1/sqrt 2)        (``no_amplification_spacing``)
@@ -139,10 +139,10 @@ TRACK_MAX_SAMPLES = 20000
 AIMS = ('predecessor', 'path')
 
 
-# ---------------------------------------------------------------- the law (001 eq. 31)
+# ---------------------------------------------------------------- the law (Angelopoulos 2011 eq. 31)
 
 def follower_heading_straight(path_angle, cross_track, pred_cross_track, lookahead):
-    """001 eq. 31, nonlinear: psi_c = alpha - atan((e_f - e_p) / d) (rad, wrapped; broadcasts).
+    """Angelopoulos 2011 eq. 31, nonlinear: psi_c = alpha - atan((e_f - e_p) / d) (rad, wrapped; broadcasts).
 
     path_angle alpha (rad), cross_track e_f of the follower and e_p of its predecessor (m,
     + starboard), lookahead d > 0 (m, the along-path distance to the predecessor)."""
@@ -341,7 +341,7 @@ class FollowerOutput:
 
 
 class FollowerGuidance:
-    """Follow the predecessor along ``route`` (001 eq. 31), with spacing and stale fallback.
+    """Follow the predecessor along ``route`` (Angelopoulos 2011 eq. 31), with spacing and stale fallback.
 
     Parameters (SI): spacing g_ref (m, > 0); min_lookahead d_min (m, > 0); max_lookahead d_max
     (m, >= d_min, None = no cap); fallback_lookahead (m, > 0: route LOS look-ahead when the
@@ -403,7 +403,7 @@ class FollowerGuidance:
             self.warnings.append(
                 f'spacing {self.spacing.spacing:.1f} m is below min_lookahead '
                 f'{self.min_lookahead:.1f} m: at the set gap the follower aims beyond its '
-                'predecessor (001 eq. 31 then holds with d = min_lookahead, not the gap)')
+                'predecessor (Angelopoulos 2011 eq. 31 then holds with d = min_lookahead, not the gap)')
         # Own progress and the fallback LOS; the predecessor's projection (its own progress
         # state, so neither jumps to another branch of the route).
         self._own = Guidance(route, 'los', self.fallback_lookahead, acceptance_radius)
@@ -425,7 +425,7 @@ class FollowerGuidance:
         if bad and not allow_unstable:
             raise ValueError('; '.join(c.message() for c in bad)
                              + f' (U / (2 zeta omega_n) with zeta={zeta}, omega_n={omega_n} '
-                             f'rad/s, speed={speed} m/s; seed 001 eqs. 34, 41). Increase it or '
+                             f'rad/s, speed={speed} m/s; Angelopoulos 2011 eqs. 34, 41). Increase it or '
                              'pass allow_unstable=True.')
         if self.spacing.spacing < self.no_amplification_spacing:
             self.warnings.append(

@@ -1,6 +1,6 @@
 """Navigable-water charts as rasters in a local (north, east) frame, and the clearance they allow.
 
-Source: seeds/004_e27d3f022cbf277a.txt, Chapter 3 (optimal route on an electronic chart): the
+Source: Lee 2004, Chapter 3 (optimal route on an electronic chart): the
 chart is turned into an image of navigable water before closing and thinning. The chapter reads
 the land areas of an S-57 ENC (Table 3.1, object LNDARE); its equations are not legible in the
 OCR. Here a chart comes from one of:

@@ -1,7 +1,7 @@
 """Adjacent convex polygons along a candidate route: the route choice becomes a choice of one
 point on each crossing line.
 
-Source: seeds/004_e27d3f022cbf277a.txt, abstract and Chapter 3: "a dividing technique of
+Source: Lee 2004, abstract and Chapter 3: "a dividing technique of
 adjacent convex polygons is discussed in order to transform an optimal route decision problem
 into a borderline decision problem". The chapter's construction is not legible in the OCR; the
 one below is ours and is built so that the transformation is exact: any choice of one point per

@@ -1,6 +1,6 @@
 """Round the corners of a waypoint route with circular fillets (line - arc - line, tangent).
 
-Source: seeds/004_e27d3f022cbf277a.txt, sec. 4 (Figs. 4.4-4.6, eqs. 4.21-4.24): between two
+Source: Lee 2004, sec. 4 (Figs. 4.4-4.6, eqs. 4.21-4.24): between two
 straight legs WP1-WP2 and WP2-WP3 the ship follows a turning circle of radius R (the ship's
 turning radius at a chosen rudder angle, Fig. 4.5) that it enters at P_in on the first leg and
 leaves at P_out on the second; its LOS point then moves on that circle (eq. 4.24). The OCR of

@@ -1,6 +1,6 @@
 """Real-coded genetic algorithm (minimisation on the unit box [0, 1]^n).
 
-Source: seeds/004_e27d3f022cbf277a.txt, abstract and Chapter 3: "a real-coded genetic algorithm
+Source: Lee 2004, abstract and Chapter 3: "a real-coded genetic algorithm
 is applied to decide an optimal route or optimal way points by trading off between navigational
 distance and propulsive energy loss"; Chapter 4 tunes the guidance parameters with the same GA.
 The chapter's operators are not legible in the OCR, so this is a standard real-coded GA with the

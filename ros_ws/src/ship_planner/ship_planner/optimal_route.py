@@ -1,7 +1,7 @@
 """Optimal route on a chart: candidates from the centre lines, convex corridors, GA waypoints,
 fillets for the vessel, and the shortest path for comparison.
 
-Source: seeds/004_e27d3f022cbf277a.txt, Chapter 3 (and abstract): closing and thinning of the
+Source: Lee 2004, Chapter 3 (and abstract): closing and thinning of the
 chart image give the centre lines of the cruisable area and candidate routes; adjacent convex
 polygons turn the route choice into a choice of crossing-line points; a real-coded GA picks them
 "by trading off between navigational distance and propulsive energy loss"; Chapter 4 (Figs.
@@ -433,7 +433,7 @@ def plan_route(chart, start, goal, config=None, progress=None):
 
 # ---- route file -------------------------------------------------------------------------------
 def route_yaml_text(plan, chart, name, source, description=None, comments=()):
-    """The planned route as a route file (schema: ship_planner.route_yaml). Geodetic charts give
+    """The planned route as a route file (schema: ship_planner.yaml_route_reader). Geodetic charts give
     frame wgs84 with the chart's origin; synthetic ones frame enu (x east, y north)."""
     lines = [f'# {c}'.rstrip() for c in comments]
     lines.append(f'name: {name}')

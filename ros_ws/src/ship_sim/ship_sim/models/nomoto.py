@@ -3,10 +3,10 @@
 Sources
 - Nomoto, Taguchi, Honda and Hirano (1957); Fossen, *Handbook of Marine Craft Hydrodynamics and
   Motion Control* (2011), Ch. 7 (Nomoto models for heading autopilots).
-- Presets: seed 004 (B. Lee, "An Optimal Route Decision and LOS Guidance System for Automatic
+- Presets: Lee 2004 (B. Lee, "An Optimal Route Decision and LOS Guidance System for Automatic
   Navigation of Ships", KMU), Table 2.2 (repeated for the cargo ship in its Table 4.1), which
   quotes Fossen's table for the Mariner class cargo ship and a fully loaded oil tanker.
-- Kinematics: seed 004 eq. (4.29): psi_dot = r, x_dot = U cos psi, y_dot = U sin psi.
+- Kinematics: Lee 2004 eq. (4.29): psi_dot = r, x_dot = U cos psi, y_dot = U sin psi.
 
 Sign convention (project-wide, see ship_sim.frames): NED, psi clockwise from north, r > 0 turns
 to starboard; the rudder angle delta is *unified*: positive turns the vessel to port. In this
@@ -43,7 +43,7 @@ import numpy as np
 
 from .constant_speed import ConstantSpeedModel, check_param  # noqa: F401 (re-export)
 
-# Preset values: Table 2.2 of seed 004 in the unified rudder sign (see the module docstring).
+# Preset values: Table 2.2 of Lee 2004 in the unified rudder sign (see the module docstring).
 # Rudder limits are our choice (the table has none): the mariner gets those of the MSS mariner
 # model (40 deg, 5 deg/s); the tanker the SOLAS minimum steering rate (35 deg to 30 deg on the
 # other side in 28 s: 65/28 = 2.32 deg/s) with a 35 deg limit.
@@ -64,7 +64,7 @@ RUDDER_TIME_CONSTANT = 1.0
 class _NomotoBase(ConstantSpeedModel):
     """Shared parts: parameters, rudder servo, kinematics, inputs, initial state."""
 
-    source = 'Nomoto (1957); Fossen (2011) Ch. 7; presets: seed 004 Table 2.2'
+    source = 'Nomoto (1957); Fossen (2011) Ch. 7; presets: Lee 2004 Table 2.2'
 
     def __init__(self, preset='mariner', *, U=None, length=None, rudder_max=None,
                  rudder_rate_max=None, rudder_time_constant=RUDDER_TIME_CONSTANT,

@@ -1,6 +1,6 @@
 """NPS AUV II linear sway/yaw steering model with bow and stern rudders, kinematics and servo.
 
-Source: seed 003 (D. A. Simakis, "Vehicle Guidance and Control along Circular Trajectories",
+Source: Simakis 1992 (D. A. Simakis, "Vehicle Guidance and Control along Circular Trajectories",
 NPS thesis, 1992), Chapter II: eqs. (2.1)-(2.9) (sway/yaw equations, coefficients a_ij, b_i),
 (2.3)-(2.5) (kinematics), (2.10)-(2.11) and (2.12)-(2.16) (Nomoto reduction, PD gains); the
 vehicle data and hydrodynamic coefficients are those of the FORTRAN listings NOMO.FOR
@@ -94,13 +94,13 @@ def nondimensional_nomoto_ab(a11, a12, a21, a22, b1, b2):
 
 
 class NpsAuv2(ConstantSpeedModel):
-    """NPS AUV II sway/yaw model (seed 003). State [u, v, r, north, east, psi, delta]."""
+    """NPS AUV II sway/yaw model (Simakis 1992). State [u, v, r, north, east, psi, delta]."""
 
     name = 'nps_auv2'
     state_names = ('u', 'v', 'r', 'north', 'east', 'psi', 'delta')
     state_units = ('m/s', 'm/s', 'rad/s', 'm', 'm', 'rad', 'rad')
     input_names = ('delta_c',)
-    source = 'seed 003 (Simakis 1992, NPS), eqs. 2.3-2.16, NOMO.FOR/SIMU.FOR coefficients'
+    source = 'Simakis 1992 (NPS thesis), eqs. 2.3-2.16, NOMO.FOR/SIMU.FOR coefficients'
 
     def __init__(self, *, U=1.0, length=L_FT * FT, rudder_max=0.4, rudder_rate_max=1.0,
                  rudder_time_constant=0.1, bow_stern_ratio=BOW_STERN_RATIO):

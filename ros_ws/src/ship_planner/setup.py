@@ -14,7 +14,6 @@ setup(
         ('share/' + package_name + '/config', glob('config/*.yaml')),
         ('share/' + package_name + '/config/routes', glob('config/routes/*.yaml')),
     ],
-    package_data={package_name: ['data/*']},
     install_requires=['setuptools'],
     zip_safe=True,
     maintainer='Ship Navigation Maintainers',

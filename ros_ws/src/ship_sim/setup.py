@@ -13,7 +13,6 @@ setup(
         ('share/' + package_name, ['package.xml']),
         ('share/' + package_name + '/config', glob('config/*.yaml')),
     ],
-    package_data={package_name: ['data/*']},
     install_requires=['setuptools'],
     zip_safe=True,
     maintainer='Ship Navigation Maintainers',

@@ -10,7 +10,7 @@ current 0 and 0.9 m/s) and eq. 8 (Gaussian a = 1, sigma = 10 m, gated by |psi - 
 90 deg: ship_autopilot.learning.env.gaussian_reward).
 
 Setup (the same for every controller):
-- Paths: scenarios/routes/curved_path_<model>_000.yaml (sines designed after the seed; its
+- Paths: scenarios/routes/curved_path_<model>_000.yaml (sines designed after Martinsen and Lekkas 2018; its
   curves are not in the OCR).
 - Start states: ``--starts`` per ship, drawn once from a fixed seed: a point within the first
   500 m of the path, offset sideways uniformly in +-100 m, heading = path angle + uniform
@@ -20,7 +20,7 @@ Setup (the same for every controller):
 - Reward sampling: the Gaussian is accumulated at every 0.1 s sample (10 000 samples per
   1000 s episode, maximum 10 000). Martinsen and Lekkas 2018 does not state its step; its DRL Mariner figure
   of 3264 per 1000 s episode needs >= 3.3 samples/s, and MSS's sample time is 0.1 s, so the
-  numbers should be on the same scale, but the seed's paths, start states and current
+  numbers should be on the same scale, but Martinsen and Lekkas's paths, start states and current
   directions are unknown: compare orders of magnitude, not digits.
 - Controllers: 'los' = LOS guidance + PD autopilot (gains from ship_autopilot/data/
   autopilot_gains.yaml); 'ilos' = integral LOS (sigma = U0 / 4, critically damped, los.py)

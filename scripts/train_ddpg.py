@@ -14,7 +14,7 @@ Source: Martinsen and Lekkas 2018, Sec. III and Algorithm 1: DDPG
 units, learning rates 1e-4 (actor) and 1e-3 (critic), soft target updates tau = 1e-3, discount
 gamma = 0.99, minibatches of 64 from a replay buffer (size 1e6 here), 1000 s episodes with random
 starts near the path and unknown current; transfer learning = train on straight lines first,
-then continue on curved paths (30 % of the transitions straight: the seed's "40-50 % less
+then continue on curved paths (30 % of the transitions straight: Martinsen and Lekkas's "40-50 % less
 training time" claim, measured by ``compare``).
 
 Why our own compact DDPG and not stable-baselines3 (which pip can install next to torch 2.13
@@ -25,7 +25,7 @@ custom VecEnv, but its per-step bookkeeping and the transfer schedule (one proce
 networks, optimisers and the replay buffer across the straight -> curved switch, count
 transitions per phase) are simpler to state exactly in ~150 lines here; (2) the export to the
 numpy policy file (weights + metadata + reference outputs) needs only our own layer layout;
-(3) no dependency beyond torch for training. Choices the seed leaves open, ours: tanh output
+(3) no dependency beyond torch for training. Choices Martinsen and Lekkas 2018 leave open, ours: tanh output
 scaled to the rudder limit; critic input = [state, action] at the first layer; final-layer init
 uniform +-3e-3 (DDPG paper); Ornstein-Uhlenbeck exploration (theta 0.15, sigma 0.1 per 1 s
 control step, as DDPG); no weight decay; 5000 warm-up transitions before updates; truncated

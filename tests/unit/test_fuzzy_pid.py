@@ -1,6 +1,6 @@
 """Fuzzy PID autopilot of Lee 2004 Chapter 5.
 
-The fuzzy blocks are checked against the seed's own closed forms, written here by hand:
+The fuzzy blocks are checked against Lee's own closed forms, written here by hand:
 eqs. (5.11)-(5.12) and Table 5.1 (block 1), eqs. (5.13)-(5.14) and Table 5.1 (block 2), and
 the gains at the origin GU G / 4 (eqs. 5.18-5.22). Behaviour: course changes of 30/45/60/90 deg
 (Lee 2004 Figs. 5.8-5.11) on a linear first-order Nomoto plant (K = 0.185 1/s, T = 107.3 s,

@@ -68,7 +68,7 @@ def test_nomoto1_plant_identified_within_one_percent(params):
 
 
 def test_nps_auv2_fit_reproduces_simakis_reduction():
-    # The seed reduces the 2-state sway/yaw model to first order analytically (eq. 2.11,
+    # Simakis 1992 reduces the 2-state sway/yaw model to first order analytically (eq. 2.11,
     # time in L/U): a' = -1.468, b' = -2.859. A fit on a 10/10 zig-zag of the full model sees
     # the neglected sway pole too, so it agrees to about 1 %, not exactly.
     model = make_model('nps_auv2')

@@ -11,7 +11,7 @@ from ship_sim.integrators import rk4_step
 from ship_sim.models import make_model
 from ship_sim.models.nomoto import Nomoto1, Nomoto2
 
-# Lee 2004, Table 2.2: (K 1/s, T1 s, T2 s, T3 s, L m, U m/s), K in the seed's printed sign.
+# Lee 2004, Table 2.2: (K 1/s, T1 s, T2 s, T3 s, L m, U m/s), K in Lee's printed sign.
 TABLE = {'mariner': (0.185, 118.0, 7.8, 18.5, 161.0, 7.7),
          'tanker': (-0.019, -124.1, 16.4, 46.0, 350.0, 8.1)}
 

@@ -25,7 +25,7 @@ def table():
 
 @pytest.fixture(scope='module')
 def minima(table):
-    """Exact grid minima of the document's scan (0.05:0.01:2) for every printed row."""
+    """Exact grid minima of Angelopoulos's scan (0.05:0.01:2) for every printed row."""
     return ss.grid_minima(table['zeta'], table['wn1'], table['wn2'])
 
 
@@ -220,7 +220,7 @@ def test_check_platoon_flags_vessels_below_their_limit():
     assert [c.name for c in ss.unstable_vessels(vessels, margin=1.3)] == ['f1', 'f2']
     # exactly at the limit is marginal: refused
     assert not ss.check_platoon([dict(zeta=0.5, omega_n=1.0, lookahead=1.0)])[0].ok
-    # the seeds' non-dimensional form: speed 1, look-ahead in ship lengths
+    # Angelopoulos's non-dimensional form: speed 1, look-ahead in ship lengths
     assert ss.check_platoon([dict(zeta=0.8, omega_n=3.0, lookahead=0.21)])[0].ok
     with pytest.raises(ValueError):
         ss.check_platoon([dict(zeta=0.8, omega_n=3.0, lookahead=-1.0)])

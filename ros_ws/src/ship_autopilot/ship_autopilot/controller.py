@@ -8,7 +8,7 @@ Conventions (project-wide, see ship_sim.frames):
   ``r``: NED yaw rate (rad/s, clockwise positive); ``dt``: time since the previous update (s).
 - Returned ``delta``: the rudder command (rad) in the unified sign, positive turns the vessel to
   port. With the heading error e = wrap(psi - psi_c) in [-pi, pi) a positive error (vessel to
-  starboard of the command) asks for positive rudder, so the seeds' law
+  starboard of the command) asks for positive rudder, so the law of Angelopoulos and Simakis
   delta = k1 (psi - psi_c) + k2 r (Angelopoulos 2011 eq. 16, Simakis 1992 eq. 2.14) has positive gains
   for a normal ship (Nomoto b < 0, see ship_autopilot.pd).
 - Wrap-around: the error is wrapped (ship_sim.frames.wrap_angle), so a command across +-pi is

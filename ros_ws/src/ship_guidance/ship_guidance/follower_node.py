@@ -132,7 +132,7 @@ class FollowerNode(Node):
                         'ILOS toward the path with look-ahead = gap (ship_guidance.follower)',
                         choices=AIMS, **ro)
         sigma = p.declare('integral_gain', 0.0, 'integral action on the own cross-track error '
-                          '(Borhaug ILOS gain sigma; 0: none, the document\'s law)', lo=0.0,
+                          '(Borhaug ILOS gain sigma; 0: none, Angelopoulos\'s law)', lo=0.0,
                           hi=100.0, unit='m/s', **ro)
         lead = p.declare('curvature_lead', False, 'lead the heading command by 2 zeta U kappa '
                          '/ omega_n on curves (needs autopilot_zeta, autopilot_omega_n, speed)',

@@ -31,7 +31,7 @@ Columns (each row describes the leg that ENDS at its waypoint):
          1 -> 'along_track' (extras['switching']).
   D      (DD) the switching distance for TURN, table units (metres after scaling).
   PATH   (IPATH) 0 = straight line to (x, y), 1 = circular arc about (x0, y0).
-  ICCW   1 = counter-clockwise, 0 = clockwise, as the thesis draws it (x to the right, y up).
+  ICCW   1 = counter-clockwise, 0 = clockwise, as Simakis 1992 draws it (x to the right, y up).
          With x = north and y = east that picture is mirrored: its CCW runs from +x towards +y,
          psi increasing, a starboard turn, i.e. CLOCKWISE seen from above in NED. So ICCW = 1
          -> Arc(clockwise=True), ICCW = 0 -> Arc(clockwise=False). The figure-eight table
@@ -42,8 +42,8 @@ Columns (each row describes the leg that ENDS at its waypoint):
 OCR notes: the figure-eight table in the OCR text is clean (header "x <sub>0</sub>" is x0);
 every arc row has equal start and end radii (5.0) and all joins are tangent except the 90 deg
 corner at (15, 0), so no number had to be guessed. The figure-eight ends at (6, 5), not at its
-start (0, 0): the table does not close the lower loop (the thesis's Fig. 28 is not in the OCR).
-The thesis's 2-point quarter-circle runs (Figs. 14-23, 26) give only the end points (0,0) and
+start (0, 0): the table does not close the lower loop (Simakis's Fig. 28 is not in the OCR).
+Simakis's 2-point quarter-circle runs (Figs. 14-23, 26) give only the end points (0,0) and
 (10,10); see ship_planner.quarter_circle_routes for the centre we chose.
 """
 import math

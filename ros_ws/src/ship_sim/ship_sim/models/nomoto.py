@@ -17,7 +17,7 @@ sign the models read
     second order:  T1 T2 r_ddot + (T1 + T2) r_dot + r = -K (delta + T3 delta_dot)
                    psi / delta = -K (1 + T3 s) / (s (1 + T1 s) (1 + T2 s))
 
-with K > 0 for a normal (course-stable) ship. The seed prints K with the opposite rudder sign
+with K > 0 for a normal (course-stable) ship. Lee 2004 prints K with the opposite rudder sign
 convention of its own (positive rudder to starboard), which gives the same numbers: cargo ship
 K = 0.185 1/s, tanker K = -0.019 1/s. Fossen's original table (positive rudder to port) lists
 K' = -3.86 and +0.83, i.e. the same physics. The tanker is course unstable (T1 < 0): its linear
@@ -29,7 +29,7 @@ low-frequency reduction of the second-order model: same static gain and first mo
 Table 2.2 as read from the OCR text (columns: cargo ship (mariner class), oil tanker (full)):
     L (m) 161 / 350,  u (m/s) 7.7 / 8.1,  dwt 16,622 / 389,100,  K (1/s) 0.185 / -0.019,
     T1 (s) 118.0 / -124.1,  T2 (s) 7.8 / 16.4,  T3 (s) "185" / 46.0.
-The cargo T3 printed "185" lost its decimal point: Table 4.1 of the same seed prints 18.5, and
+The cargo T3 printed "185" lost its decimal point: Table 4.1 of Lee 2004 prints 18.5, and
 Fossen's nondimensional T3' = 0.89 gives 0.89 * 161 / 7.7 = 18.6 s, so 18.5 s is used. The row
 labels "A (1/s)" and "T:" are OCR garbling of K and T1.
 

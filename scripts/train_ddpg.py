@@ -18,7 +18,7 @@ then continue on curved paths (30 % of the transitions straight: Martinsen and L
 training time" claim, measured by ``compare``).
 
 Why our own compact DDPG and not stable-baselines3 (which pip can install next to torch 2.13
-without pulling CUDA): (1) training is dominated by the 400-300 network updates (~8 ms each on
+without pulling CUDA): (1) training is dominated by the 400-300 network updates (milliseconds each on
 one core), so the environment must be batched (N vessels in one numpy RK4 call,
 learning.env.PathFollowingBatch) with several updates per batched step; SB3 can be fed a
 custom VecEnv, but its per-step bookkeeping and the transfer schedule (one process, keep

@@ -26,7 +26,8 @@ Subclasses implement ``_initial_state()`` (dict of state names -> values) and
 ``_law(e, r, dt) -> (raw_command, new_state)`` without mutating ``self._state``; this class
 commits the new state only where the input was valid. A subclass whose ``_law`` also works
 on Python floats sets ``scalar_law = True``: one vessel's valid update then runs on floats
-(same arithmetic, no numpy; ~10x cheaper, it runs every control step in the node).
+(same arithmetic without numpy's per-call overhead, which dominates one vessel's update;
+it runs every control step in the node; figures in the README, Performance).
 """
 import math
 

@@ -51,8 +51,9 @@ MAX_COORDINATE_M = 1e7
 #: Default half-width (m) of the arc-length search window when ``project`` gets an ``s_hint``
 #: but no ``window``. The guidance passes its own (2 look-ahead distances and more).
 DEFAULT_WINDOW = 500.0
-#: ``Route.project`` searches up to this many legs on Python floats, more with numpy (the
-#: float loop costs ~2 us per leg, the vectorised search ~40 us whatever the count).
+#: ``Route.project`` searches up to this many legs on Python floats, more with numpy: the
+#: float loop's cost grows with the legs, the vectorised search has a fixed overhead that
+#: dominates for few legs (crossover measured, README Performance).
 FEW_LEGS = 16
 
 
@@ -259,7 +260,7 @@ class Route:
         #: Arc-length tolerance (m) for "at the start/end".
         self.s_tol = 1e-9 * max(1.0, self.length)
         # The same per-leg numbers as Python floats for ``_closest_on_few_legs`` (a guidance
-        # step searches 1-3 legs, where numpy's per-call overhead costs ~10x the arithmetic).
+        # step searches 1-3 legs, where numpy's per-call overhead exceeds the arithmetic).
         self._cum_list = self.cumulative.tolist()
         self._curv_list = self.curvatures.tolist()
         self._leg_floats = [

@@ -234,7 +234,7 @@ _SHAPES = {}
 
 
 def _landmask_shapes(provider):
-    """The roaring-landmask polygon set, loaded once per process (~5 s: the wheel's data)."""
+    """The roaring-landmask polygon set, loaded once per process (loading the wheel's data is slow)."""
     if provider not in PROVIDERS:
         raise ChartError(f'unknown shoreline source "{provider}"; use one of {", ".join(PROVIDERS)}')
     if provider not in _SHAPES:

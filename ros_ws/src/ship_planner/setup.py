@@ -13,6 +13,7 @@ setup(
         ('share/' + package_name, ['package.xml']),
         ('share/' + package_name + '/config', glob('config/*.yaml')),
         ('share/' + package_name + '/config/routes', glob('config/routes/*.yaml')),
+        ('share/' + package_name + '/doc', glob('doc/*.md')),
     ],
     install_requires=['setuptools'],
     zip_safe=True,

@@ -47,7 +47,7 @@ def seed_block2(xr, xa):
     return 0.5 * L * xa / (2 * L - max(abs(xr), abs(xa)))
 
 
-def test_block1_matches_seed_closed_forms_everywhere():
+def test_block1_matches_lee_closed_forms_everywhere():
     rng = np.random.default_rng(1)
     pts = rng.uniform(-2.5 * L, 2.5 * L, size=(4000, 2))
     pts = np.vstack([pts, [[0, 0], [L, L], [-L, L], [3 * L, -0.5 * L], [0.3, 3 * L]]])
@@ -56,7 +56,7 @@ def test_block1_matches_seed_closed_forms_everywhere():
     assert np.max(np.abs(got - want)) < 1e-12
 
 
-def test_block2_matches_seed_closed_forms_everywhere():
+def test_block2_matches_lee_closed_forms_everywhere():
     rng = np.random.default_rng(2)
     pts = rng.uniform(-2.5 * L, 2.5 * L, size=(4000, 2))
     got = fuzzy_block2(pts[:, 0], pts[:, 1], L)

@@ -102,7 +102,7 @@ def test_nomoto_reduction_keeps_static_gain_and_first_moment():
     assert a < 0 and b < 0
 
 
-def test_seed_pd_gains_at_wn_3_zeta_0_8():
+def test_simakis_pd_gains_at_wn_3_zeta_0_8():
     # Simakis 1992, Sec. III.B: for wn = 3.0, zeta = 0.8 "the gains k1, k2 are about 3.2 and 1.2"
     # (read from its Fig. 4, nondimensional). Eqs. (2.15)-(2.16):
     wn, zeta = 3.0, 0.8

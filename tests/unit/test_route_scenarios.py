@@ -63,7 +63,7 @@ def test_mariner_routes_turn_no_tighter_than_the_mariner_can_follow(name):
 
 @pytest.mark.parametrize('name, radius', [('route_following_mariner_004.yaml', 800.0),
                                           ('route_following_tanker_004.yaml', 1500.0)])
-def test_004_routes_have_the_course_changes_of_its_tests(name, radius):
+def test_lee_routes_have_the_course_changes_of_its_tests(name, radius):
     arcs = [leg for leg in load(name).route.legs if leg.kind == 'arc']
     assert np.degrees([a.sweep for a in arcs]) == pytest.approx([30, 45, 60, 90, 45])
     assert [a.clockwise for a in arcs] == [False, True, False, True, False]     # port, stbd, port, stbd, port

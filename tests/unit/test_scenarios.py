@@ -75,7 +75,7 @@ def test_the_seed_scenarios_are_there():
 
 
 @pytest.mark.parametrize('path', SEED_FILES, ids=ids(SEED_FILES))
-def test_seed_scenario_cites_an_existing_seed_document(path):
+def test_seed_scenario_cites_its_source_by_author_and_year(path):
     scenario = load_scenario(path)
     seed = path.stem[-3:]
     cited = [k for k, citation in SEED_DOCUMENTS.items() if citation in scenario.source]

@@ -28,7 +28,8 @@ CENTER = (0.0, 10.0)                # (x, y) in Simakis's units (vehicle lengths
 POINT_COUNTS = (3, 5, 7, 13)        # Figs. 16-23
 SWITCH_D = 0.1
 LENGTH_UNIT_M = 0.3048 * 7.3        # NPS AUV II length L = 7.3 ft (Simakis 1992, program listings)
-SOURCE = ('Simakis 1992, "Vehicle guidance and control along circular trajectories", Ch. III-IV, Figs. 14-23 and 26: quarter circle '
+SOURCE = ('Simakis 1992, "Vehicle guidance and control along circular trajectories", Ch. III-IV, '
+          'Figs. 14-23 and 26: quarter circle '
           'from (0,0) to (10,10); centre (0,10) chosen (tangent to the initial heading), see '
           'ship_planner/quarter_circle_routes.py')
 

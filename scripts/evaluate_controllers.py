@@ -1,16 +1,16 @@
 #!/usr/bin/env python3
-"""Table I of seed 000 for our controllers: cumulative Gaussian reward per 1000 s curved episode.
+"""Table I of Martinsen and Lekkas 2018 for our controllers: cumulative Gaussian reward per 1000 s curved episode.
 
     scripts/evaluate_controllers.py [--quick] [--models mariner,container,tanker]
                                     [--starts 5] [--out runs/eval/controllers]
 
-Source: Martinsen & Lekkas, seeds/000_9df48a050e3ea7fc.txt, Table I ("Cumulative Gaussian
+Source: Martinsen and Lekkas 2018, Table I ("Cumulative Gaussian
 reward for the curved path following problem", LOS vs DRL, Mariner / Container / Tanker at
 current 0 and 0.9 m/s) and eq. 8 (Gaussian a = 1, sigma = 10 m, gated by |psi - gamma_p| <=
 90 deg: ship_autopilot.learning.env.gaussian_reward).
 
 Setup (the same for every controller):
-- Paths: scenarios/routes/curved_path_<model>_000.yaml (sines designed after the seed; its
+- Paths: scenarios/routes/curved_path_<model>_000.yaml (sines designed after Martinsen and Lekkas 2018; its
   curves are not in the OCR).
 - Start states: ``--starts`` per ship, drawn once from a fixed seed: a point within the first
   500 m of the path, offset sideways uniformly in +-100 m, heading = path angle + uniform
@@ -18,13 +18,13 @@ Setup (the same for every controller):
   direction is drawn per start (uniform, flowing towards), the same for every controller.
 - Plant: MSS model, RK4 at 0.1 s, current added to the kinematics (learning.env).
 - Reward sampling: the Gaussian is accumulated at every 0.1 s sample (10 000 samples per
-  1000 s episode, maximum 10 000). Seed 000 does not state its step; its DRL Mariner figure
+  1000 s episode, maximum 10 000). Martinsen and Lekkas 2018 does not state its step; its DRL Mariner figure
   of 3264 per 1000 s episode needs >= 3.3 samples/s, and MSS's sample time is 0.1 s, so the
-  numbers should be on the same scale, but the seed's paths, start states and current
+  numbers should be on the same scale, but Martinsen and Lekkas's paths, start states and current
   directions are unknown: compare orders of magnitude, not digits.
 - Controllers: 'los' = LOS guidance + PD autopilot (gains from ship_autopilot/data/
   autopilot_gains.yaml); 'ilos' = integral LOS (sigma = U0 / 4, critically damped, los.py)
-  + PD; 'fuzzy_pid' = LOS guidance + fuzzy PID (seed 004's combination); look-ahead 2.5 ship
+  + PD; 'fuzzy_pid' = LOS guidance + fuzzy PID (Lee 2004's combination); look-ahead 2.5 ship
   lengths for all three (stable: checked against the PD's zeta, omega_n); guidance and
   autopilot run every 0.1 s, as the nodes do. 'policy' = the shipped DDPG policy
   (ship_autopilot/data/policies/<model>.npz), acting every control_dt of its file (1 s, the
@@ -59,7 +59,7 @@ from ship_autopilot.learning.features import PathFeatures  # noqa: E402
 from ship_autopilot.learning.policy import LearnedSteering, load_policy  # noqa: E402
 from ship_autopilot.pd import pd_gains  # noqa: E402
 from ship_guidance.guidance import Guidance  # noqa: E402
-from ship_planner.route_files import load_route  # noqa: E402
+from ship_planner.route_loader import load_route  # noqa: E402
 
 MODELS = ('mariner', 'container', 'tanker')
 CURRENTS = (0.0, 0.9)
@@ -73,10 +73,10 @@ LABELS = {'los': 'LOS + PD', 'ilos': 'ILOS + PD', 'fuzzy_pid': 'LOS + fuzzy PID'
 TUNED = {'mariner': (2.5, 1.0), 'container': (2.5, 1.5), 'tanker': (1.5, 3.5)}
 TUNE_GRID = {'omega_n_nd': (1.0, 1.5, 2.5, 3.5), 'lookahead_L': (0.75, 1.0, 1.5, 2.5, 3.5)}
 TUNE_STARTS, TUNE_SEED = 4, 7
-#: Seed 000 Table I: (model, current) -> cumulative Gaussian reward.
+#: Martinsen and Lekkas 2018 Table I: (model, current) -> cumulative Gaussian reward.
 SEED_TABLE = {
-    'LOS (seed 000)': {'mariner': (161, 499), 'container': (807, 829), 'tanker': (65, 62)},
-    'DRL (seed 000)': {'mariner': (3264, 3134), 'container': (2430, 2763),
+    'LOS (Martinsen and Lekkas 2018)': {'mariner': (161, 499), 'container': (807, 829), 'tanker': (65, 62)},
+    'DRL (Martinsen and Lekkas 2018)': {'mariner': (3264, 3134), 'container': (2430, 2763),
                        'tanker': (1010, 819)},
 }
 LOOKAHEAD_SHIP_LENGTHS = 2.5
@@ -307,7 +307,7 @@ def main(argv=None):
     print(md)
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    doc = {'source': 'seed 000 Table I layout (scripts/evaluate_controllers.py)',
+    doc = {'source': 'Martinsen and Lekkas 2018 Table I layout (scripts/evaluate_controllers.py)',
            'policy_files': args.policy or 'ship_autopilot/data/policies/<model>.npz',
            'duration_s': duration, 'sim_dt_s': SIM_DT, 'starts': starts,
            'lookahead_ship_lengths': LOOKAHEAD_SHIP_LENGTHS, 'seed_table': SEED_TABLE,

@@ -114,8 +114,8 @@ def main(argv=None):
     with open(args.out_dir / 'autopilot_gains.yaml', 'w', encoding='utf-8') as f:
         f.write(common)
         yaml.safe_dump({
-            'method': ('PD: k1 = -wn^2/b, k2 = -(a + 2 zeta wn)/b (seed 001 eq. 20); '
-                       'wn = omega_n_nd U/L; fuzzy PID (seed 004 Ch. 5) linearised at the '
+            'method': ('PD: k1 = -wn^2/b, k2 = -(a + 2 zeta wn)/b (Angelopoulos 2011 eq. 20); '
+                       'wn = omega_n_nd U/L; fuzzy PID (Lee 2004 Ch. 5) linearised at the '
                        'origin to kp = k1, kd = k2, ki = k1 wn KI_FACTOR, scaled by e_sat '
                        '(ship_autopilot.gains)'),
             'zeta': design.ZETA, 'ki_factor': design.KI_FACTOR, 'e_sat_deg': design.E_SAT_DEG,

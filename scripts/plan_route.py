@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plan an optimal route over a real chart and write it as a route file (+ a PNG).
 
-Pipeline and sources: ship_planner.optimal_route (seed 004, Chapter 3: closing, thinning,
+Pipeline and sources: ship_planner.optimal_route (Lee 2004, Chapter 3: closing, thinning,
 adjacent convex polygons, real-coded GA). Charts: ship_planner.chart (GSHHG / OSM shoreline from
 the roaring-landmask wheel, an S-57 ENC cell, or an image).
 
@@ -34,7 +34,7 @@ from ship_planner.chart import (DEFAULT_MAX_CELLS, PROVIDERS, ChartError, chart_
                                 default_cache_dir, shoreline_chart)
 from ship_planner.fillets import suggest_fillet_radius  # noqa: E402
 from ship_planner.optimal_route import DEFAULT_ENERGY_WEIGHT, PlannerConfig, plan_route, route_yaml_text  # noqa: E402
-from ship_planner.route_yaml import load_route_yaml  # noqa: E402
+from ship_planner.yaml_route_reader import load_route_yaml  # noqa: E402
 
 
 def parse_args(argv):
@@ -71,7 +71,7 @@ def parse_args(argv):
     ga.add_argument('--no-refine', action='store_true', help='keep the GA result without the local refinement')
     ga.add_argument('--seed', type=int, default=1)
     out = p.add_argument_group('output')
-    out.add_argument('--out', help='route file to write (YAML, schema of ship_planner.route_yaml)')
+    out.add_argument('--out', help='route file to write (YAML, schema of ship_planner.yaml_route_reader)')
     out.add_argument('--png', help='picture of chart, centre lines, candidates and route (default: next to --out)')
     out.add_argument('--name', help='route name (default: the output file name)')
     out.add_argument('--quiet', action='store_true', help='no progress lines')
@@ -212,7 +212,7 @@ def main(argv=None):
         name = args.name or os.path.splitext(os.path.basename(args.out))[0]
         cmd = 'scripts/plan_route.py ' + ' '.join(shlex.quote(a) for a in (sys.argv[1:] if argv is None else argv))
         comments = [
-            'Planned by ship_planner.optimal_route (seed 004, Chapter 3: closing + thinning -> candidate routes,',
+            'Planned by ship_planner.optimal_route (Lee 2004, Chapter 3: closing + thinning -> candidate routes,',
             'adjacent convex polygons -> crossing lines, real-coded GA -> waypoints; fillets for the vessel).',
             f'Command: {cmd}',
             f'Chart: {chart.source}; clearance {args.clearance:g} m (+ {chart.grid_margin:.0f} m grid margin).',
@@ -223,7 +223,7 @@ def main(argv=None):
             'unless cached).',
             '',
         ]
-        source = (f'planned by scripts/plan_route.py on {chart.source}; method of seeds/004 Chapter 3 '
+        source = (f'planned by scripts/plan_route.py on {chart.source}; method of Lee 2004 Chapter 3 '
                   '(ship_planner.optimal_route)')
         text = route_yaml_text(plan, chart, name, source, comments=comments,
                                description=f'Optimal route, clearance {args.clearance:g} m, fillet radius '

@@ -30,9 +30,9 @@ def main(argv=None):
     p.add_argument('--rudder-limit-deg', type=float, default=None,
                    help='rudder limit for saturation counts and plots (default: from the bag, else none)')
     p.add_argument('--reward-step', type=float, default=metrics.REWARD_STEP_S, metavar='S',
-                   help='step of the cumulative Gaussian reward (seed 000 Table I), s')
+                   help='step of the cumulative Gaussian reward (Martinsen and Lekkas 2018 Table I), s')
     p.add_argument('--episode', type=float, default=None, metavar='S',
-                   help='sum the reward over the first S seconds only (seed 000: 1000)')
+                   help='sum the reward over the first S seconds only (Martinsen and Lekkas 2018: 1000)')
     p.add_argument('--progress-topic', default=None, help='relative name of the progress topic')
     p.add_argument('--no-plots', action='store_true')
     args = p.parse_args(argv)

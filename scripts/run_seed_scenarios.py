@@ -180,7 +180,7 @@ def metrics_to_finish(bag_dir, namespace, settle_s, rudder_limit_rad, ref_route=
     m['tail_after_finish_s'] = float(whole.t[-1] - v.t[-1])
     t_from = v.t[0] + (settle_s or 0.0)
     if ref_route is not None:
-        from ship_planner.route_files import load_route
+        from ship_planner.route_loader import load_route
         north, east, _ = load_route(ref_route).route.to_poses(max_arc_step=0.05)
         _, e, _, _ = project_on_route(x, y, east, north)
         st = cross_track_stats(t, e, t_from)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Train the learned steering policy of seed 000 with DDPG; export it as a numpy policy file.
+"""Train the learned steering policy of Martinsen and Lekkas 2018 with DDPG; export it as a numpy policy file.
 
     scripts/train_ddpg.py train --model mariner --schedule transfer [--transitions 120000]
     scripts/train_ddpg.py train --model mariner --schedule continue \
@@ -9,23 +9,23 @@
     scripts/train_ddpg.py compare --model mariner       # transfer vs scratch time-to-threshold
     scripts/train_ddpg.py plot --model mariner          # training curves (PNG) from the logs
 
-Source: Martinsen & Lekkas, seeds/000_9df48a050e3ea7fc.txt, Sec. III and Algorithm 1: DDPG
+Source: Martinsen and Lekkas 2018, Sec. III and Algorithm 1: DDPG
 (Lillicrap et al. 2016), actor and critic with two fully connected ReLU layers of 400 and 300
 units, learning rates 1e-4 (actor) and 1e-3 (critic), soft target updates tau = 1e-3, discount
 gamma = 0.99, minibatches of 64 from a replay buffer (size 1e6 here), 1000 s episodes with random
 starts near the path and unknown current; transfer learning = train on straight lines first,
-then continue on curved paths (30 % of the transitions straight: the seed's "40-50 % less
+then continue on curved paths (30 % of the transitions straight: Martinsen and Lekkas's "40-50 % less
 training time" claim, measured by ``compare``).
 
 Why our own compact DDPG and not stable-baselines3 (which pip can install next to torch 2.13
-without pulling CUDA): (1) training is dominated by the 400-300 network updates (~8 ms each on
+without pulling CUDA): (1) training is dominated by the 400-300 network updates (milliseconds each on
 one core), so the environment must be batched (N vessels in one numpy RK4 call,
 learning.env.PathFollowingBatch) with several updates per batched step; SB3 can be fed a
 custom VecEnv, but its per-step bookkeeping and the transfer schedule (one process, keep
 networks, optimisers and the replay buffer across the straight -> curved switch, count
 transitions per phase) are simpler to state exactly in ~150 lines here; (2) the export to the
 numpy policy file (weights + metadata + reference outputs) needs only our own layer layout;
-(3) no dependency beyond torch for training. Choices the seed leaves open, ours: tanh output
+(3) no dependency beyond torch for training. Choices Martinsen and Lekkas 2018 leave open, ours: tanh output
 scaled to the rudder limit; critic input = [state, action] at the first layer; final-layer init
 uniform +-3e-3 (DDPG paper); Ornstein-Uhlenbeck exploration (theta 0.15, sigma 0.1 per 1 s
 control step, as DDPG); no weight decay; 5000 warm-up transitions before updates; truncated

@@ -29,7 +29,7 @@ SECTIONS = {
                          'rudder_cmd latency and missed steps'),
     'closed_loop_inprocess': ('closed_loop_inprocess', 'run',
                               'flagship loop with the pure modules in one process (no ROS)'),
-    'controllers': ('controllers', 'run', "seed 000's Table I: classical controllers vs the "
+    'controllers': ('controllers', 'run', "Martinsen and Lekkas 2018's Table I: classical controllers vs the "
                     'learned policy on curved paths'),
 }
 

@@ -44,7 +44,7 @@ def build_loop(scenario_file=SCENARIO):
     from ship_autopilot.gains import autopilot_gains, build_autopilot, nomoto_gains
     from ship_autopilot.pd import pd_gains
     from ship_guidance.guidance import Guidance
-    from ship_planner.route_files import load_route
+    from ship_planner.route_loader import load_route
     from ship_sim.current import OceanCurrent
     from ship_sim.frames import yaw_to_psi
     from ship_sim.models import make_model

@@ -1,4 +1,4 @@
-"""Section ``controllers``: seed 000's Table I for our controllers (scripts/evaluate_controllers.py).
+"""Section ``controllers``: Martinsen and Lekkas 2018's Table I for our controllers (scripts/evaluate_controllers.py).
 
 Cumulative Gaussian reward per curved-path episode for LOS + PD, ILOS + PD, LOS + fuzzy PID,
 the tuned LOS + fast PD + turn-rate lead, and the shipped DDPG policies, on the three MSS ships
@@ -47,7 +47,7 @@ def run(quick=False):
                                      'ratio', below=False))
     columns = ([['case', 'ship, current']] + [[c, ec.LABELS[c]] for c in controllers]
                + [['best_classical', 'best classical'], ['policy_mean_e', 'policy mean|e| m']])
-    return {'title': f'Table I of seed 000: cumulative Gaussian reward, {n_starts} start(s), '
+    return {'title': f'Table I of Martinsen and Lekkas 2018: cumulative Gaussian reward, {n_starts} start(s), '
                      f'{duration:g} s episodes (sum at 0.1 s)',
             'columns': columns, 'rows': rows, 'goals': goals, 'failed': failed,
             'notes': ['quick run: 1 start, 300 s; not comparable to the README table'] if quick

@@ -99,7 +99,7 @@ def node_parameter_names(package, executable):
     for folder in (INSTALL / package / 'share' / package / 'config',
                    REPO / 'ros_ws' / 'src' / package / 'config'):
         if (folder / name).is_file():
-            from ship_planner.route_yaml import Loader
+            from ship_planner.yaml_route_reader import Loader
             text = (folder / name).read_text()
             names = set(RCLPY_PARAMETERS)
             for section in (yaml.load(text, Loader=Loader) or {}).values():
@@ -122,7 +122,7 @@ def check_scenario(scenario):
     import difflib
     from mission.scenario import MAX_STEPS
     use_install_tree()
-    from ship_planner.route_files import RouteError, load_route
+    from ship_planner.route_loader import RouteError, load_route
     from ship_sim.models import MODEL_NAMES
     platoon = scenario.platoon
     for key, v in (('duration_s', scenario.duration_s), ('dt_s', scenario.dt_s)):
@@ -229,7 +229,7 @@ def node_parameters(scenario, spec, index, record):
 
     A platoon follower gets 'follower_node' (mission.platoon.follower_parameters) instead of
     'guidance_node'; every platoon vessel_node also waits for the followers of its vessel."""
-    from ship_planner.route_files import load_route
+    from ship_planner.route_loader import load_route
     plan = load_route(spec.route_file)
     x, y, yaw = start_pose(spec, plan.route)
     lockstep = scenario.stepping == 'lockstep'

@@ -25,8 +25,8 @@ Path) keep their exact header stamps inside, and ``mission.bag`` times the unsta
 pairing them with odom by sequence. The bag's ``custom_data`` records the choice under
 ``mission.time_source``.
 
-Executor: rclpy's EventsExecutor (about 4x the callback rate of SingleThreadedExecutor here:
-~40k msg/s vs ~10k msg/s), driven by ``spin_once`` because its ``spin()`` in this Jazzy wheel
+Executor: rclpy's EventsExecutor (several times the callback rate of SingleThreadedExecutor;
+README Performance), driven by ``spin_once`` because its ``spin()`` in this Jazzy wheel
 never fires timers and ignores SIGINT.
 
 Lockstep acknowledgements (``acks``, ``--ack``): the recorder can take part in the lockstep

@@ -43,8 +43,8 @@ from pathlib import Path
 
 import yaml
 
-from ship_planner.route_plan import MAX_COORDINATE_M, TextFileError, read_text_file
-from ship_planner.route_yaml import Loader
+from ship_planner.route_data import MAX_COORDINATE_M, TextFileError, read_text_file
+from ship_planner.yaml_route_reader import Loader
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s'}

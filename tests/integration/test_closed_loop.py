@@ -43,7 +43,7 @@ from std_msgs.msg import Bool, Float64, Float64MultiArray
 from mission.scenario import load_scenario, start_pose
 from ship_autopilot.gains import autopilot_gains
 from ship_guidance.los import linear_loop_matrix
-from ship_planner.route_files import load_route
+from ship_planner.route_loader import load_route
 from ship_sim.frames import wrap_angle
 from ship_sim.models import make_model
 from ship_sim.ros.conversions import odometry_to_ned

@@ -55,6 +55,50 @@ def test_install_tree_has_index_marker_manifest_and_executables(pkg):
         assert path.exists() and os.access(path, os.X_OK), f'{path} missing (ros2 run {pkg} {exe})'
 
 
+
+def installed_data(pkg):
+    """setup.py's data_files as (install dir, source pattern or file) and its package_data patterns
+    (relative to the Python package), read from the AST with only ``package_name`` and ``glob``
+    known (the file is not executed)."""
+    tree = ast.parse((SRC / pkg / 'setup.py').read_text())
+    env = {'package_name': pkg, 'glob': lambda pattern: ('glob', pattern), '__builtins__': {}}
+    data_files, package_data = [], []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.keyword) and node.arg == 'data_files':
+            for dest, files in eval(ast.unparse(node.value), env):   # noqa: S307 (names only)
+                data_files += [(dest, files)] if isinstance(files, tuple) else \
+                              [(dest, f) for f in files]
+        if isinstance(node, ast.keyword) and node.arg == 'package_data':
+            package_data += [p for pats in eval(ast.unparse(node.value), env).values() for p in pats]
+    return data_files, package_data
+
+
+@pytest.mark.parametrize('pkg', PACKAGES)
+def test_setup_py_installs_only_folders_that_exist_and_all_of_them(pkg):
+    """No data_files or package_data pattern for a folder that does not exist, every matched
+    file is in the install tree, and every config/ and doc/ file of the package is installed."""
+    data_files, package_data = installed_data(pkg)
+    listed = set()
+    for dest, entry in data_files:
+        sources = sorted((SRC / pkg).glob(entry[1])) if isinstance(entry, tuple) else [SRC / pkg / entry]
+        assert sources, f'{pkg}/setup.py installs {entry[1]!r} into {dest}: nothing matches'
+        for src in sources:
+            assert src.is_file(), src
+            assert (INSTALL / pkg / dest / src.name).exists(), f'{src} is not installed in {dest}'
+            listed.add(src)
+    for folder in ('config', 'doc'):
+        files = {f for f in (SRC / pkg / folder).rglob('*') if f.is_file()} \
+            if (SRC / pkg / folder).is_dir() else set()
+        assert files <= listed, f'{pkg}/setup.py does not install {sorted(files - listed)}'
+    site = sorted((INSTALL / pkg / 'lib').glob(f'python3*/site-packages/{pkg}'))
+    assert site, f'{pkg} has no Python package in the install tree'
+    for pattern in package_data:
+        sources = sorted((SRC / pkg / pkg).glob(pattern))
+        assert sources, f'{pkg}/setup.py package_data {pattern!r}: nothing matches'
+        for src in sources:
+            assert (site[0] / src.relative_to(SRC / pkg / pkg)).exists(), f'{src} is not installed'
+
+
 #: One invalid parameter per executable: the node must refuse it with one line and exit 2.
 BAD_PARAMETER = {
     'vessel_node': ('model', 'no_such_model'),

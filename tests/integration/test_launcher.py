@@ -28,7 +28,7 @@ import pytest
 import yaml
 
 from mission.bag import read_bag
-from ship_planner.route_files import load_route
+from ship_planner.route_loader import load_route
 from ship_sim.frames import ned_to_enu_xy
 
 from harness import REPO_ROOT, _die_with_parent

@@ -24,7 +24,7 @@ from nav_msgs.msg import Path
 from PIL import Image
 
 from ship_guidance.ros.path_msgs import path_msg_to_route
-from ship_planner.route_files import load_route
+from ship_planner.route_loader import load_route
 from ship_sim.ros.qos import LATCHED
 
 NS = '/vessel_0'

@@ -9,11 +9,11 @@ launcher's own code (mission.platoon, mission.launcher.node_parameters), so this
 too: follower_node steering at /vessel_<i-1>/odom, lockstep waits, the odom subscriber counts
 (the test node takes the recorder's place). Spacing 5 m with min_lookahead_m 4 m: above the
 no-amplification look-ahead 4 zeta U / omega_n = 2.37 m of ship_guidance.follower (x 1.2 for the
-AUV's sway, seed 003 Sec. III.B), far above the stability limit 0.46 m.
+AUV's sway, Simakis 1992 Sec. III.B), far above the stability limit 0.46 m.
 
 1. Convergence (before anything falls back): the followers start 3 m to either side of the
    route (the leader on it), 5 m apart. The slowest mode of a follower's linearised loop (seed
-   001 eq. 30 with d = 5 m, the diagonal block of eq. 37) has time constant
+   Angelopoulos 2011 eq. 30 with d = 5 m, the diagonal block of eq. 37) has time constant
    tau = 1 / |Re lambda|; each follower's RMS
    cross-track error in a late window (from 5 tau, before the first corner) must be below
    e^-2 of its RMS in the first two seconds: a loose check that the errors decay (the linear
@@ -47,7 +47,7 @@ from mission.launcher import check_scenario, node_parameters, vessel_nodes
 from mission.platoon import STEP0_LINE, start_order
 from mission.scenario import load_scenario
 from ship_guidance.string_stability import single_vessel_matrix
-from ship_planner.route_files import load_route
+from ship_planner.route_loader import load_route
 from ship_sim.models import make_model
 from ship_sim.ros.qos import LATCHED
 
@@ -69,7 +69,7 @@ def platoon_file(tmp_path):
     follower = {'min_lookahead_m': 4.0, 'max_lookahead_m': 8.0, 'lookahead_m': FALLBACK_D,
                 'predecessor_timeout_s': TIMEOUT_S}
     # The vehicle's own rudder limits (0.4 rad, 1 rad/s, set per instance) for the autopilot,
-    # as the seed 003 scenarios give them: autopilot_node reads the model CLASS's (35 deg, 5 deg/s).
+    # as the Simakis 1992 scenarios give them: autopilot_node reads the model CLASS's (35 deg, 5 deg/s).
     auv = make_model('nps_auv2')
     autopilot = {'controller': 'pd', 'rudder_max_deg': math.degrees(auv.rudder_max),
                  'rudder_rate_max_deg': math.degrees(auv.rudder_rate_max)}

@@ -9,7 +9,7 @@ from ship_planner import ga
 from ship_planner.chart import ChartError, polygon_chart, segments_clear
 from ship_planner.corridor import build_corridor, polygon_clear
 from ship_planner.optimal_route import PlannerConfig, plan_route, route_yaml_text
-from ship_planner.route_yaml import parse_route_yaml
+from ship_planner.yaml_route_reader import parse_route_yaml
 from ship_planner.shortest_path import polyline_length
 
 FAST = dict(population=40, generations=150, stall_generations=40)

@@ -4,7 +4,7 @@ import math
 import numpy as np
 
 import plan_route as cli
-from ship_planner.route_yaml import load_route_yaml
+from ship_planner.yaml_route_reader import load_route_yaml
 
 
 RES = 25.0  # m per pixel of the test chart

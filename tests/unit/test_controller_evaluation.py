@@ -14,7 +14,7 @@ import pytest
 
 import evaluate_controllers as ec
 import train_ddpg
-from ship_planner.route_files import load_route
+from ship_planner.route_loader import load_route
 
 
 @pytest.fixture(scope='module')

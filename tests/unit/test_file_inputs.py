@@ -2,7 +2,7 @@
 
 1. files that are not UTF-8, not regular files (FIFO, directory, device) or too large are refused
    in one line naming the file (and the line of the first bad byte), without blocking;
-2. generated routes are bounded (ship_planner.route_plan MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES):
+2. generated routes are bounded (ship_planner.route_data MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES):
    a circle of 1e9 degrees, a sine of 1e9 m or with a 1e-9 m step are refused at once, in one
    line with the line of the curve; curves within the bounds still load;
 3. coordinates beyond MAX_COORDINATE_M (1e7 m) are refused in YAML routes and waypoint tables;
@@ -28,10 +28,10 @@ from mission.launcher import (RCLPY_PARAMETERS, MissionFailed, check_scenario, m
                               node_parameter_names,
                               write_run_json)
 from mission.scenario import MAX_STEPS, ScenarioError, load_scenario
-from ship_planner.route_files import RouteError, load_route
-from ship_planner.route_plan import (MAX_COORDINATE_M, MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES,
+from ship_planner.route_loader import RouteError, load_route
+from ship_planner.route_data import (MAX_COORDINATE_M, MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES,
                                      TextFileError, read_text_file)
-from ship_planner.route_yaml import Loader, parse_route_yaml
+from ship_planner.yaml_route_reader import Loader, parse_route_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 ROUTE = ROOT / 'scenarios' / 'routes' / 'flagship_mariner.yaml'

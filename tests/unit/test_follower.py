@@ -1,6 +1,6 @@
-"""Platoon follower guidance (ship_guidance.follower): the law of seed 001 eq. 31 against
+"""Platoon follower guidance (ship_guidance.follower): the law of Angelopoulos 2011 eq. 31 against
 hand-computed geometry, the stale-odometry fallback as a state machine in sim time, the sign of
-the spacing law, and the string-gain bound against the 6x6 platoon matrix of 001 eq. 37."""
+the spacing law, and the string-gain bound against the 6x6 platoon matrix of Angelopoulos 2011 eq. 37."""
 import math
 
 import numpy as np
@@ -46,7 +46,7 @@ def test_follower_aims_at_the_predecessor_on_a_straight_route():
     assert out.lookahead == pytest.approx(400.0, abs=1e-9)
     # bearing from (-30, 100) to (10, 500): 400 m east, 40 m north
     assert out.heading_cmd == pytest.approx(math.atan2(400.0, 40.0), abs=1e-12)
-    # = alpha - atan((e_f - e_p) / d), 001 eq. 31
+    # = alpha - atan((e_f - e_p) / d), Angelopoulos 2011 eq. 31
     assert out.heading_cmd == pytest.approx(math.pi / 2 - math.atan(40.0 / 400.0), abs=1e-12)
 
 
@@ -267,7 +267,7 @@ def test_spacing_warnings():
 
 def platoon_gain(zeta, omega_n, d, speed, nu):
     """|y_1 / y_0| at frequencies nu from the follower block of string_stability's 6x6 matrix
-    (001 eq. 37): the leader's y enters the follower's r equation as the input."""
+    (Angelopoulos 2011 eq. 37): the leader's y enters the follower's r equation as the input."""
     from ship_guidance.string_stability import string_matrix
     a = string_matrix([zeta, zeta], [omega_n, omega_n], [d, d], speed)
     a22, b = a[3:, 3:], a[3:, 2]
@@ -327,7 +327,7 @@ def crab_offset(d, current, speed):
 
 @pytest.mark.parametrize('pred_offset', [0.0, 20.0])
 def test_document_law_keeps_the_current_offset_on_top_of_the_predecessors(pred_offset):
-    """001 eq. 31 has no integral: in a steady cross current V the follower settles
+    """Angelopoulos 2011 eq. 31 has no integral: in a steady cross current V the follower settles
     d V / sqrt(U^2 - V^2) downstream of its predecessor, so offsets add up down the string."""
     d, v = 400.0, 0.5
     f = follower(min_lookahead=d, max_lookahead=d)

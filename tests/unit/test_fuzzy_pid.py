@@ -1,10 +1,10 @@
-"""Fuzzy PID autopilot of seed 004 Chapter 5.
+"""Fuzzy PID autopilot of Lee 2004 Chapter 5.
 
-The fuzzy blocks are checked against the seed's own closed forms, written here by hand:
+The fuzzy blocks are checked against Lee's own closed forms, written here by hand:
 eqs. (5.11)-(5.12) and Table 5.1 (block 1), eqs. (5.13)-(5.14) and Table 5.1 (block 2), and
 the gains at the origin GU G / 4 (eqs. 5.18-5.22). Behaviour: course changes of 30/45/60/90 deg
-(seed 004 Figs. 5.8-5.11) on a linear first-order Nomoto plant (K = 0.185 1/s, T = 107.3 s,
-the cargo ship of seed 004 Table 4.1) with a constant rudder offset as disturbance: the PD
+(Lee 2004 Figs. 5.8-5.11) on a linear first-order Nomoto plant (K = 0.185 1/s, T = 107.3 s,
+the cargo ship of Lee 2004 Table 4.1) with a constant rudder offset as disturbance: the PD
 keeps the steady-state error -d/k1 (r_dot = 0 needs delta = -d, i.e. k1 e = -d), the fuzzy
 PID removes it.
 """
@@ -47,7 +47,7 @@ def seed_block2(xr, xa):
     return 0.5 * L * xa / (2 * L - max(abs(xr), abs(xa)))
 
 
-def test_block1_matches_seed_closed_forms_everywhere():
+def test_block1_matches_lee_closed_forms_everywhere():
     rng = np.random.default_rng(1)
     pts = rng.uniform(-2.5 * L, 2.5 * L, size=(4000, 2))
     pts = np.vstack([pts, [[0, 0], [L, L], [-L, L], [3 * L, -0.5 * L], [0.3, 3 * L]]])
@@ -56,7 +56,7 @@ def test_block1_matches_seed_closed_forms_everywhere():
     assert np.max(np.abs(got - want)) < 1e-12
 
 
-def test_block2_matches_seed_closed_forms_everywhere():
+def test_block2_matches_lee_closed_forms_everywhere():
     rng = np.random.default_rng(2)
     pts = rng.uniform(-2.5 * L, 2.5 * L, size=(4000, 2))
     got = fuzzy_block2(pts[:, 0], pts[:, 1], L)

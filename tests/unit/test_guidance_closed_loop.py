@@ -1,13 +1,13 @@
 """Guidance in closed loop with a simple plant: kinematics + Nomoto first-order yaw + the PD
-heading autopilot of seeds 001/003, written here so the test depends on nothing else.
+heading autopilot of Angelopoulos 2011 / Simakis 1992, written here so the test depends on nothing else.
 
 Plant (project conventions, NED, unified rudder: positive turns to port):
     n' = U cos psi + Vn,  e' = U sin psi + Ve,  psi' = r,  r' = a r + b delta,
-    a = -1/T, b = -K/T; Mariner-class Nomoto constants of seed 004 Table 4.1 (K = 0.185 1/s,
+    a = -1/T, b = -K/T; Mariner-class Nomoto constants of Lee 2004 Table 4.1 (K = 0.185 1/s,
     T = T1 + T2 - T3 = 107.3 s, U = 7.7 m/s, L = 161 m).
 Autopilot: delta = k1 (psi - psi_c) + k2 r, k1 = -omega_n^2 / b, k2 = -(a + 2 zeta omega_n) / b
-(001 eq. 16/20, 003 eqs. 2.15-2.16), rudder limited to 35 deg. zeta = 0.8, omega_n = 0.08 rad/s.
-Expected values come from the linearised loop (001 eq. 30) and the closed-form offsets in
+(Angelopoulos 2011 eq. 16/20, Simakis 1992 eqs. 2.15-2.16), rudder limited to 35 deg. zeta = 0.8, omega_n = 0.08 rad/s.
+Expected values come from the linearised loop (Angelopoulos 2011 eq. 30) and the closed-form offsets in
 ship_guidance.los, never from a previous run.
 """
 import math
@@ -56,7 +56,7 @@ T_, N_, E_, PSI_, R_, DELTA_, EG_, S_, LEG_, PSIC_, FIN_ = range(11)
 
 
 def linear_response(d, e0, t):
-    """Cross-track response of the linearised loop (001 eq. 30, dimensional) from (0, 0, e0)."""
+    """Cross-track response of the linearised loop (Angelopoulos 2011 eq. 30, dimensional) from (0, 0, e0)."""
     lam, vec = np.linalg.eig(linear_loop_matrix(ZETA, WN, U, d))  # distinct eigenvalues here
     coef = np.linalg.solve(vec, np.array([0.0, 0.0, e0]))
     return (np.exp(np.outer(t, lam)) @ (vec[2] * coef)).real

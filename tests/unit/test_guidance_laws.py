@@ -1,7 +1,7 @@
 """LOS / ILOS laws and the look-ahead stability limit (ship_guidance.los, Guidance's check).
 
-The limit is checked against seed 001's Table 1 (tests/data/string_stability_table1.csv) and
-against the eigenvalues of the linearised loop (001 eq. 30, dimensional form).
+The limit is checked against Angelopoulos 2011's Table 1 (tests/data/string_stability_table1.csv) and
+against the eigenvalues of the linearised loop (Angelopoulos 2011 eq. 30, dimensional form).
 """
 import csv
 import math
@@ -57,7 +57,7 @@ def load_table():
 
 
 def test_nondimensional_limit_reproduces_table_1():
-    """d* = 1 / (2 zeta omega_n) in ship lengths (001 eq. 43), all 537 rows, both vessels."""
+    """d* = 1 / (2 zeta omega_n) in ship lengths (Angelopoulos 2011 eq. 43), all 537 rows, both vessels."""
     rows = load_table()
     assert len(rows) == 537
     for row in rows:
@@ -74,14 +74,14 @@ def test_limit_is_where_the_linear_loop_loses_stability(zeta, wn, speed):
     above = np.linalg.eigvals(linear_loop_matrix(zeta, wn, speed, d_star * 1.001))
     below = np.linalg.eigvals(linear_loop_matrix(zeta, wn, speed, d_star * 0.999))
     assert above.real.max() < 0.0 < below.real.max()
-    # At the limit the eigenvalues are +-i omega_n and -2 zeta omega_n (001 eqs. 44-45).
+    # At the limit the eigenvalues are +-i omega_n and -2 zeta omega_n (Angelopoulos 2011 eqs. 44-45).
     at = np.sort_complex(np.linalg.eigvals(linear_loop_matrix(zeta, wn, speed, d_star)))
     expected = np.sort_complex(np.array([-2 * zeta * wn, -1j * wn, 1j * wn]))
     assert at == pytest.approx(expected, abs=1e-9)
 
 
 def test_nondimensional_and_dimensional_limits_agree():
-    """001 works in units of L and L/U: d/L > 1/(2 zeta omega_n') with omega_n' = omega_n L/U."""
+    """Angelopoulos 2011 works in units of L and L/U: d/L > 1/(2 zeta omega_n') with omega_n' = omega_n L/U."""
     L, U, zeta, wn_nd = 161.0, 7.7, 0.8, 3.0
     d_dim = critical_lookahead(zeta, omega_n_from_nondim(wn_nd, U, L), U)
     assert d_dim / L == pytest.approx(critical_lookahead_nondim(zeta, wn_nd))

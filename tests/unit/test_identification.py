@@ -2,8 +2,8 @@
 
 Expected values: closed-form Nomoto responses written here (r_dot = a r + b delta + c with
 delta piecewise constant: r = r_inf + (r0 - r_inf) exp(a t), r_inf = -(b delta + c)/a); the
-K, T given to ship_sim's Nomoto1; seed 003's nondimensional reduction of the NPS AUV II
-(a' = -1.468, b' = -2.859, eq. 2.11); the PD design formulas of seed 001 eq. (20).
+K, T given to ship_sim's Nomoto1; Simakis 1992's nondimensional reduction of the NPS AUV II
+(a' = -1.468, b' = -2.859, eq. 2.11); the PD design formulas of Angelopoulos 2011 eq. (20).
 """
 import math
 import subprocess
@@ -67,8 +67,8 @@ def test_nomoto1_plant_identified_within_one_percent(params):
     assert heading_prediction_rms(fit, man) < 0.01 * DEG
 
 
-def test_nps_auv2_fit_reproduces_seed_003_reduction():
-    # The seed reduces the 2-state sway/yaw model to first order analytically (eq. 2.11,
+def test_nps_auv2_fit_reproduces_simakis_reduction():
+    # Simakis 1992 reduces the 2-state sway/yaw model to first order analytically (eq. 2.11,
     # time in L/U): a' = -1.468, b' = -2.859. A fit on a 10/10 zig-zag of the full model sees
     # the neglected sway pole too, so it agrees to about 1 %, not exactly.
     model = make_model('nps_auv2')
@@ -111,7 +111,7 @@ def test_config_files_cover_all_models_and_gains_follow_the_design():
         assert nm['b'] == pytest.approx(-K / T, rel=1e-5)
         wn = design.OMEGA_N_ND[name] * U / L
         assert g['omega_n'] == pytest.approx(wn, rel=1e-5)
-        # Seed 001 eq. (20) with a = -1/T, b = -K/T: k1 = wn^2 T / K, k2 = (2 zeta wn T - 1)/K.
+        # Angelopoulos 2011 eq. (20) with a = -1/T, b = -K/T: k1 = wn^2 T / K, k2 = (2 zeta wn T - 1)/K.
         assert g['pd']['k1'] == pytest.approx(wn ** 2 * T / K, rel=1e-5)
         assert g['pd']['k2'] == pytest.approx((2 * 0.8 * wn * T - 1) / K, rel=1e-5)
         fz = g['fuzzy_pid']
@@ -121,7 +121,7 @@ def test_config_files_cover_all_models_and_gains_follow_the_design():
         for kind in design.CONTROLLERS:
             ctrl = design.build_autopilot(kind, g, 10 * DEG, 2 * DEG)
             assert math.isfinite(ctrl.update(0.1, 0.0, 0.0, 0.1))
-    # The nomoto1 entry is the identification of a known model: K, T of seed 004 Table 4.1.
+    # The nomoto1 entry is the identification of a known model: K, T of Lee 2004 Table 4.1.
     nm = design.nomoto_gains('nomoto1')
     assert nm['K'] == pytest.approx(0.185, rel=0.01)
     assert nm['T'] == pytest.approx(118.0 + 7.8 - 18.5, rel=0.01)

@@ -55,7 +55,7 @@ def test_reward_sampling_is_explicit_and_resampled():
     assert r01['reward_steps'] == 1000  # 0, 0.1, ..., 99.9
     assert r1['reward_steps'] == 100    # 0, 1, ..., 99
     assert r01['reward_gaussian_integral_s'] == pytest.approx(r1['reward_gaussian_integral_s'])
-    # an episode limit (seed 000: 1000 s episodes) truncates the sum
+    # an episode limit (Martinsen and Lekkas 2018: 1000 s episodes) truncates the sum
     assert m.gaussian_reward(t, e, step_s=0.1, episode_s=50.0)['reward_steps'] == 501  # 0 .. 50.0
 
 

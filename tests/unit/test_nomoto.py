@@ -1,6 +1,6 @@
 """Nomoto models: step response, servo, frequency response, reduction, presets, validation.
 
-Reference values are those of seed 004 Table 2.2 (Table 4.1 for the cargo ship's T3), written
+Reference values are those of Lee 2004 Table 2.2 (Table 4.1 for the cargo ship's T3), written
 here by hand; expected responses are the closed-form Nomoto solutions in the unified rudder
 sign (positive delta turns to port: r = -K delta (1 - exp(-t/T)) in steady turning).
 """
@@ -11,7 +11,7 @@ from ship_sim.integrators import rk4_step
 from ship_sim.models import make_model
 from ship_sim.models.nomoto import Nomoto1, Nomoto2
 
-# Seed 004, Table 2.2: (K 1/s, T1 s, T2 s, T3 s, L m, U m/s), K in the seed's printed sign.
+# Lee 2004, Table 2.2: (K 1/s, T1 s, T2 s, T3 s, L m, U m/s), K in Lee's printed sign.
 TABLE = {'mariner': (0.185, 118.0, 7.8, 18.5, 161.0, 7.7),
          'tanker': (-0.019, -124.1, 16.4, 46.0, 350.0, 8.1)}
 

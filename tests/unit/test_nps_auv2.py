@@ -1,6 +1,6 @@
-"""NPS AUV II (seed 003): equations of motion, Nomoto reduction, the seed's PD gains, closed loop.
+"""NPS AUV II (Simakis 1992): equations of motion, Nomoto reduction, Simakis's PD gains, closed loop.
 
-Vehicle data below are copied by hand from the seed's listings (NOMO.FOR / SIMU.FOR) so that
+Vehicle data below are copied by hand from Simakis's listings (NOMO.FOR / SIMU.FOR) so that
 the tests check the model's algebra against the original equations (2.1)-(2.2), not against
 its own formulas.
 """
@@ -11,7 +11,7 @@ from ship_sim.integrators import rk4_step
 from ship_sim.models import make_model
 from ship_sim.models.nps_auv2 import NpsAuv2
 
-# Seed 003 listings: weight 435 lb, Iz 45 slug ft^2, L 7.3 ft, rho 1.94 slug/ft^3, g 32.2,
+# Simakis 1992 listings: weight 435 lb, Iz 45 slug ft^2, L 7.3 ft, rho 1.94 slug/ft^3, g 32.2,
 # xG 0.0104 ft; nondimensional derivatives; bow/stern ratio -1.
 L_FT, RHO = 7.3, 1.94
 MASS = 435.0 / 32.2 / (0.5 * RHO * L_FT ** 3)
@@ -24,7 +24,7 @@ N_DELTA = -0.337 * 0.01241 - 0.283 * 0.01241
 
 
 def nondimensional_model():
-    """NpsAuv2 in the seed's units: unit speed and length, time in L/U."""
+    """NpsAuv2 in Simakis's units: unit speed and length, time in L/U."""
     return NpsAuv2(U=1.0, length=1.0)
 
 
@@ -102,14 +102,14 @@ def test_nomoto_reduction_keeps_static_gain_and_first_moment():
     assert a < 0 and b < 0
 
 
-def test_seed_pd_gains_at_wn_3_zeta_0_8():
-    # Seed 003, Sec. III.B: for wn = 3.0, zeta = 0.8 "the gains k1, k2 are about 3.2 and 1.2"
+def test_simakis_pd_gains_at_wn_3_zeta_0_8():
+    # Simakis 1992, Sec. III.B: for wn = 3.0, zeta = 0.8 "the gains k1, k2 are about 3.2 and 1.2"
     # (read from its Fig. 4, nondimensional). Eqs. (2.15)-(2.16):
     wn, zeta = 3.0, 0.8
     a, b = nondimensional_model().nomoto_ab()
     k1 = -wn ** 2 / b
     k2 = -(a + 2 * zeta * wn) / b
-    assert k1 == pytest.approx(3.2, abs=0.1)  # the seed quotes one decimal
+    assert k1 == pytest.approx(3.2, abs=0.1)  # Simakis 1992 quotes one decimal
     assert k2 == pytest.approx(1.2, abs=0.1)
 
 
@@ -117,7 +117,7 @@ def test_closed_loop_straight_line_as_simu_for():
     # SIMU.FOR, straight line from (0, 0) to (10, 10) (Fig. 14), nondimensional, look-ahead 1:
     # delta = k1 sin(psi - psi_c - alpha) + k2 r, psi_c = -atan(y'/d), |delta| <= 0.4. The
     # vehicle starts heading north; the line heads 45 deg: a starboard turn, i.e. a negative
-    # rudder that saturates at -0.4 rad first (the seed's Fig. 15 shows about -23 deg).
+    # rudder that saturates at -0.4 rad first (Simakis's Fig. 15 shows about -23 deg).
     m = NpsAuv2(U=1.0, length=1.0, rudder_time_constant=0.01, rudder_rate_max=100.0)
     wn, zeta, d, alpha = 3.0, 0.8, 1.0, np.pi / 4
     a, b = m.nomoto_ab()

@@ -93,7 +93,7 @@ def test_arc_project_all_quadrants_both_directions(clockwise, cases, dist):
 
 @pytest.mark.parametrize('clockwise', [True, False])
 def test_arc_frame_valid_all_around_the_centre(clockwise):
-    """The full-circle guidance frame (003 Chapter IV without quadrant cases) agrees with the
+    """The full-circle guidance frame (Simakis 1992 Chapter IV without quadrant cases) agrees with the
     route projection wherever the radial foot lies on the arc, and with hand values."""
     r = circle_route(clockwise)
     sgn = 1.0 if clockwise else -1.0

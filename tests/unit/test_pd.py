@@ -1,6 +1,6 @@
 """PD heading autopilot, rudder shaping and the common controller interface.
 
-Expected values are hand computed from seed 001 eqs. (15)-(20) / seed 003 eqs. (2.13)-(2.16)
+Expected values are hand computed from Angelopoulos 2011 eqs. (15)-(20) / Simakis 1992 eqs. (2.13)-(2.16)
 and the standard second-order step response (overshoot exp(-pi zeta / sqrt(1 - zeta^2)),
 peak time pi / (omega_n sqrt(1 - zeta^2))). The plant is a linear first-order Nomoto model
 written here: psi_dot = r, r_dot = a r + b delta (unified rudder, b < 0), rudder held over
@@ -44,7 +44,7 @@ def test_pd_gains_hand_values():
     k1, k2 = pd_gains(-0.1, -0.02, 0.2, 0.5)
     assert k1 == pytest.approx(2.0, rel=1e-12)
     assert k2 == pytest.approx(5.0, rel=1e-12)
-    # Nomoto K = 0.185 1/s, T = 107.3 s (seed 004 Table 4.1, first order): a = -1/T, b = -K/T.
+    # Nomoto K = 0.185 1/s, T = 107.3 s (Lee 2004 Table 4.1, first order): a = -1/T, b = -K/T.
     a, b = nomoto_ab(0.185, 107.3)
     assert (a, b) == pytest.approx((-1 / 107.3, -0.185 / 107.3))
     k1, k2 = pd_gains(a, b, 0.05, 0.8)
@@ -52,8 +52,8 @@ def test_pd_gains_hand_values():
     assert k2 == pytest.approx((2 * 0.8 * 0.05 * 107.3 - 1.0) / 0.185, rel=1e-12)
 
 
-def test_pd_gains_reproduce_seed_003_choice():
-    # Seed 003 Ch. III: NPS AUV II, a' = -1.468, b' = -2.859 (eq. 2.11, time in L/U),
+def test_pd_gains_reproduce_simakis_choice():
+    # Simakis 1992 Ch. III: NPS AUV II, a' = -1.468, b' = -2.859 (eq. 2.11, time in L/U),
     # wn = 3.0, zeta = 0.8 give gains "about 3.2 and 1.2".
     k1, k2 = pd_gains(-1.468, -2.859, 3.0, 0.8)
     assert k1 == pytest.approx(3.2, abs=0.1)
@@ -96,7 +96,7 @@ def test_closed_loop_step_has_designed_omega_n_and_zeta(zeta):
 def test_saturation_forms():
     d = np.array([-1.0, -0.4, -0.1, 0.0, 0.1, 0.4, 1.0])
     assert saturate(d, 0.4, 'hard') == pytest.approx([-0.4, -0.4, -0.1, 0.0, 0.1, 0.4, 0.4])
-    # Seed 001 eq. (15): 0.4 tanh(d / 0.4); tanh(1) = 0.7615942, tanh(2.5) = 0.9866143.
+    # Angelopoulos 2011 eq. (15): 0.4 tanh(d / 0.4); tanh(1) = 0.7615942, tanh(2.5) = 0.9866143.
     assert saturate(d, 0.4, 'tanh') == pytest.approx(
         [-0.4 * 0.9866143, -0.4 * 0.7615942, -0.4 * math.tanh(0.25), 0.0,
          0.4 * math.tanh(0.25), 0.4 * 0.7615942, 0.4 * 0.9866143], rel=1e-6)

@@ -1,6 +1,6 @@
 """Fast time-domain check of the platoon stability limit (scripts/platoon_time_domain.py):
-a 3-vessel platoon of linear Nomoto ships (ship_sim 'nomoto1', PD autopilot of 001 eq. 20, LOS
-leader, followers on 001 eq. 31) decays above the limit and grows below it, with envelope growth
+a 3-vessel platoon of linear Nomoto ships (ship_sim 'nomoto1', PD autopilot of Angelopoulos 2011 eq. 20, LOS
+leader, followers on Angelopoulos 2011 eq. 31) decays above the limit and grows below it, with envelope growth
 rates of the sign (and for the leader the value) of the linearised eigenvalues."""
 import math
 
@@ -22,7 +22,7 @@ def nomoto_runs():
 
 
 def test_document_eigenvalues_are_the_limit_of_the_sampled_loop():
-    """The sampled-loop linearisation against 001 eq. 30 (an independent formula): the gap
+    """The sampled-loop linearisation against Angelopoulos 2011 eq. 30 (an independent formula): the gap
     between them comes from the rudder servo lag and the zero-order hold, so it halves when both
     delays halve and vanishes with them."""
     loop = ptd.make_loop('nomoto1')

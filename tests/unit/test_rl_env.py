@@ -1,4 +1,4 @@
-"""Learning environment (seed 000): eq. 9 state, eq. 8 reward, episodes, batched stepping.
+"""Learning environment (Martinsen and Lekkas 2018): eq. 9 state, eq. 8 reward, episodes, batched stepping.
 
 Expected values are hand-derived from the definitions (ship_autopilot.learning.features / env
 docstrings): Gaussian a = 1, sigma = 10 m -> 1 at e = 0 and exp(-1/2) at e = sigma; the closest-

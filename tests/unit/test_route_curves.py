@@ -8,7 +8,7 @@ from scipy.integrate import quad
 from scipy.interpolate import CubicSpline
 
 from ship_planner import curves
-from ship_planner.route_yaml import parse_route_yaml
+from ship_planner.yaml_route_reader import parse_route_yaml
 
 TOL_M = 1e-3          # stated tolerance of a sampled curve route: 1 mm (step 10 m, ship-sized curves)
 

@@ -1,4 +1,4 @@
-"""003 waypoint tables (ship_planner.waypoint_table, seed003_routes): the figure eight and the
+"""Simakis 1992 waypoint tables (ship_planner.waypoint_table, quarter_circle_routes): the figure eight and the
 quarter-circle comparison routes, and table validation errors with row and line numbers."""
 import math
 import pathlib
@@ -6,8 +6,8 @@ import pathlib
 import numpy as np
 import pytest
 
-from ship_planner.route_plan import RouteError
-from ship_planner.seed003_routes import POINT_COUNTS, quarter_circle_points, table_texts
+from ship_planner.route_data import RouteError
+from ship_planner.quarter_circle_routes import POINT_COUNTS, quarter_circle_points, table_texts
 from ship_planner.waypoint_table import load_waypoint_table, parse_waypoint_table
 from ship_sim.frames import wrap_angle
 
@@ -47,7 +47,7 @@ def test_figure_eight_geometry_by_hand(eight):
 
 
 def test_figure_eight_metadata_and_scaling(eight):
-    assert 'seeds/003' in eight.source and eight.frame == 'seed003_xy'
+    assert 'Simakis 1992' in eight.source and eight.frame == 'simakis_xy'
     sw = eight.extras['switching']
     assert [s['mode'] for s in sw] == ['radius'] * 11             # TURN = 0 everywhere: distance to waypoint
     assert sw[0]['distance_m'] == 1.0 and sw[1]['distance_m'] == 0.1
@@ -70,7 +70,7 @@ def test_quarter_circle_points_are_equally_spaced_on_the_circle():
 
 def test_shipped_quarter_circle_files_are_what_the_generator_writes():
     for name, text in table_texts().items():
-        assert (ROUTES / name).read_text(encoding='utf-8') == text, f'{name}: regenerate with seed003_routes'
+        assert (ROUTES / name).read_text(encoding='utf-8') == text, f'{name}: regenerate with quarter_circle_routes'
 
 
 def test_quarter_circle_routes_approach_the_arc():

@@ -2,12 +2,13 @@
 
 - every scenarios/*.yaml loads (mission.scenario.load_scenario), its route loads, and the
   launcher can derive the node parameters from it;
-- every seed scenario cites one of the four seed documents (SEED_DOCUMENTS), asks for a
-  look-ahead above the stability limit of its paired autopilot (seeds 001 eq. 34 / 003 eq. 3.5
-  in metres) with the autopilot's real omega_n, and runs long enough to finish its route at
-  the model's trim speed;
-- the 004 course-change files step the course by the angle their name says, from the route's
-  course; the 003 files give the NPS AUV II's 0.4 rad limit to the autopilot;
+- every seed scenario cites its source document by author and year (SEED_DOCUMENTS), asks
+  for a look-ahead above the stability limit of its paired autopilot (Angelopoulos 2011 eq. 34
+  / Simakis 1992 eq. 3.5, in metres) with the autopilot's real omega_n, and runs long enough to
+  finish its route at the model's trim speed;
+- the Lee 2004 course-change files (_004) step the course by the angle their name says, from
+  the route's course; the Simakis 1992 files (_003) give the NPS AUV II's 0.4 rad limit to the
+  autopilot;
 - guidance_node's course law: the schedule parser and lookup (hand-computed values);
 - run_seed_scenarios: scenario selection and the claim checks on hand-made rows.
 """
@@ -21,24 +22,23 @@ import yaml
 from mission.launcher import node_parameters
 from mission.scenario import load_scenario
 from ship_guidance.los import critical_lookahead
-from ship_planner.route_files import load_route
+from ship_planner.route_loader import load_route
 from ship_sim.simulator import VesselSimulator
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-# The project's four seed documents (OCR texts kept outside the repository, named by file), as
-# identified from their title pages; a scenario must cite one of these by its file name. The OCR
-# texts of 000 and 004 print no year.
+# The project's four source documents, as identified from their title pages; a seed scenario
+# (file name ending in _000, _001, _003 or _004) must cite its document by author and year.
 SEED_DOCUMENTS = {
-    # Martinsen (NTNU), "Curved path following with deep reinforcement learning: results from
-    # three vessel models"
-    '000_9df48a050e3ea7fc.txt': 'Martinsen, curved path following with deep RL',
-    # Angelopoulos 2011, "String stability of multiple surface marine vessels", NPS thesis
-    '001_2c0478b7d4022e93.txt': 'Angelopoulos 2011, string stability of surface vessels',
-    # Simakis 1992, "Vehicle guidance and control along circular trajectories", NPS thesis
-    '003_c43f5c634ec4b859.txt': 'Simakis 1992, guidance along circular trajectories',
+    # Martinsen and Lekkas (NTNU), "Curved path following with deep reinforcement learning:
+    # results from three vessel models", OCEANS 2018
+    '000': 'Martinsen and Lekkas 2018',
+    # Angelopoulos, "String stability of multiple surface marine vessels", NPS thesis, 2011
+    '001': 'Angelopoulos 2011',
+    # Simakis, "Vehicle guidance and control along circular trajectories", NPS thesis, 1992
+    '003': 'Simakis 1992',
     # Lee (Korea Maritime University), "An optimal route decision and LOS guidance system for
-    # automatic navigation of ships", thesis
-    '004_e27d3f022cbf277a.txt': 'Lee, optimal route decision and LOS guidance',
+    # automatic navigation of ships", thesis, 2004
+    '004': 'Lee 2004',
 }
 FILES = sorted((ROOT / 'scenarios').glob('*.yaml'))
 SEED_FILES = [f for f in FILES if re.search(r'_00[0-4]\.yaml$', f.name)]
@@ -75,13 +75,12 @@ def test_the_seed_scenarios_are_there():
 
 
 @pytest.mark.parametrize('path', SEED_FILES, ids=ids(SEED_FILES))
-def test_seed_scenario_cites_an_existing_seed_document(path):
+def test_seed_scenario_cites_its_source_by_author_and_year(path):
     scenario = load_scenario(path)
     seed = path.stem[-3:]
-    cited = re.findall(r'seeds/(\d{3}_[0-9a-f]+\.txt)', scenario.source)
-    assert cited, f'{path.name}: source names no seed document'
-    assert set(cited) <= set(SEED_DOCUMENTS), f'{path.name} cites an unknown document: {cited}'
-    assert any(c.startswith(seed) for c in cited), f'{path.name} cites {cited}, not seed {seed}'
+    cited = [k for k, citation in SEED_DOCUMENTS.items() if citation in scenario.source]
+    assert cited, f'{path.name}: source cites none of {sorted(SEED_DOCUMENTS.values())}'
+    assert seed in cited, f'{path.name} does not cite {SEED_DOCUMENTS[seed]}'
     assert scenario.description
 
 

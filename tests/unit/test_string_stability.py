@@ -1,6 +1,6 @@
-"""String stability of LOS platoons (seed 001) and the NPS AUV II exact look-ahead (seed 003).
+"""String stability of LOS platoons (Angelopoulos 2011) and the NPS AUV II exact look-ahead (Simakis 1992).
 
-Reference data: tests/data/string_stability_table1.csv (seed 001 = Angelopoulos 2011,
+Reference data: tests/data/string_stability_table1.csv (Angelopoulos 2011,
 Table 1, Appendix B).
 Which printed grid minima are not the exact boundary is decided here by rules taken from the
 method of Appendix A (a limit lying on a grid point; the one run whose grid starts at 0.10),
@@ -25,7 +25,7 @@ def table():
 
 @pytest.fixture(scope='module')
 def minima(table):
-    """Exact grid minima of the document's scan (0.05:0.01:2) for every printed row."""
+    """Exact grid minima of Angelopoulos's scan (0.05:0.01:2) for every printed row."""
     return ss.grid_minima(table['zeta'], table['wn1'], table['wn2'])
 
 
@@ -70,14 +70,14 @@ def test_string_matrix_is_block_triangular_and_its_spectrum_is_the_blocks():
     full = np.sort_complex(np.linalg.eigvals(a))
     blocks = np.sort_complex(ss.string_eigenvalues(zeta, w, d).ravel())
     np.testing.assert_allclose(full, blocks, atol=1e-8)
-    # 001 eq. 37 for two vessels: the follower's r row sees the leader's y with +w2^2/d2
+    # Angelopoulos 2011 eq. 37 for two vessels: the follower's r row sees the leader's y with +w2^2/d2
     a2 = ss.string_matrix([0.8, 0.8], [2.0, 3.0], [0.5, 0.7])
     assert a2[4, 2] == pytest.approx(9.0 / 0.7)
     assert a2[4, 5] == pytest.approx(-9.0 / 0.7)
 
 
 def test_two_vessel_characteristic_polynomial_factorises():
-    """001 eq. 38 = product of the two cubics of eq. 39 (eq. 40)."""
+    """Angelopoulos 2011 eq. 38 = product of the two cubics of eq. 39 (eq. 40)."""
     z1, z2, w1, w2, d1, d2 = 0.6, 1.1, 1.7, 3.2, 0.45, 0.2
     full = np.poly(ss.string_matrix([z1, z2], [w1, w2], [d1, d2]))
     prod = np.polymul(ss.characteristic_coefficients(z1, w1, d1),
@@ -220,7 +220,7 @@ def test_check_platoon_flags_vessels_below_their_limit():
     assert [c.name for c in ss.unstable_vessels(vessels, margin=1.3)] == ['f1', 'f2']
     # exactly at the limit is marginal: refused
     assert not ss.check_platoon([dict(zeta=0.5, omega_n=1.0, lookahead=1.0)])[0].ok
-    # the seeds' non-dimensional form: speed 1, look-ahead in ship lengths
+    # Angelopoulos's non-dimensional form: speed 1, look-ahead in ship lengths
     assert ss.check_platoon([dict(zeta=0.8, omega_n=3.0, lookahead=0.21)])[0].ok
     with pytest.raises(ValueError):
         ss.check_platoon([dict(zeta=0.8, omega_n=3.0, lookahead=-1.0)])
@@ -228,10 +228,10 @@ def test_check_platoon_flags_vessels_below_their_limit():
         ss.check_platoon(vessels, margin=0.5)
 
 
-# ------------------------------------------------------------------ NPS AUV II (seed 003)
+# ------------------------------------------------------------------ NPS AUV II (Simakis 1992)
 
 def test_nps_auv2_gains_match_the_document():
-    """003 Sec. III.B: at omega_n = 3, zeta = 0.8 the gains are 'about 3.2 and 1.2'."""
+    """Simakis 1992 Sec. III.B: at omega_n = 3, zeta = 0.8 the gains are 'about 3.2 and 1.2'."""
     k1, k2 = ss.pd_gains(*ss.nps_auv2_nomoto(), 0.8, 3.0)
     assert k1 == pytest.approx(3.2, abs=0.1)
     assert k2 == pytest.approx(1.2, abs=0.1)
@@ -273,12 +273,12 @@ def test_exact_limit_vectorises_over_zeta_and_omega():
     grid = ss.nps_auv2_critical_lookahead(z, w)
     assert grid.shape == (2, 3)
     assert grid[1, 2] == pytest.approx(float(ss.nps_auv2_critical_lookahead(0.8, 3.0)))
-    assert np.all(np.diff(grid, axis=1) < 0)      # more bandwidth, shorter look-ahead (003)
+    assert np.all(np.diff(grid, axis=1) < 0)      # more bandwidth, shorter look-ahead (Simakis 1992)
 
 
 def test_sensitivity_zero_coefficients_and_relative_size():
     """Y_r = N_v = 0 for the NPS AUV II: +-50 % changes nothing. The added-mass/damping sway
-    terms move the limit about 3-4 times more than the yaw terms (003 Sec. III.C)."""
+    terms move the limit about 3-4 times more than the yaw terms (Simakis 1992 Sec. III.C)."""
     f = np.array([0.5, 1.0, 1.5])
     for name in ('Yr', 'Nv'):
         np.testing.assert_allclose(ss.nps_auv2_sensitivity(name, f), 1.0, atol=1e-12)

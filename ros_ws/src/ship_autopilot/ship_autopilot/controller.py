@@ -8,8 +8,8 @@ Conventions (project-wide, see ship_sim.frames):
   ``r``: NED yaw rate (rad/s, clockwise positive); ``dt``: time since the previous update (s).
 - Returned ``delta``: the rudder command (rad) in the unified sign, positive turns the vessel to
   port. With the heading error e = wrap(psi - psi_c) in [-pi, pi) a positive error (vessel to
-  starboard of the command) asks for positive rudder, so the seeds' law
-  delta = k1 (psi - psi_c) + k2 r (seed 001 eq. 16, seed 003 eq. 2.14) has positive gains
+  starboard of the command) asks for positive rudder, so the law of Angelopoulos and Simakis
+  delta = k1 (psi - psi_c) + k2 r (Angelopoulos 2011 eq. 16, Simakis 1992 eq. 2.14) has positive gains
   for a normal ship (Nomoto b < 0, see ship_autopilot.pd).
 - Wrap-around: the error is wrapped (ship_sim.frames.wrap_angle), so a command across +-pi is
   reached the short way.
@@ -26,7 +26,8 @@ Subclasses implement ``_initial_state()`` (dict of state names -> values) and
 ``_law(e, r, dt) -> (raw_command, new_state)`` without mutating ``self._state``; this class
 commits the new state only where the input was valid. A subclass whose ``_law`` also works
 on Python floats sets ``scalar_law = True``: one vessel's valid update then runs on floats
-(same arithmetic, no numpy; ~10x cheaper, it runs every control step in the node).
+(same arithmetic without numpy's per-call overhead, which dominates one vessel's update;
+it runs every control step in the node; figures in the README, Performance).
 """
 import math
 

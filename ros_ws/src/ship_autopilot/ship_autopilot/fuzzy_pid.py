@@ -1,83 +1,15 @@
-"""Fuzzy PID heading autopilot of seed 004, Chapter 5 (two fuzzy blocks, scheduled gains).
+"""Fuzzy PID heading autopilot of Lee 2004, Chapter 5 (two fuzzy blocks, scheduled gains).
 
-Source: seed 004 (B. Lee, "An Optimal Route Decision and LOS Guidance System for Automatic
-Navigation of Ships", Korea Maritime University), Section 5.1, eqs. (5.11)-(5.23), Tables 5.1
-and 5.2, Figs. 5.4-5.6; simulations in Section 5.2 (Figs. 5.7-5.11: 30/45/60/90 deg course
-changes, where the PD autopilot keeps a steady-state error and the fuzzy PID removes it).
+Block 1 (PD-like) fuzzifies the scaled heading error and yaw rate, block 2 the yaw rate and the
+error integral; min inference, bounded-sum merging and centre-of-singletons defuzzification make
+the output U = GU (dU1 + dU2) a PID whose gains grow from GU G / 4 at the origin to twice that
+at the edge of the universe [-L, L] (Lee 2004, eqs. 5.11-5.23, Tables 5.1-5.2). Gains come from
+the Nomoto PD design (``scaling_from_pid``); the anti-windup (conditional integration with a
+clamp) is ours. Units: rad, rad/s, rad s, s; GE (1/rad), GR (s/rad), GA (1/(rad s)), GU (rad).
+Vectorised over leading axes (one vessel or a batch).
 
-The controller (as implemented here)
-------------------------------------
-Inputs, scaled and clipped to the universe [-L, L] (Table 5.2):
-    x_e = GE * psi_e,   x_r = GR * psi_r,   x_a = GA * psi_a
-with psi_e = wrap(psi - psi_c) (rad), psi_r = r (rad/s), psi_a = integral of psi_e (rad s).
-Each input has two fuzzy sets, N and P, with linear membership functions on [-L, L]:
-    mu_P(x) = (x + L) / (2 L),   mu_N(x) = (L - x) / (2 L)          (1 and 0 outside)
-Fuzzy control block 1 (PD-like, inputs x_e, x_r), rules (R1)1-(R4)1:
-    EP & RP -> OP,  EP & RN -> OZ,  EN & RP -> OZ,  EN & RN -> ON;   ON, OZ, OP at -L, 0, L
-Fuzzy control block 2 (integral, inputs x_r, x_a), rules (R1)2-(R4)2:
-    RP & AP -> OPM,  RP & AN -> ONM,  RN & AP -> OPM,  RN & AN -> ONM;   ONM, OPM at -L/2, L/2
-Inference: AND = min (Zadeh); rules with the same consequent are merged with the bounded sum
-(Lukasiewicz OR, min(1, a + b)); defuzzification = centre of the output singletons weighted by
-their merged memberships. The output is (eqs. 5.15, 5.16)
-    dU = dU1 + dU2,   U = GU * dU   (rad of rudder),
-which in closed form is the PID with gains scheduled on the scaled inputs (eqs. 5.17-5.20):
-    U = K_P psi_e + K_D psi_r + K_I psi_a,
-    K_P = 0.5 L GU GE / (2L - max(|x_e|, |x_r|)),  K_D = 0.5 L GU GR / (2L - max(|x_e|, |x_r|)),
-    K_I = 0.5 L GU GA / (2L - max(|x_r|, |x_a|))          (inside the universe)
-The gain scheduling (Fig. 5.6): every gain grows from its value at the origin, K = GU G / 4
-(eqs. 5.21-5.22), to twice that at the edge of the universe; the scheduling variable of the
-P and D gains is max(|x_e|, |x_r|), that of the I gain max(|x_r|, |x_a|). Design from a linear
-PID (eq. 5.23, inverted): GE = 4 K_P / GU, GR = 4 K_D / GU, GA = 4 K_I / GU (see
-``scaling_from_pid``).
-
-Sign: the blocks are odd (dU(-x) = -dU(x)), so the seed's law (its own rudder sign, error
-psi_d - psi) maps onto ours unchanged: with psi_e = psi - psi_c and the unified rudder (+ turns
-to port) all gains are positive, as for the PD law (ship_autopilot.pd).
-
-What the OCR shows, what it does not, and what was chosen
----------------------------------------------------------
-Read: the two rule tables (R1)-(R4) of each block; the output sets ON/OZ/OP at -L, 0, L and
-ONM/OPM at -L/2, L/2 (Fig. 5.4 labels); the partition of the inputs into regions IC1-IC20
-(Fig. 5.5); eq. (5.11): dU1 = 0.5 L / (2L - GE|psi_e|) (GE psi_e + GR psi_r) for
-|GR psi_r| <= |GE psi_e| <= L, eq. (5.12) the same with GR|psi_r| in the denominator; Table 5.1
-(block 1 outside the universe: (x_r + L)/2, (x_e + L)/2, (x_r - L)/2, (x_e - L)/2, L, 0, -L;
-block 2: 0.5 GA psi_a, 0.5 L, -0.5 L); Table 5.2 (the scaled inputs are clipped to +-L); eqs.
-(5.15)-(5.20) as written above; the course-change simulations (30/45/60/90 deg, the PD leaves
-about 0.6 deg of steady-state error).
-Unreadable or missing: the text of 5.1.1, Figs. 5.1-5.3 (block diagram, input membership
-functions) were dropped from the OCR; the inference operators and defuzzifier are not named in
-what survives; the constant of eqs. (5.13)/(5.14) reads "02B" / "0oz"; eqs. (5.21)-(5.23) are
-garbled except their shape (gains = GU * G / 4 relations); the value of L is not given; GU
-reads "1°11"; GE = 2.75, GR = 50, GA = 500 are printed without units (degrees? sum or integral
-of the error?) and GA/GE = 182 1/s cannot be an integral rate in SI, so they are not used.
-Chosen: the memberships and operators above, because they reproduce every surviving formula
-exactly (eqs. 5.11, 5.12 and both halves of Table 5.1; this is the analytical structure of
-H. Ying's "simplest" two-input fuzzy controllers, whose input-combination (IC) analysis the
-chapter follows). They
-fix the block 2 constant of (5.13)/(5.14) to 0.5 (dU2 = 0.5 L x_a / (2L - max(|x_r|, |x_a|)),
-continuous with Table 5.1's 0.5 GA psi_a at |x_r| = L; 0.25 would jump there). The "rate"
-input psi_r is the yaw rate r (= d psi_e / dt for a constant command; no derivative kick at a
-command step). L defaults to 1: scaling L by s, every G by s and GU by 1/s gives the same
-controller, so L is a pure normalisation.
-Gains: ours come from the Nomoto PD design (``scaling_from_pid``, ship_autopilot.gains).
-
-Anti-windup (our addition; the chapter has none besides the input clipping of Table 5.2):
-conditional integration with clamping.
-(i) psi_a += psi_e dt only where |psi_e| is below the integration band (default e_sat =
-    L / GE, the edge of the error universe; the per-model defaults of ship_autopilot.gains use
-    10 deg). A large error is the transient of a course change, not an offset to integrate,
-    and integrating it during the approach only adds overshoot. A constant disturbance d (rad
-    of rudder) that the rudder can hold leaves a fuzzy-PD error of at most d / K_P (block 1's
-    scheduled gain is never below K_P), a few degrees, so the integrator does start.
-(ii) ... and only where the raw command is not beyond the rudder limit in the direction the
-    increment would push it (sign(psi_e) = sign(U) with |U| >= limit freezes it).
-(iii) psi_a is clamped to |GA psi_a| <= L: beyond it the block output no longer changes
-    (Tables 5.1, 5.2), so any larger state would be pure windup.
-``anti_windup=False`` integrates unconditionally without the clamp (for comparison).
-
-Units: rad, rad/s, rad s, s; GE (1/rad), GR (s/rad), GA (1/(rad s)), GU (rad per unit of dU).
-Vectorised: the rule evaluation is array arithmetic over a (..., 2, 2) firing-strength array;
-it works for one vessel or a batch (leading axes).
+Derivation, what the source's OCR shows and what was chosen where it is unreadable, and the
+anti-windup rules: ros_ws/src/ship_autopilot/doc/fuzzy_pid.md.
 """
 from dataclasses import dataclass
 
@@ -127,7 +59,7 @@ def fuzzy_block2(x_r, x_a, L=1.0):
 
 @dataclass(frozen=True)
 class FuzzyPIDGains:
-    """Scaling gains of seed 004 Ch. 5: GE (1/rad), GR (s/rad), GA (1/(rad s)), GU (rad), L."""
+    """Scaling gains of Lee 2004 Ch. 5: GE (1/rad), GR (s/rad), GA (1/(rad s)), GU (rad), L."""
 
     GE: float
     GR: float
@@ -175,11 +107,11 @@ def scheduled_gains(psi_e, psi_r, psi_a, g):
 
 
 class FuzzyPIDAutopilot(HeadingController):
-    """Fuzzy PID of seed 004 Ch. 5 + shared rudder shaping; state: the error integral psi_a.
+    """Fuzzy PID of Lee 2004 Ch. 5 + shared rudder shaping; state: the error integral psi_a.
 
     ``FuzzyPIDAutopilot(gains, limiter, anti_windup=True, integration_band=None)``; ``gains``
     a FuzzyPIDGains; ``integration_band`` (rad, > 0): integrate only while |psi_e| is below
-    it (None: the error universe L / GE). See the module docstring for the anti-windup.
+    it (None: the error universe L / GE). Anti-windup: doc/fuzzy_pid.md.
     """
 
     name = 'fuzzy_pid'

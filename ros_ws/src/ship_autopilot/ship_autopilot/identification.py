@@ -3,7 +3,7 @@
 Method: equation-error least squares (Fossen, Handbook of Marine Craft Hydrodynamics and Motion
 Control, 2011, Sec. 7.1 Nomoto models; the usual linear regression for ship steering models).
 The first-order Nomoto model in the project's sign (NED r, unified rudder: positive turns to
-port; seed 004 eq. 4.29b, seed 001 eq. 12),
+port; Lee 2004 eq. 4.29b, Angelopoulos 2011 eq. 12),
 
     r_dot = a r + b delta + c,        a = -1/T,  b = -K/T,
 
@@ -22,11 +22,9 @@ autopilot works at; a nonlinear ship gives the best-fitting linear model for tha
 
 What to expect: K and T of a real ship depend on the manoeuvre. A first-order fit sees the
 frequencies the zig-zag excites (periods of 1-3 minutes for the ships), not the low-frequency
-limit T = T1 + T2 - T3 of a second-order Nomoto model: the seed 004 Table 2.2 mariner
-(Nomoto2: K = 0.185 1/s, T1 = 118, T2 = 7.8, T3 = 18.5 s) fitted on a 10/10 zig-zag gives
-K = 0.098 1/s, T = 43 s (K/T = 0.0023 against 0.185/107.3 = 0.0017 1/s^2), and the
-nonlinear MSS mariner gives K = 0.079, 0.059, 0.036 1/s and T = 35, 28, 23 s for 5/5, 10/10,
-20/20 zig-zags (its yaw damping grows with the yaw rate).
+limit T = T1 + T2 - T3 of a second-order Nomoto model (Lee 2004 Table 2.2), and a nonlinear
+hull gives a different fit for each zig-zag amplitude (the MSS mariner's yaw damping grows with
+the yaw rate). The fitted values are in the README (Identified Nomoto models).
 
 Simulation: the model's own MSS RK4 step (``model.step`` when the model has it, else
 ship_sim.integrators.rk4_step on ``model.rhs``), input held over each step.

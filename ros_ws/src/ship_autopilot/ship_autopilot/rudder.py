@@ -1,9 +1,9 @@
 """Rudder command shaping shared by every heading autopilot: saturation and rate limit.
 
 Sources
-- Hard limit: seed 001 (platoon thesis), text before eq. (15): delta = delta_0 while
+- Hard limit: Angelopoulos 2011 (platoon thesis), text before eq. (15): delta = delta_0 while
   |delta_0| <= delta_sat, else delta_sat (with the sign of delta_0).
-- Smooth limit: seed 001 eq. (15) (used in its closed loop eq. (25)):
+- Smooth limit: Angelopoulos 2011 eq. (15) (used in its closed loop eq. (25)):
   delta = delta_sat * tanh(delta_0 / delta_sat).
 - Rate limit: |delta_k - delta_(k-1)| <= rate_max * dt, the discrete form of the rudder-rate
   limit of every steering machine (MSS ship models: 2.33 .. 5 deg/s).
@@ -22,8 +22,8 @@ SATURATION_SHAPES = ('hard', 'tanh')
 def saturate(delta0, delta_sat, shape='hard'):
     """Limit a raw rudder command (rad) to +-delta_sat (rad).
 
-    ``shape='hard'`` clips (seed 001, text before eq. 15); ``shape='tanh'`` is
-    delta_sat * tanh(delta0 / delta_sat) (seed 001 eq. 15): slope 1 at zero, smooth, never
+    ``shape='hard'`` clips (Angelopoulos 2011, text before eq. 15); ``shape='tanh'`` is
+    delta_sat * tanh(delta0 / delta_sat) (Angelopoulos 2011 eq. 15): slope 1 at zero, smooth, never
     reaching the limit.
     """
     if shape == 'hard':

@@ -1,117 +1,19 @@
 """Platoon follower guidance (pure): steer at the predecessor, keep the gap, fall back to the route.
 
+The law is Angelopoulos 2011, eq. 31 (Sec. II.E.2, Fig. 8): the aim point is the predecessor,
+d = clip(gap, d_min, d_max) ahead along the path at the predecessor's cross-track; on a straight
+leg psi_c = alpha - atan((e_f - e_p) / d). The look-ahead must exceed U / (2 zeta omega_n)
+(Angelopoulos 2011 eqs. 34, 41); ``no_amplification_spacing`` is the spacing above which
+cross-track errors do not grow down the string. Ours, off by default: arc length extended past
+the route's ends, integral action (Borhaug et al. 2008), aim at the path instead of the
+predecessor, a turn-rate lead; always: a PI spacing law on the speed and a route fallback when
+the predecessor's odometry is stale.
+
 Units m, s, rad, m/s, rpm; positions and headings NED (psi clockwise from north); cross-track e
-positive to STARBOARD of the path (path.py, 000 eq. 2). No ROS here: follower_node.py wraps it.
+positive to STARBOARD of the path (path.py). No ROS here: follower_node.py wraps it.
 
-Source: seed 001 (Angelopoulos, "String stability of multiple surface marine vessels", NPS 2011),
-Sec. II.E.2, Figure 8 and eqs. 31-32: "the first vessel attempts to direct its longitudinal axis
-toward a target point D, whereas the second vessel points its longitudinal axis toward the first
-one ... d1 is the distance between the target point D and the first vessel, and d2 the distance
-between the two vessels always measured on the commanded path." Eq. 31 (with the follower row of
-eq. 32, which carries the -b2 k12 / d2 y1 term the OCR lost from the printed equation) is
-    delta_2 = k12 (psi_2 + (y2 - y1) / d2) + k22 r2,
-i.e. the linearised heading command psi_c2 = -(y2 - y1) / d2 about a path along the x axis; the
-nonlinear form, as 001 eq. 21/23 for one vessel, is psi_c2 = -atan((y2 - y1) / d2).
-
-So the aim point IS the predecessor: d2 ahead along the path, at the predecessor's cross-track.
-On a route we write it in path coordinates (the follower at arc length s_f, offset e_f; the
-predecessor at s_p, e_p, both closest-point projections):
-    gap  g = s_p - s_f                              (d2 of the document, measured, m)
-    d    = clip(g, d_min, d_max)                    (look-ahead actually used)
-    A    = P(s_f + d) + e_p n(s_f + d)              (P: path point, n: starboard unit normal)
-    psi_c = atan2(A_east - east, A_north - north)   (``aim_point``, ``FollowerGuidance``)
-On a straight leg of path angle alpha, A - position = d t + (e_p - e_f) n and therefore
-    psi_c = alpha - atan((e_f - e_p) / d)           (``follower_heading_straight``)
-which is eq. 31 in its nonlinear atan form (y = e, x along the path); |psi_c - alpha| < pi/2
-however large the offset. While d_min <= g <= d_max the point A is exactly the predecessor's
-position; the clip only acts when the follower has closed in (g < d_min, also g < 0 after an
-overtake: it then aims at a path point d_min ahead, at the predecessor's offset) or lags far
-behind (g > d_max; d_max None = no cap). Past the route's end (and before its start) P and n
-continue along the end (start) tangent, so the law is defined there too.
-
-Stability (001 eqs. 33-34, 41): the look-ahead of eq. 31 is the gap itself; linearised about
-equal speeds it is constant and the follower's loop is stable iff d > U / (2 zeta omega_n)
-(metres; the document's d > 1 / (2 zeta omega_n) in ship lengths). Since d >= d_min whatever
-the gap, ``FollowerGuidance`` checks d_min (and the fallback look-ahead) against that limit
-(``string_stability.check_platoon``) and refuses them unless ``allow_unstable``. The limit is
-small for our autopilots (omega_n L / U = 1 gives 0.625 ship lengths): a real spacing is far
-above it.
-
-Stable is not the same as "errors do not grow down the platoon". Follower i's cross-track
-answers its predecessor's through (linearised, 001 eq. 37 row 5 with y' = U psi)
-    G(s) = y_i / y_{i-1} = a0 / (s^3 + 2 zeta w s^2 + w^2 s + a0),   a0 = U w^2 / d,
-with G(0) = 1. Near the Routh limit G has a sharp resonance at s ~ i w (peak 19 at d = 1.1 d*,
-zeta = 0.8), so a disturbance of the leader is amplified by up to that factor per vessel before
-it decays: string instability in the sense of the automated-highway literature 001 cites
-(Swaroop, ref. [3]: sup |G(i nu)| <= 1). |G(i nu)| <= 1 for all nu holds iff
-    d >= 4 zeta U / w              (zeta >= 1/sqrt 2)
-    d >= U / (w zeta (1 - zeta^2)) (zeta <  1/sqrt 2)        (``no_amplification_spacing``)
-(|D(i nu)|^2 - a0^2 = nu^2 [(w^2 - nu^2)^2 + 4 zeta^2 w^2 nu^2 - 4 a0 zeta w] must be >= 0; the
-bracket is smallest at nu = 0 for zeta^2 >= 1/2, else at nu^2 = w^2 (1 - 2 zeta^2)). For zeta
-0.8 that is 5.12 d*, 3.2 ship lengths with omega_n L / U = 1. ``FollowerGuidance.warnings``
-says when the spacing is below it.
-
-Extensions (ours; all off by default, which is the document's law above):
-- Arc length beyond the route's ends. The closest point is clamped at s = 0 and s = L (and at a
-  stretch's ends near corners, guidance.Guidance); there the reference is the tangent line, so
-  the arc length is extended along it: s_x = s + t(s) . (p - P(s)) (``extended_arc_length``;
-  zero correction where the closest point is a foot of the normal). The gap s_p,x - s_f,x then
-  stays the real along-path distance past the end, and the aim point s_f,x + d keeps moving
-  ahead, so a follower passing the end goes on straight along the end tangent instead of
-  turning back once it is d_min beyond the end (with s_f clamped the aim point stopped at
-  L + d). Curvature on the extension is 0.
-- Integral action (``integral_gain`` sigma > 0, Borhaug et al. 2008 as guidance.py's 'ilos'):
-  the aim point is shifted by -sigma e_int along the path normal and
-      e_int' = d e_f / (d^2 + (e_f - o)^2),   o the aim point's offset (below),
-  so a steady state needs e_f = 0 on the follower's OWN cross-track. In a steady cross current
-  V (across the path) with speed U through the water, the document's law settles at
-      e_f - e_p = d V / sqrt(U^2 - V^2)          (los.los_current_offset with d = the gap)
-  and every follower adds that to its predecessor's offset; the integral removes it.
-- Aim (``aim``): 'predecessor' (default, the document): o = e_p - sigma e_int, the point
-  A = P(s_f + d) + o n(s_f + d); on a straight leg psi_c = alpha - atan((e_f - e_p + sigma
-  e_int) / d). 'path': ILOS toward the path with the look-ahead d = the clipped gap,
-      psi_c = alpha(s_f) - atan((e_f + sigma e_int) / d),   o = -sigma e_int,
-  i.e. guidance.py's ILOS law with the predecessor setting only d (and the speed). Why 'path'
-  is the one to use when the followers must keep to the route: (1) with the predecessor aim a
-  follower's cross-track still answers its predecessor's through a band-pass (kinematic
-  level: (U/d) s / (s^2 + (U/d) s + U sigma / d^2), peak 1, more with the autopilot's lag), so
-  the leader's transients still travel down the string; with 'path' the lateral coupling is
-  gone (each follower's error is its own), and only the gap couples the vessels. (2) On an arc
-  of radius R a point d ahead ON the path lies d^2 / (2 R) inside the tangent; pursuing it
-  settles R (1 - cos(d / R)) inside the arc (53 m for d 400 m, R 1500 m), which an integral
-  of time constant ~2 d / U only partly removes on a 200 s arc; the tangent form has no such
-  offset. What 'path' gives up: the followers no longer copy a leader that leaves the route
-  on purpose (the document's point of steering at the predecessor). The linearised
-  (kinematic) error dynamics of 'path' are e'' + (U/d) e' + (U sigma / d^2) e = 0, critically
-  damped for sigma = U / 4 (time constant 2 d / U); the stability limit becomes
-  (U + 4 zeta^2 sigma) / (2 zeta omega_n) (los.critical_lookahead), checked for d_min.
-- Turn-rate lead (``curvature_lead``, needs zeta, omega_n, speed): psi_c += (2 zeta U /
-  omega_n) kappa(s_f), as guidance.py: the heading loop lags a command turning at U kappa by
-  2 zeta U kappa / omega_n.
-The integral is frozen in route_fallback (plain LOS there, as before) and kept across corners
-and past the route's end (the current still acts on the extension).
-
-Spacing (our design; the document keeps the speeds constant). A speed command with the
-predecessor's speed along the path as feedforward and a PI on the gap error:
-    e_g = g - g_ref   (> 0: too far behind)
-    U_c = max(0, U_p,along + sat(k_p e_g + k_i int e_g dt, +-dU_max))
-(too close -> e_g < 0 -> slower than the predecessor). With the speed followed perfectly the gap
-error obeys e'' + k_p e' + k_i e = 0; the default k_i = k_p^2 / 4 is critically damped
-(time constant 2 / k_p). The integral is frozen while the output is saturated in the direction
-of the error (conditional integration, anti-windup). For a vessel with a shaft the command is
-mapped to shaft speed by n_c = n_nom U_c / U_nom (``speed_to_shaft``): at steady state a
-propeller at constant advance ratio against resistance ~ U^2 gives U ~ n.
-
-Predecessor odometry and stale fallback (``PredecessorTrack``, ``FollowerGuidance.update``):
-the predecessor's samples are kept in time order and evaluated at the follower's own sim time:
-interpolated between the two samples around it (so the result does not depend on which of the
-two odometry streams arrived first), else extrapolated at constant velocity from the nearest
-sample. Its age is own time minus the newest sample's stamp (0 when the predecessor is ahead in
-time). With no sample, or one older than ``predecessor_timeout`` seconds of sim time, the mode is
-'route_fallback': the follower follows the route itself with plain LOS (look-ahead
-``fallback_lookahead``) and holds its last speed command (integral frozen); it returns to
-'follow' as soon as fresh samples arrive. A predecessor stamp earlier than the newest one
-(its simulator restarted) clears the track; own time going backwards resets the follower.
+Derivation, stability and string-gain bounds, the extensions and the fallback rules:
+ros_ws/src/ship_guidance/doc/follower.md.
 """
 import math
 from collections import deque
@@ -135,14 +37,14 @@ SPACING_KI = SPACING_KP ** 2 / 4.0
 MAX_SPEED_CORRECTION = 1.0
 #: Default bound on the predecessor samples kept (the follower lagging that many in time).
 TRACK_MAX_SAMPLES = 20000
-#: What a follower steers at (module docstring): the document's law, or ILOS toward the path.
+#: What a follower steers at (doc/follower.md): Angelopoulos's law, or ILOS toward the path.
 AIMS = ('predecessor', 'path')
 
 
-# ---------------------------------------------------------------- the law (001 eq. 31)
+# ---------------------------------------------------------------- the law (Angelopoulos 2011 eq. 31)
 
 def follower_heading_straight(path_angle, cross_track, pred_cross_track, lookahead):
-    """001 eq. 31, nonlinear: psi_c = alpha - atan((e_f - e_p) / d) (rad, wrapped; broadcasts).
+    """Angelopoulos 2011 eq. 31, nonlinear: psi_c = alpha - atan((e_f - e_p) / d) (rad, wrapped; broadcasts).
 
     path_angle alpha (rad), cross_track e_f of the follower and e_p of its predecessor (m,
     + starboard), lookahead d > 0 (m, the along-path distance to the predecessor)."""
@@ -177,7 +79,7 @@ def extended_arc_length(route, out, north, east):
 
 def no_amplification_spacing(zeta, omega_n, speed=1.0):
     """Smallest look-ahead d (m) with sup_nu |G(i nu)| <= 1 for the follower transfer function
-    G = a0 / (s^3 + 2 zeta w s^2 + w^2 s + a0), a0 = U w^2 / d (see the module docstring):
+    G = a0 / (s^3 + 2 zeta w s^2 + w^2 s + a0), a0 = U w^2 / d (doc/follower.md):
     4 zeta U / w for zeta >= 1/sqrt 2, else U / (w zeta (1 - zeta^2)).
     zeta > 0, omega_n > 0 (rad/s), speed U > 0 (m/s)."""
     z, w, u = float(zeta), float(omega_n), float(speed)
@@ -211,7 +113,7 @@ def speed_to_shaft(speed_cmd, speed_nominal, shaft_nominal, shaft_min=None, shaf
 
 
 class SpacingController:
-    """Speed command keeping the along-path gap at ``spacing`` (m); see the module docstring.
+    """Speed command keeping the along-path gap at ``spacing`` (m); see doc/follower.md.
 
     kp (1/s) >= 0, ki (1/s^2) >= 0, max_correction (m/s) >= 0: bound of the PI part."""
 
@@ -254,7 +156,7 @@ class TrackSample:
 
 
 class PredecessorTrack:
-    """Time-ordered predecessor odometry, evaluated at the follower's time (module docstring)."""
+    """Time-ordered predecessor odometry, evaluated at the follower's time (doc/follower.md)."""
 
     def __init__(self, max_samples=TRACK_MAX_SAMPLES):
         self._s = deque(maxlen=int(max_samples))
@@ -341,7 +243,7 @@ class FollowerOutput:
 
 
 class FollowerGuidance:
-    """Follow the predecessor along ``route`` (001 eq. 31), with spacing and stale fallback.
+    """Follow the predecessor along ``route`` (Angelopoulos 2011 eq. 31), with spacing and stale fallback.
 
     Parameters (SI): spacing g_ref (m, > 0); min_lookahead d_min (m, > 0); max_lookahead d_max
     (m, >= d_min, None = no cap); fallback_lookahead (m, > 0: route LOS look-ahead when the
@@ -352,7 +254,7 @@ class FollowerGuidance:
     look-ahead at or below U / (2 zeta omega_n); track: a PredecessorTrack to use (kept across
     route changes by the node), default a new one; aim 'predecessor' | 'path', integral_gain
     sigma (m/s, >= 0, 0 = none), curvature_lead (needs zeta, omega_n, speed): the extensions of
-    the module docstring (defaults: the document's law). Raises ValueError naming the parameter.
+    doc/follower.md (defaults: Angelopoulos's law). Raises ValueError naming the parameter.
     """
 
     def __init__(self, route, spacing, *, min_lookahead, fallback_lookahead, max_lookahead=None,
@@ -403,7 +305,7 @@ class FollowerGuidance:
             self.warnings.append(
                 f'spacing {self.spacing.spacing:.1f} m is below min_lookahead '
                 f'{self.min_lookahead:.1f} m: at the set gap the follower aims beyond its '
-                'predecessor (001 eq. 31 then holds with d = min_lookahead, not the gap)')
+                'predecessor (Angelopoulos 2011 eq. 31 then holds with d = min_lookahead, not the gap)')
         # Own progress and the fallback LOS; the predecessor's projection (its own progress
         # state, so neither jumps to another branch of the route).
         self._own = Guidance(route, 'los', self.fallback_lookahead, acceptance_radius)
@@ -425,7 +327,7 @@ class FollowerGuidance:
         if bad and not allow_unstable:
             raise ValueError('; '.join(c.message() for c in bad)
                              + f' (U / (2 zeta omega_n) with zeta={zeta}, omega_n={omega_n} '
-                             f'rad/s, speed={speed} m/s; seed 001 eqs. 34, 41). Increase it or '
+                             f'rad/s, speed={speed} m/s; Angelopoulos 2011 eqs. 34, 41). Increase it or '
                              'pass allow_unstable=True.')
         if self.spacing.spacing < self.no_amplification_spacing:
             self.warnings.append(

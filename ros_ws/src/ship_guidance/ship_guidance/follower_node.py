@@ -1,6 +1,6 @@
 """follower_node: platoon follower guidance, route + own odom + predecessor odom -> heading command.
 
-The law (ship_guidance.follower, seed 001 Figure 8 / eq. 31): steer at the predecessor, which is
+The law (ship_guidance.follower, Angelopoulos 2011 Figure 8 / eq. 31): steer at the predecessor, which is
 the gap d ahead along the route at its own cross-track, psi_c = alpha - atan((e - e_p) / d) on a
 straight leg; keep the along-path gap at `spacing_m` with a speed command; follow the route with
 plain LOS (look-ahead `lookahead_m`, the name guidance_node uses) while the predecessor's odometry
@@ -44,7 +44,7 @@ with the previous outputs (lockstep pairing holds), a refused predecessor sample
 the route is completed only on an own odom consistent with the one before.
 
 Stability: with `autopilot_zeta`, `autopilot_omega_n` and `speed` all > 0, min_lookahead_m and
-lookahead_m at or below U / (2 zeta omega_n) are refused (seed 001 eqs. 34, 41) unless
+lookahead_m at or below U / (2 zeta omega_n) are refused (Angelopoulos 2011 eqs. 34, 41) unless
 `allow_unstable`; a spacing below the no-amplification spacing (ship_guidance.follower) is
 warned about.
 """
@@ -128,11 +128,11 @@ class FollowerNode(Node):
                           lo=0.0, hi=100.0, unit='m/s', **ro)
         allow = p.declare('allow_unstable', False, 'accept look-aheads below the stability '
                           'limit', **ro)
-        aim = p.declare('aim', 'predecessor', "steer at the predecessor (seed 001 eq. 31) or "
+        aim = p.declare('aim', 'predecessor', "steer at the predecessor (Angelopoulos 2011 eq. 31) or "
                         'ILOS toward the path with look-ahead = gap (ship_guidance.follower)',
                         choices=AIMS, **ro)
         sigma = p.declare('integral_gain', 0.0, 'integral action on the own cross-track error '
-                          '(Borhaug ILOS gain sigma; 0: none, the document\'s law)', lo=0.0,
+                          '(Borhaug ILOS gain sigma; 0: none, Angelopoulos\'s law)', lo=0.0,
                           hi=100.0, unit='m/s', **ro)
         lead = p.declare('curvature_lead', False, 'lead the heading command by 2 zeta U kappa '
                          '/ omega_n on curves (needs autopilot_zeta, autopilot_omega_n, speed)',

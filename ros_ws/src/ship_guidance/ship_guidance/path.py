@@ -4,15 +4,15 @@ Frame and units: NED world (north, east) in metres, angles in radians, headings 
 north (Fossen). Nothing here knows about ROS; the node converts NED <-> ENU via ship_sim.frames.
 
 Sources:
-- Closest-point path frame of seed 000 (Martinsen, curved path following), eqs. 1-3: the path
+- Closest-point path frame of Martinsen and Lekkas 2018 (curved path following), eqs. 1-3: the path
   angle is the tangent direction at the closest point, and the cross-track error is
-      e = -sin(gamma_p) (n - n_p) + cos(gamma_p) (e - e_p)           (000 eq. 2)
+      e = -sin(gamma_p) (n - n_p) + cos(gamma_p) (e - e_p)           (Martinsen and Lekkas 2018 eq. 2)
   i.e. positive when the vessel is to STARBOARD of the path direction (the project convention).
   For an interior closest point this is the signed distance to the path; when the closest
   point is clamped to the start/end of the searched stretch it is the offset from the tangent
   line there (the classic waypoint-LOS "extended leg").
-- Straight legs and circular arcs (both turning directions) as the route primitives of seed 003
-  (Papoulias et al., Chapter IV) and waypoint routes of seed 004.
+- Straight legs and circular arcs (both turning directions) as the route primitives of Simakis 1992
+  (Papoulias et al., Chapter IV) and waypoint routes of Lee 2004.
 
 Conventions of this module:
 - An arc is ``clockwise`` when it turns to starboard seen from above: the path angle increases
@@ -51,8 +51,9 @@ MAX_COORDINATE_M = 1e7
 #: Default half-width (m) of the arc-length search window when ``project`` gets an ``s_hint``
 #: but no ``window``. The guidance passes its own (2 look-ahead distances and more).
 DEFAULT_WINDOW = 500.0
-#: ``Route.project`` searches up to this many legs on Python floats, more with numpy (the
-#: float loop costs ~2 us per leg, the vectorised search ~40 us whatever the count).
+#: ``Route.project`` searches up to this many legs on Python floats, more with numpy: the
+#: float loop's cost grows with the legs, the vectorised search has a fixed overhead that
+#: dominates for few legs (crossover measured, README Performance).
 FEW_LEGS = 16
 
 
@@ -184,7 +185,7 @@ class Projection:
     """Closest point of a route to a position (``Route.project``). Units m, rad.
 
     s: arc length of the closest point; leg_index: its leg; north, east: the closest point;
-    path_angle: NED heading of the path tangent there; cross_track: 000 eq. 2, positive when the
+    path_angle: NED heading of the path tangent there; cross_track: Martinsen and Lekkas 2018 eq. 2, positive when the
     vessel is to starboard of the path direction; curvature: signed, +1/R on clockwise
     (starboard) arcs, -1/R on counter-clockwise arcs, 0 on lines; distance: Euclidean distance
     to the closest point; at_start / at_end: the closest point is the route's start / end.
@@ -259,7 +260,7 @@ class Route:
         #: Arc-length tolerance (m) for "at the start/end".
         self.s_tol = 1e-9 * max(1.0, self.length)
         # The same per-leg numbers as Python floats for ``_closest_on_few_legs`` (a guidance
-        # step searches 1-3 legs, where numpy's per-call overhead costs ~10x the arithmetic).
+        # step searches 1-3 legs, where numpy's per-call overhead exceeds the arithmetic).
         self._cum_list = self.cumulative.tolist()
         self._curv_list = self.curvatures.tolist()
         self._leg_floats = [
@@ -385,7 +386,7 @@ class Route:
         return n, e, a
 
     def project(self, north, east, s_hint=None, window=None, bounds=None):
-        """Closest point of the route to (north, east) (seed 000 eqs. 1-3), as a Projection.
+        """Closest point of the route to (north, east) (Martinsen and Lekkas 2018 eqs. 1-3), as a Projection.
 
         Without ``s_hint`` the whole route (or ``bounds``) is searched. With ``s_hint`` (the
         previous arc length) only arc lengths in [s_hint - back, s_hint + ahead] are searched,
@@ -422,7 +423,7 @@ class Route:
             leg, s, t, fn, fe, gamma, dist = self._closest_on_few_legs(pn, pe, lo, hi, i0, i1)
         else:
             leg, s, t, fn, fe, gamma, dist = self._closest_vectorised(pn, pe, lo, hi, i0, i1)
-        cross = -math.sin(gamma) * (pn - fn) + math.cos(gamma) * (pe - fe)  # 000 eq. 2
+        cross = -math.sin(gamma) * (pn - fn) + math.cos(gamma) * (pe - fe)  # Martinsen and Lekkas 2018 eq. 2
         return Projection(s=s, leg_index=leg, north=fn, east=fe, path_angle=gamma,
                           cross_track=cross, curvature=self._curv_list[leg],
                           distance=dist, at_start=s <= self.s_tol,

@@ -1,6 +1,6 @@
 """Navigable-water charts as rasters in a local (north, east) frame, and the clearance they allow.
 
-Source: seeds/004_e27d3f022cbf277a.txt, Chapter 3 (optimal route on an electronic chart): the
+Source: Lee 2004, Chapter 3 (optimal route on an electronic chart): the
 chart is turned into an image of navigable water before closing and thinning. The chapter reads
 the land areas of an S-57 ENC (Table 3.1, object LNDARE); its equations are not legible in the
 OCR. Here a chart comes from one of:
@@ -234,7 +234,7 @@ _SHAPES = {}
 
 
 def _landmask_shapes(provider):
-    """The roaring-landmask polygon set, loaded once per process (~5 s: the wheel's data)."""
+    """The roaring-landmask polygon set, loaded once per process (loading the wheel's data is slow)."""
     if provider not in PROVIDERS:
         raise ChartError(f'unknown shoreline source "{provider}"; use one of {", ".join(PROVIDERS)}')
     if provider not in _SHAPES:

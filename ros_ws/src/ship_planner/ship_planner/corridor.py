@@ -1,39 +1,15 @@
 """Adjacent convex polygons along a candidate route: the route choice becomes a choice of one
 point on each crossing line.
 
-Source: seeds/004_e27d3f022cbf277a.txt, abstract and Chapter 3: "a dividing technique of
-adjacent convex polygons is discussed in order to transform an optimal route decision problem
-into a borderline decision problem". The chapter's construction is not legible in the OCR; the
-one below is ours and is built so that the transformation is exact: any choice of one point per
-crossing line gives a route whose straight legs keep the clearance.
+After Lee 2004, Chapter 3 ("a dividing technique of adjacent convex polygons"); the construction
+is ours (not legible in the source's OCR) and exact: stations along the pulled-straight
+candidate, crossing lines through them to the edge of the free water (port end A, t = 0;
+starboard end B, t = 1), and quadrilaterals between consecutive lines, shortened by bisection
+until each is convex and clear. The waypoint on line k is A_k + t_k (B_k - A_k), t_k in [0, 1];
+any choice of t gives straight legs that keep the clearance, since each leg lies in one convex
+clear polygon. Units: NED metres.
 
-Construction (NED metres; a candidate is a polyline start -> centre-line pixels -> goal):
-
-1. Stations. The candidate (a centre-line path) is first pulled straight where it can be: from
-   each kept point to the farthest point of the candidate still visible along a clear chord
-   (ship_planner.shortest_path.string_pull), so the corridor follows the way the candidate goes
-   around the islands without the medial axis' detours into open water; then stations are put
-   at its inner vertices and in between, at most ``spacing`` apart. Start and goal are fixed.
-2. Crossing lines. Through each station a line across the corridor: perpendicular to the
-   candidate (to the bisector of the two legs at a vertex), reaching from the station to the
-   edge of the free water on either side (rays marched at half-cell steps on the free mask, at
-   most ``max_half_width``). Its port end is A (parameter t = 0), its starboard end
-   B (t = 1); the station lies in between.
-3. Polygons. Consecutive crossing lines k, k+1 bound the quadrilateral A_k A_k+1 B_k+1 B_k (start
-   and goal close the first and last polygon as triangles). Each polygon must be convex and clear
-   of the clearance zone: every cell it overlaps must be free (polygon_clear). A polygon that
-   fails is repaired by shortening its crossing lines, each by bisection to the longest extent
-   that works (to a quarter cell): two lines that cross are first cut back to just short of their
-   crossing point; in a half (port or starboard of the stations' chord) that is not clear, the
-   longer of the two extents on that side is shortened first (at most down to the shorter one),
-   then both together; a polygon with a reflex corner has the one extent shortened whose
-   shortening to convexity loses the least length (or both lines scaled together when no single
-   one suffices). Polygons are repaired from start to goal; shortening a line only shrinks the
-   polygon behind it to a convex subset of itself, so one pass leaves all valid. A polygon
-   shrunk to the chord between two stations is clear because the chord is.
-
-The waypoint on line k is A_k + t_k (B_k - A_k), t_k in [0, 1]; the straight leg between two
-consecutive waypoints lies in one convex polygon, so it is clear.
+The construction and its repair rules in full: ros_ws/src/ship_planner/doc/route_planning.md.
 """
 from dataclasses import dataclass, field
 
@@ -259,7 +235,7 @@ def _largest(ok, hi, tol):
 
 
 def _repair(chart, free, cor):
-    """Shorten crossing lines until every polygon is convex and clear (module docstring, step 3).
+    """Shorten crossing lines until every polygon is convex and clear (doc/route_planning.md, step 3).
 
     Polygon k joins line k-1 and line k; shortening line k-1 keeps polygon k-1 valid (it shrinks
     to a convex subset of itself). Returns the number of repairs."""

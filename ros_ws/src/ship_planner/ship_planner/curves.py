@@ -17,7 +17,7 @@ from scipy.interpolate import CubicSpline
 
 from ship_guidance.path import Route
 from ship_planner.fillets import ArcSpec, segments_to_route
-from ship_planner.route_plan import check_curve_size
+from ship_planner.route_data import check_curve_size
 
 _DENSE = 16     # dense evaluations per output step when measuring arc length
 

@@ -1,6 +1,6 @@
 """Round the corners of a waypoint route with circular fillets (line - arc - line, tangent).
 
-Source: seeds/004_e27d3f022cbf277a.txt, sec. 4 (Figs. 4.4-4.6, eqs. 4.21-4.24): between two
+Source: Lee 2004, sec. 4 (Figs. 4.4-4.6, eqs. 4.21-4.24): between two
 straight legs WP1-WP2 and WP2-WP3 the ship follows a turning circle of radius R (the ship's
 turning radius at a chosen rudder angle, Fig. 4.5) that it enters at P_in on the first leg and
 leaves at P_out on the second; its LOS point then moves on that circle (eq. 4.24). The OCR of
@@ -81,7 +81,7 @@ def suggest_fillet_radius(turning_diameter_m, rudder_fraction=0.5):
     leaves nothing to correct errors. In the linear Nomoto steady state r = K delta the turn
     radius U / r scales as 1 / delta, so a turn that needs only a fraction f of full rudder has
     radius (D / 2) / f. The default f = 0.5 gives R = D; for the MSS Mariner (steady radius
-    556 m, tactical diameter 1029 m at 35 deg, shared/reference/README.md) that is ~1000-1100 m.
+    556 m, tactical diameter 1029 m at 35 deg, tests/data/mss_golden/maneuvers.json) that is ~1000-1100 m.
     A tactical diameter may be passed instead of the steady diameter (it is ~ 5-10 % larger).
     """
     d = float(turning_diameter_m)

@@ -1,38 +1,15 @@
 """Real-coded genetic algorithm (minimisation on the unit box [0, 1]^n).
 
-Source: seeds/004_e27d3f022cbf277a.txt, abstract and Chapter 3: "a real-coded genetic algorithm
-is applied to decide an optimal route or optimal way points by trading off between navigational
-distance and propulsive energy loss"; Chapter 4 tunes the guidance parameters with the same GA.
-The chapter's operators are not legible in the OCR, so this is a standard real-coded GA with the
-operators named below; each is a textbook one, cited:
+After Lee 2004, Chapter 3 (a real-coded GA picks the waypoints, trading navigational distance
+against propulsive energy loss); its operators are not legible in the source's OCR, so these are
+textbook ones: tournament selection (Goldberg & Deb 1991), BLX-alpha crossover (Eshelman &
+Schaffer 1993), non-uniform mutation (Michalewicz 1992), elitism, plus our segment-shift
+mutation that moves a stretch of consecutive genes (waypoints along a route) together, and an
+optional pattern-search ``refine``. Stops after ``generations`` or when the best cost has not
+improved by more than ``rel_tol`` (relative) for ``stall_generations``. Deterministic for a given
+``seed`` (numpy Generator). ``cost`` is vectorised: (P, n) array -> (P,) costs.
 
-- genes are real numbers in [0, 1] (here: the waypoint's position along each crossing line);
-- selection: tournament of ``tournament`` individuals (Goldberg & Deb 1991), the lowest cost wins;
-- crossover (probability ``crossover_rate`` per pair): blend crossover BLX-alpha (Eshelman &
-  Schaffer 1993): each child gene is uniform in [lo - alpha I, hi + alpha I], I = hi - lo of the
-  two parents' genes, clipped to [0, 1];
-- mutation (probability ``mutation_rate`` per gene, default 1/n): non-uniform mutation
-  (Michalewicz 1992): a gene moves towards 0 or 1 by y (1 - u^((1 - g/G)^b)), where y is the
-  room left, u ~ U(0, 1), g the generation, G the last one and b = ``mutation_shape``: large
-  steps early, fine ones late;
-- segment-shift mutation (our addition, for genes that are ordered, like waypoints along a
-  route; probability ``shift_rate`` per child): a random stretch of consecutive genes moves by a
-  common amount d ~ N(0, sigma^2) with a cosine taper to its ends, sigma log-uniform between
-  1/1000 and 1 times ``shift_sigma`` (1 - g/G), so that coarse and fine moves both occur. Moving
-  one waypoint of a smooth route alone only makes a zig-zag; moving a stretch
-  of it sideways is what shortens it, and gene-wise operators find such moves slowly;
-- elitism: the ``elite`` best individuals pass unchanged.
-
-When ``initial`` individuals are given, the rest of the first population are those individuals
-with one to three random segment shifts (a smooth spread around a known route) instead of
-uniform random genes.
-
-``refine`` is a separate, optional last step: a pattern search whose moves shift stretches of
-1, 2, 4, ... consecutive genes together (a memetic GA's local search on the best individual).
-
-The run stops after ``generations`` or when the best cost has not improved by more than
-``rel_tol`` (relative) for ``stall_generations``. Deterministic for a given ``seed``
-(numpy Generator). ``cost`` is vectorised: (P, n) array -> (P,) costs.
+The operators and their parameters in full: ros_ws/src/ship_planner/doc/route_planning.md.
 """
 from dataclasses import dataclass, field
 
@@ -128,7 +105,7 @@ def minimize(cost, n_var, population=60, generations=300, elite=2, tournament=3,
 
 
 def _shift(x, rng, sigma, which):
-    """Segment-shift mutation of the rows selected by which (module docstring), clipped to [0, 1]."""
+    """Segment-shift mutation of the rows selected by which (doc/route_planning.md), clipped to [0, 1]."""
     m, n = x.shape
     centre = rng.integers(0, n, m)
     half = rng.integers(1, max(2, n // 2 + 1), m)

@@ -1,53 +1,16 @@
 """Optimal route on a chart: candidates from the centre lines, convex corridors, GA waypoints,
 fillets for the vessel, and the shortest path for comparison.
 
-Source: seeds/004_e27d3f022cbf277a.txt, Chapter 3 (and abstract): closing and thinning of the
-chart image give the centre lines of the cruisable area and candidate routes; adjacent convex
-polygons turn the route choice into a choice of crossing-line points; a real-coded GA picks them
-"by trading off between navigational distance and propulsive energy loss"; Chapter 4 (Figs.
-4.4-4.6) rounds the corners with the ship's turning circle. The chapter's formulas are not
-legible in the OCR, so the cost below is ours and documented here.
+After Lee 2004, Chapter 3: candidate routes from the closed and thinned chart, adjacent convex
+polygons that turn the choice of route into a choice of one point per crossing line, and a
+real-coded GA trading sailed distance against turning; Chapter 4 rounds the corners with the
+ship's turning circle. The cost is ours, J = S + w E + 10 (F + res N_bad): S the length sailed
+with filleted corners, E the total course change (rad) weighted by ``energy_weight`` (m/rad,
+the extra sailing a turn costs in lost speed), F the fillet overlap on short legs and N_bad the
+arc samples off the eroded free mask. Units: NED metres, radians.
 
-Pipeline (NED metres, radians):
-
-1. free = chart.free_mask(clearance): start and goal must be free and in one connected area
-   (ChartError otherwise, saying what to change).
-2. Candidates: the way around the islands of the shortest path (step 5); with fillets, the ways
-   a grid search picks when water within R/2 or R of the clearance zone costs five times its
-   length (shortest_path.wide_water_path: narrow winding channels may not take the ship's
-   turns); and k distinct centre-line routes (ship_planner.skeleton_graph). Candidates that
-   follow one already kept (Hausdorff distance of their pulled-straight polylines below the
-   larger of 5 cells and 3 % of the shortest length) are dropped. Centre lines alone are not
-   enough: in open water the medial axis wanders, and a coastal passage's best route often hugs
-   islands that the medial axis keeps away from.
-3. For each candidate, its corridor of convex polygons (ship_planner.corridor) and a GA
-   (ship_planner.ga) over one parameter t_k in [0, 1] per crossing line, minimising
-
-       J = S + w * E + 10 * (F + res * N_bad)
-
-   S      length actually sailed: the polyline through start, waypoints, goal with every corner
-          rounded by a fillet of radius R (tangent lengths R tan(|D_k|/2) cut from the legs, arcs
-          R |D_k| added), D_k the course change at waypoint k;
-   E      sum |D_k| (rad): the turning-energy proxy. In a turn a ship loses speed (MSS Mariner at
-          35 deg rudder: 7.72 -> 6.01 m/s on a 556 m radius, shared/reference/README.md), so a
-          turn of |D| costs about the time of R |D| (U0 / U_turn - 1) metres of extra sailing:
-          556 * 0.284 = 158 m per radian for the Mariner at full rudder. The default weight
-          w = 160 m/rad is that figure; the CLI exposes it (--energy-weight);
-   F      metres by which fillets overlap on a leg (a leg too short for its two turns);
-   N_bad  arc samples (a fixed number per arc: half a cell apart on a 90 deg turn) off the free
-          mask eroded by one cell: a fillet that
-          would cut into the clearance zone (the erosion makes the GA's quick test stricter than the
-          exact test of the final route). Straight legs need no check: each lies in one convex
-          clear polygon.
-
-   The candidate whose GA optimum has the lowest J wins.
-4. Waypoints on (nearly) straight lines (|D| < 0.2 deg) are dropped when the merged leg is clear;
-   every corner gets the fillet radius R, or the largest radius down to min_fillet_radius that
-   fits its legs and keeps the clearance (bisection); the whole route is checked exactly on the
-   free mask before it is returned (legs: cell traversal; arcs: chords of half a cell).
-5. Baseline (computed before the GA, as it also gives a candidate): ship_planner.shortest_path
-   at the same clearance, relaxing the grid path and every centre-line candidate;
-   ratio = sailed length / shortest length.
+The pipeline step by step, the cost's terms and the default weight's derivation:
+ros_ws/src/ship_planner/doc/route_planning.md.
 """
 import math
 import time
@@ -64,7 +27,7 @@ from ship_planner.shortest_path import heading_changes, polyline_length, shortes
 from ship_planner.skeleton_graph import candidate_routes, densify, hausdorff
 from ship_sim.frames import wrap_angle
 
-#: Default turning-energy weight (m of sailing per rad of course change), see module docstring.
+#: Default turning-energy weight (m of sailing per rad of course change), see doc/route_planning.md.
 DEFAULT_ENERGY_WEIGHT = 160.0
 _PENALTY = 10.0
 _STRAIGHT_DEG = 0.2
@@ -192,7 +155,7 @@ def _corner_geometry(pts, radius):
 
 
 def route_cost(pts, chart, arc_mask, radius, weight):
-    """J of polylines pts (P, N, 2) (module docstring); returns (J, S, E, F, N_bad). arc_mask: the
+    """J of polylines pts (P, N, 2) (doc/route_planning.md); returns (J, S, E, F, N_bad). arc_mask: the
     free mask eroded by one cell, so that arc samples half a cell apart that pass here also pass
     the exact check of the final route."""
     legs, delta, tau, centre, theta0 = _corner_geometry(pts, radius)
@@ -433,7 +396,7 @@ def plan_route(chart, start, goal, config=None, progress=None):
 
 # ---- route file -------------------------------------------------------------------------------
 def route_yaml_text(plan, chart, name, source, description=None, comments=()):
-    """The planned route as a route file (schema: ship_planner.route_yaml). Geodetic charts give
+    """The planned route as a route file (schema: ship_planner.yaml_route_reader). Geodetic charts give
     frame wgs84 with the chart's origin; synthetic ones frame enu (x east, y north)."""
     lines = [f'# {c}'.rstrip() for c in comments]
     lines.append(f'name: {name}')

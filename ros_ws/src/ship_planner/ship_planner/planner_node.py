@@ -59,8 +59,8 @@ from ship_planner.chart import (DEFAULT_MAX_CELLS, IMAGE_EXTENSIONS, PROVIDERS, 
                                 enc_chart, shoreline_chart)
 from ship_planner.fillets import suggest_fillet_radius
 from ship_planner.optimal_route import DEFAULT_ENERGY_WEIGHT, PlannerConfig, plan_route, route_yaml_text
-from ship_planner.route_files import RouteError
-from ship_planner.route_yaml import load_route_yaml
+from ship_planner.route_loader import RouteError
+from ship_planner.yaml_route_reader import load_route_yaml
 from ship_sim.frames import enu_to_ned_xy
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED

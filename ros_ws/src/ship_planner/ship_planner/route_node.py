@@ -13,7 +13,7 @@ file changes on disk. An invalid route is refused with a message that names the 
 line or row: at start the node exits (code 2) with that one line; later, the change is refused
 (parameter) or logged once per edit and the last good route stays published (file edit). That
 covers every bad file: invalid content, bytes that are not UTF-8, a FIFO, directory or device
-in place of the file, and routes beyond the bounds of ship_planner.route_plan.
+in place of the file, and routes beyond the bounds of ship_planner.route_data.
 """
 import os
 
@@ -22,7 +22,7 @@ from nav_msgs.msg import Path
 from rclpy.node import Node
 
 from ship_guidance.ros.path_msgs import route_to_path_msg
-from ship_planner.route_files import RouteError, load_route
+from ship_planner.route_loader import RouteError, load_route
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED
 from ship_sim.ros.run import run_node

@@ -1,6 +1,6 @@
 """Centre lines of the cruisable area (closing + thinning) and the graph of their branches.
 
-Source: seeds/004_e27d3f022cbf277a.txt, Chapter 3 and abstract: "the closing technique makes the
+Source: Lee 2004, Chapter 3 and abstract: "the closing technique makes the
 rough coastal line smooth, the thinning technique offers the outline of the cruisable area, and
 then a variety of routes are decided" (closing and thinning of the chart image, Figs. 3.7-3.10
 show dilation and erosion). The equations are not legible in the OCR; the operators are the

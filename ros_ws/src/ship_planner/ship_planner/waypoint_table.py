@@ -1,6 +1,6 @@
-"""Read the waypoint tables of seeds/003_c43f5c634ec4b859.txt (Simakis 1992, NPS thesis) into a RoutePlan.
+"""Read the waypoint tables of Simakis 1992 (NPS thesis) into a RoutePlan.
 
-Source: 003 Chapter IV.C (the figure-eight data table and the paragraph after it) and the
+Source: Simakis 1992 Chapter IV.C (the figure-eight data table and the paragraph after it) and the
 program listings NOMO.FOR (path following, READ(11,*) X2,Y2,ITURN,DD,IPATH,ICCW,X0,Y0) and
 REFERENCE PATH (draws the reference path from the same file).
 
@@ -13,13 +13,13 @@ File format (extension .wpt; whitespace-separated, one waypoint per row):
     15.0 0.0 0 1.0 0 0 0.0 0.0
 
 Directives: name (required), source (required), length_unit_m (metres per table unit, default
-1; 003's tables are nondimensional, in vehicle lengths), start ("x y", the point the route
+1; Simakis's tables are nondimensional, in vehicle lengths), start ("x y", the point the route
 starts from, default "0 0": NOMO.FOR starts every run at X1 = Y1 = 0 with PSI = 0), and
 arc_tolerance (table units, default 0.01). The reader's length_unit_m argument overrides the
 file's (e.g. to scale a table to a ship: L = 160.93 m for the Mariner).
 
 Columns (each row describes the leg that ENDS at its waypoint):
-  x, y   the next waypoint (X2, Y2). 003 eqs. (2.4)-(2.5), x_dot = u cos psi - v sin psi,
+  x, y   the next waypoint (X2, Y2). Simakis 1992 eqs. (2.4)-(2.5), x_dot = u cos psi - v sin psi,
          y_dot = u sin psi + v cos psi, are Fossen's NED kinematics, so x is north, y is east
          and psi turns from x towards y: north = x * unit, east = y * unit.
   TURN   (ITURN) when to switch to the next row. The text says 1 = "enter a circle of radius D
@@ -31,7 +31,7 @@ Columns (each row describes the leg that ENDS at its waypoint):
          1 -> 'along_track' (extras['switching']).
   D      (DD) the switching distance for TURN, table units (metres after scaling).
   PATH   (IPATH) 0 = straight line to (x, y), 1 = circular arc about (x0, y0).
-  ICCW   1 = counter-clockwise, 0 = clockwise, as the thesis draws it (x to the right, y up).
+  ICCW   1 = counter-clockwise, 0 = clockwise, as Simakis 1992 draws it (x to the right, y up).
          With x = north and y = east that picture is mirrored: its CCW runs from +x towards +y,
          psi increasing, a starboard turn, i.e. CLOCKWISE seen from above in NED. So ICCW = 1
          -> Arc(clockwise=True), ICCW = 0 -> Arc(clockwise=False). The figure-eight table
@@ -42,26 +42,26 @@ Columns (each row describes the leg that ENDS at its waypoint):
 OCR notes: the figure-eight table in the OCR text is clean (header "x <sub>0</sub>" is x0);
 every arc row has equal start and end radii (5.0) and all joins are tangent except the 90 deg
 corner at (15, 0), so no number had to be guessed. The figure-eight ends at (6, 5), not at its
-start (0, 0): the table does not close the lower loop (the thesis's Fig. 28 is not in the OCR).
-The thesis's 2-point quarter-circle runs (Figs. 14-23, 26) give only the end points (0,0) and
-(10,10); see ship_planner.seed003_routes for the centre we chose.
+start (0, 0): the table does not close the lower loop (Simakis's Fig. 28 is not in the OCR).
+Simakis's 2-point quarter-circle runs (Figs. 14-23, 26) give only the end points (0,0) and
+(10,10); see ship_planner.quarter_circle_routes for the centre we chose.
 """
 import math
 
 import numpy as np
 
 from ship_planner.fillets import ArcSpec, LineSpec, segments_to_route
-from ship_planner.route_plan import (MAX_ROUTE_SAMPLES, RouteError, RoutePlan, TextFileError,
+from ship_planner.route_data import (MAX_ROUTE_SAMPLES, RouteError, RoutePlan, TextFileError,
                                      check_point, check_route_size, read_text_file)
 
 COLUMNS = ('x', 'y', 'TURN', 'D', 'PATH', 'ICCW', 'x0', 'y0')
 DIRECTIVES = ('name', 'source', 'length_unit_m', 'start', 'arc_tolerance')
 SWITCH_MODES = {0: 'radius', 1: 'along_track'}
-FRAME = 'seed003_xy'
+FRAME = 'simakis_xy'   # the x/y table frame of Simakis 1992 (x north, y east, vehicle lengths)
 
 
 def load_waypoint_table(path, length_unit_m=None):
-    """Read a 003-style waypoint table file. Returns a RoutePlan; raises RouteError."""
+    """Read a waypoint table in the format of Simakis 1992 file. Returns a RoutePlan; raises RouteError."""
     path = str(path)
     try:
         text = read_text_file(path)
@@ -177,7 +177,7 @@ def _num(v):
 
 
 def _ned(p, unit):
-    return (p[0] * unit, p[1] * unit)          # x -> north, y -> east (003 eqs. 2.4-2.5)
+    return (p[0] * unit, p[1] * unit)          # x -> north, y -> east (Simakis 1992 eqs. 2.4-2.5)
 
 
 def _on_circle(p, c, r):

@@ -8,8 +8,8 @@ Sources
   only the position kinematics see the current: eta_dot = R(psi) nu_r + [v_N, v_E, 0].
   The slowly varying speed is the first-order Gauss-Markov process V_dot + V/T = w of the same
   section, limited to [speed_min, speed_max].
-- Seed 004 eq. (4.30) (Fig. 4.8): current of mean speed V_c and direction beta in NED,
-  v_N = V_c cos beta, v_E = V_c sin beta. Seed 000 (Table I) uses a constant 0.9 m/s current.
+- Lee 2004 eq. (4.30) (Fig. 4.8): current of mean speed V_c and direction beta in NED,
+  v_N = V_c cos beta, v_E = V_c sin beta. Martinsen and Lekkas 2018 (Table I) uses a constant 0.9 m/s current.
 
 Conventions: speed in m/s; ``direction`` (rad) is the direction the water flows TOWARDS,
 clockwise from north (0 = flowing north, pi/2 = flowing east), as NED headings are. Note that

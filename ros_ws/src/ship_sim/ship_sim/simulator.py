@@ -217,7 +217,7 @@ class VesselSimulator(_SimulatorCore):
 
     def pose_ned(self):
         """(north, east, psi): m, m, rad in [-pi, pi)."""
-        # Python floats, not numpy scalars: the nodes read this every step (~5x cheaper).
+        # Python floats, not numpy scalars: the nodes read this every step, and floats are cheaper.
         m, x = self.model, self.x
         return float(x[m.IX]), float(x[m.IY]), wrap_angle(float(x[m.IPSI]))
 

@@ -1,4 +1,4 @@
-"""Learned steering (seed 000, Martinsen & Lekkas): eq. 9 state features, the training
+"""Learned steering (Martinsen and Lekkas 2018): eq. 9 state features, the training
 environment (env, needs gymnasium) and numpy-only policy inference (policy).
 
 Import the submodules directly; this package imports nothing so that the nodes, which need

@@ -1,6 +1,6 @@
 """Learned steering policy at runtime: numpy-only MLP inference, policy files, a node-side wrapper.
 
-Source: the actor of seed 000 (Martinsen & Lekkas, Sec. III): two fully connected hidden layers
+Source: the actor of Martinsen and Lekkas 2018 (Sec. III): two fully connected hidden layers
 of 400 and 300 ReLU units; our output layer is tanh, scaled to the model's rudder limit
 (unified sign: positive turns to port). Trained by scripts/train_ddpg.py (torch, optional);
 running a policy needs only numpy.

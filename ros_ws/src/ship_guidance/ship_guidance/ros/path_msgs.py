@@ -13,7 +13,8 @@ the node keeps its previous route): frame 'map' (or empty), 2 to MAX_ROUTE_POSES
 coordinates within ship_guidance.path.MAX_COORDINATE_M of the origin. The nodes subscribe the
 route raw: the pose count is read from the serialized bytes before anything else, so an
 oversized Path costs microseconds, and the poses of an accepted one are read with numpy
-straight from the bytes (rclpy's conversion of a 20,000-pose Path alone takes ~0.6 s).
+straight from the bytes (rclpy's conversion builds one Python object per pose, far slower;
+README Performance).
 """
 import struct
 

@@ -125,7 +125,7 @@ class Container(MssShip):
         Tm = ops.where(n > 0.3, 5.65 / n, 18.83)
         n_dot = 1 / Tm * (n_c - n) * 60
 
-        # Powers as products: numpy's pow with a negative base is ~400x slower.
+        # Powers as products: numpy's pow with a negative base is far slower (README Performance).
         v2, r2, phi2 = v * v, r * r, phi * phi
         v3, r3 = v2 * v, r2 * r
 

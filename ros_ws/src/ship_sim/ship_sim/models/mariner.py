@@ -94,7 +94,7 @@ class Mariner(MssShip):
 
         delta_dot = rudder_servo(ops, -ui, delta, self.rudder_max, self.rudder_rate_max)
 
-        # Powers as products: numpy's pow with a negative base is ~400x slower.
+        # Powers as products: numpy's pow with a negative base is far slower (README Performance).
         u2, v2, r2, d2 = u * u, v * v, r * r, delta * delta
         u3, v3, d3 = u2 * u, v2 * v, d2 * delta
 

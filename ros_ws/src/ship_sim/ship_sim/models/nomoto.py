@@ -1,49 +1,23 @@
 """Nomoto steering models (first and second order) with linear kinematics and a rudder servo.
 
-Sources
-- Nomoto, Taguchi, Honda and Hirano (1957); Fossen, *Handbook of Marine Craft Hydrodynamics and
-  Motion Control* (2011), Ch. 7 (Nomoto models for heading autopilots).
-- Presets: seed 004 (B. Lee, "An Optimal Route Decision and LOS Guidance System for Automatic
-  Navigation of Ships", KMU), Table 2.2 (repeated for the cargo ship in its Table 4.1), which
-  quotes Fossen's table for the Mariner class cargo ship and a fully loaded oil tanker.
-- Kinematics: seed 004 eq. (4.29): psi_dot = r, x_dot = U cos psi, y_dot = U sin psi.
-
-Sign convention (project-wide, see ship_sim.frames): NED, psi clockwise from north, r > 0 turns
-to starboard; the rudder angle delta is *unified*: positive turns the vessel to port. In this
-sign the models read
-
-    first order:   T r_dot + r = -K delta                         (r_dot = a r + b delta,
-                                                                   a = -1/T, b = -K/T)
+In the project's sign (NED, r > 0 to starboard; unified rudder, positive turns to port):
+    first order:   T r_dot + r = -K delta          (r_dot = a r + b delta, a = -1/T, b = -K/T)
     second order:  T1 T2 r_ddot + (T1 + T2) r_dot + r = -K (delta + T3 delta_dot)
-                   psi / delta = -K (1 + T3 s) / (s (1 + T1 s) (1 + T2 s))
+with K > 0 for a course-stable ship (Nomoto et al. 1957; Fossen 2011, Ch. 7); the first-order
+model uses T = T1 + T2 - T3. Presets 'mariner' and 'tanker' are Lee 2004, Table 2.2 (Fossen's
+table; the tanker is course unstable, T1 < 0). Kinematics psi_dot = r, x_dot = U cos psi,
+y_dot = U sin psi (Lee 2004 eq. 4.29). State (SI): [u, v, r, north, east, psi, delta]
+(+ r_dot for the second order), u constant, v = 0; input [delta_c] (rad, unified sign); the
+rudder servo clips the command, lags it by a first-order filter and clips its rate (as MSS).
 
-with K > 0 for a normal (course-stable) ship. The seed prints K with the opposite rudder sign
-convention of its own (positive rudder to starboard), which gives the same numbers: cargo ship
-K = 0.185 1/s, tanker K = -0.019 1/s. Fossen's original table (positive rudder to port) lists
-K' = -3.86 and +0.83, i.e. the same physics. The tanker is course unstable (T1 < 0): its linear
-model diverges under constant rudder (the initial response still turns to port for delta > 0,
-high-frequency gain -K T3 / (T1 T2) < 0 for both ships), as a real unstable ship does until
-nonlinear damping, absent here, takes over. The first-order model uses T = T1 + T2 - T3 (the
-low-frequency reduction of the second-order model: same static gain and first moment).
-
-Table 2.2 as read from the OCR text (columns: cargo ship (mariner class), oil tanker (full)):
-    L (m) 161 / 350,  u (m/s) 7.7 / 8.1,  dwt 16,622 / 389,100,  K (1/s) 0.185 / -0.019,
-    T1 (s) 118.0 / -124.1,  T2 (s) 7.8 / 16.4,  T3 (s) "185" / 46.0.
-The cargo T3 printed "185" lost its decimal point: Table 4.1 of the same seed prints 18.5, and
-Fossen's nondimensional T3' = 0.89 gives 0.89 * 161 / 7.7 = 18.6 s, so 18.5 s is used. The row
-labels "A (1/s)" and "T:" are OCR garbling of K and T1.
-
-State (SI): [u, v, r, north, east, psi, delta] (+ r_dot for the second order), where u is the
-constant speed through the water (u_dot = 0) and v = 0 (sway-free). Native input: [delta_c]
-(rad, unified sign: RUDDER_SIGN = 1). Rudder servo: the command is clipped to +-rudder_max, the
-rudder follows it with a first-order lag (rudder_time_constant) and its rate is clipped to
-+-rudder_rate_max (the servo used by the MSS ship models).
+Why the signs map as they do, the presets as read from the source's OCR (and the one misprint
+corrected), and the servo: ros_ws/src/ship_sim/doc/nomoto.md.
 """
 import numpy as np
 
 from .constant_speed import ConstantSpeedModel, check_param  # noqa: F401 (re-export)
 
-# Preset values: Table 2.2 of seed 004 in the unified rudder sign (see the module docstring).
+# Preset values: Table 2.2 of Lee 2004 in the unified rudder sign (doc/nomoto.md).
 # Rudder limits are our choice (the table has none): the mariner gets those of the MSS mariner
 # model (40 deg, 5 deg/s); the tanker the SOLAS minimum steering rate (35 deg to 30 deg on the
 # other side in 28 s: 65/28 = 2.32 deg/s) with a 35 deg limit.
@@ -64,7 +38,7 @@ RUDDER_TIME_CONSTANT = 1.0
 class _NomotoBase(ConstantSpeedModel):
     """Shared parts: parameters, rudder servo, kinematics, inputs, initial state."""
 
-    source = 'Nomoto (1957); Fossen (2011) Ch. 7; presets: seed 004 Table 2.2'
+    source = 'Nomoto (1957); Fossen (2011) Ch. 7; presets: Lee 2004 Table 2.2'
 
     def __init__(self, preset='mariner', *, U=None, length=None, rudder_max=None,
                  rudder_rate_max=None, rudder_time_constant=RUDDER_TIME_CONSTANT,

@@ -1,6 +1,6 @@
 """NPS AUV II linear sway/yaw steering model with bow and stern rudders, kinematics and servo.
 
-Source: seed 003 (D. A. Simakis, "Vehicle Guidance and Control along Circular Trajectories",
+Source: Simakis 1992 (D. A. Simakis, "Vehicle Guidance and Control along Circular Trajectories",
 NPS thesis, 1992), Chapter II: eqs. (2.1)-(2.9) (sway/yaw equations, coefficients a_ij, b_i),
 (2.3)-(2.5) (kinematics), (2.10)-(2.11) and (2.12)-(2.16) (Nomoto reduction, PD gains); the
 vehicle data and hydrodynamic coefficients are those of the FORTRAN listings NOMO.FOR
@@ -10,24 +10,24 @@ follow A and C.)
 
 Nondimensional model (lengths in L, time in L/U, seed eqs. 2.8-2.9):
     v'_dot = a11 v' + a12 r' + b1 delta,       r'_dot = a21 v' + a22 r' + b2 delta
-Dimensional form used here, the seed's eqs. (2.6)-(2.7) with the surge speed u:
+Dimensional form used here, Simakis's eqs. (2.6)-(2.7) with the surge speed u:
     v_dot = a11 (u/L) v + a12 u r + b1 (u^2/L) delta
     r_dot = a21 (u/L^2) v + a22 (u/L) r + b2 (u^2/L^2) delta
     north_dot = u cos psi - v sin psi,  east_dot = u sin psi + v cos psi,  psi_dot = r
-The seed's x, y, psi, v, r are NED/FRD (y_dot = u sin psi + v cos psi, eq. 2.5). The vehicle
+Simakis's x, y, psi, v, r are NED/FRD (y_dot = u sin psi + v cos psi, eq. 2.5). The vehicle
 steers with a stern rudder delta_s and a bow rudder delta_b = RATIO * delta_s with RATIO = -1
 (the listings' RATIO), so b_i = b_i,stern + RATIO * b_i,bow; the state's delta is the stern
 rudder. Native sign = unified sign: a positive stern rudder gives N_delta_s < 0 (the stern
 rudder sits aft, x = -0.337 L) and the bow rudder, turned the other way, a negative moment too,
 so r < 0: a turn to port.
 
-Speed and length: the seed works nondimensionally (SIMU.FOR integrates with unit speed; its way
+Speed and length: Simakis 1992 works nondimensionally (SIMU.FOR integrates with unit speed; its way
 points are in vehicle lengths) and gives no dimensional speed. ``NpsAuv2(U=1.0, length=1.0)``
-works in the seed's units (time in L/U, positions in L; add a fast servo, e.g.
+works in Simakis's units (time in L/U, positions in L; add a fast servo, e.g.
 rudder_time_constant=0.01, to approach its ideal rudder). The
 defaults are the vehicle's length, 7.3 ft = 2.225 m, and our choice U = 1.0 m/s (about 2 kn).
 
-Rudder: the seed saturates the command at 0.4 rad and has no servo dynamics. We keep 0.4 rad and
+Rudder: Simakis 1992 saturates the command at 0.4 rad and has no servo dynamics. We keep 0.4 rad and
 add a fast servo (0.1 s lag, 1 rad/s rate limit; our choice) so that the state carries the
 actual rudder like every other model.
 """
@@ -82,7 +82,7 @@ def nondimensional_nomoto_ab(a11, a12, a21, a22, b1, b2):
 
     The reduction expands the inverse of r/delta (eq. 2.10) in powers of s and keeps two terms,
     so it keeps the static gain and the first moment of the response (the low-frequency
-    reduction, the same that gives T = T1 + T2 - T3 for ships). c1, c2, c3 as in the seed;
+    reduction, the same that gives T = T1 + T2 - T3 for ships). c1, c2, c3 as in Simakis 1992;
     a = -c1/c2, b = c3/c2 (NOMO.FOR writes C1 with the opposite sign and A = C1/C2).
     """
     det = a11 * a22 - a21 * a12
@@ -94,13 +94,13 @@ def nondimensional_nomoto_ab(a11, a12, a21, a22, b1, b2):
 
 
 class NpsAuv2(ConstantSpeedModel):
-    """NPS AUV II sway/yaw model (seed 003). State [u, v, r, north, east, psi, delta]."""
+    """NPS AUV II sway/yaw model (Simakis 1992). State [u, v, r, north, east, psi, delta]."""
 
     name = 'nps_auv2'
     state_names = ('u', 'v', 'r', 'north', 'east', 'psi', 'delta')
     state_units = ('m/s', 'm/s', 'rad/s', 'm', 'm', 'rad', 'rad')
     input_names = ('delta_c',)
-    source = 'seed 003 (Simakis 1992, NPS), eqs. 2.3-2.16, NOMO.FOR/SIMU.FOR coefficients'
+    source = 'Simakis 1992 (NPS thesis), eqs. 2.3-2.16, NOMO.FOR/SIMU.FOR coefficients'
 
     def __init__(self, *, U=1.0, length=L_FT * FT, rudder_max=0.4, rudder_rate_max=1.0,
                  rudder_time_constant=0.1, bow_stern_ratio=BOW_STERN_RATIO):
@@ -132,14 +132,14 @@ class NpsAuv2(ConstantSpeedModel):
         return xdot
 
     def nondimensional_nomoto_ab(self):
-        """The seed's (a, b) of eq. (2.11), time in L/U: about (-1.468, -2.859)."""
+        """Simakis's (a, b) of eq. (2.11), time in L/U: about (-1.468, -2.859)."""
         return nondimensional_nomoto_ab(self.a11, self.a12, self.a21, self.a22,
                                         self.b1, self.b2)
 
     def nomoto_ab(self):
         """First-order Nomoto (a, b) at speed U in SI (1/s, 1/s^2), unified sign.
 
-        r_dot = a r + b delta; a = a' U/L, b = b' (U/L)^2 from the seed's reduction (2.11).
+        r_dot = a r + b delta; a = a' U/L, b = b' (U/L)^2 from Simakis's reduction (2.11).
         """
         a_n, b_n = self.nondimensional_nomoto_ab()
         w = self.U / self.length

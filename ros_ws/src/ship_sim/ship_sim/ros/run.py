@@ -21,8 +21,8 @@ and always destroys the node and shuts rclpy down. Exit codes:
 - the node's own code: a node that ends itself calls ``finish(node, code)``.
 
 Executor: EventsExecutor (rclpy.experimental, Jazzy) by default; it spins the lockstep
-vessel/echo loop about three times faster than SingleThreadedExecutor (numbers in
-ship_sim.vessel_node's docstring).
+vessel/echo loop several times faster than SingleThreadedExecutor (numbers in the README,
+Performance).
 The environment variable SHIPNAV_EXECUTOR=single|events overrides the choice, for benchmarks.
 """
 import os

@@ -147,7 +147,7 @@ class RoutePlan:
 
     route            ship_guidance.path.Route in local NED (m)
     name, source     route name and its citation / provenance (from the file)
-    frame            frame the file was written in: 'enu', 'wgs84' or a reader's own (e.g. 'seed003_xy')
+    frame            frame the file was written in: 'enu', 'wgs84' or a reader's own (e.g. 'simakis_xy')
     origin_lat_deg, origin_lon_deg   geodetic origin of the local frame, None if not given
     waypoints_ned    (N, 2) array of the points as written (before fillets), NED m
     file             file the plan was read from (None for in-memory text)

@@ -42,7 +42,7 @@ PyYAML's node marks): unknown or missing keys, wrong types, NaN/inf, fewer than 
 zero-length legs, arcs whose end is not on their circle (both distances given), fillets that
 do not fit (the corner and the largest radius that fits), points beyond MAX_COORDINATE_M
 (1e7 m) from the origin, routes or curves beyond MAX_ROUTE_LENGTH_M / MAX_ROUTE_SAMPLES, and
-files that are not regular files, too large or not UTF-8 (ship_planner.route_plan).
+files that are not regular files, too large or not UTF-8 (ship_planner.route_data).
 
 Numbers: YAML 1.1 (PyYAML) reads ``1e9`` (no dot) as text; ``Loader`` reads it as the number
 YAML 1.2 and every reader would see. Every YAML input of the project that holds numbers (route
@@ -61,7 +61,7 @@ import yaml
 from ship_planner import curves
 from ship_planner.fillets import ArcSpec, FilletError, LineSpec, fillet_segments, segments_to_route
 from ship_planner.geodetic import geodetic_to_ned
-from ship_planner.route_plan import (RouteError, RoutePlan, TextFileError, check_point,
+from ship_planner.route_data import (RouteError, RoutePlan, TextFileError, check_point,
                                      check_route_size, read_text_file)
 from ship_sim.frames import enu_to_ned_xy
 

@@ -1,4 +1,4 @@
-"""YAML route files (ship_planner.route_yaml): parsing in ENU and lat/lon, and every validation
+"""YAML route files (ship_planner.yaml_route_reader): parsing in ENU and lat/lon, and every validation
 error with the file name and the line of the offending value."""
 import math
 import pathlib
@@ -7,8 +7,8 @@ import textwrap
 import pytest
 
 from ship_planner.geodetic import WGS84_A, WGS84_E2
-from ship_planner.route_plan import RouteError
-from ship_planner.route_yaml import load_route_yaml, parse_route_yaml
+from ship_planner.route_data import RouteError
+from ship_planner.yaml_route_reader import load_route_yaml, parse_route_yaml
 
 CONFIG = pathlib.Path(__file__).resolve().parents[2] / 'ros_ws/src/ship_planner/config/routes'
 

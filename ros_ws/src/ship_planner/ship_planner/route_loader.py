@@ -1,17 +1,17 @@
 """One entry point for route files: picks the reader by file extension.
 
-    .yaml / .yml   YAML route file          (ship_planner.route_yaml)
-    .wpt           003-style waypoint table (ship_planner.waypoint_table)
+    .yaml / .yml   YAML route file          (ship_planner.yaml_route_reader)
+    .wpt           waypoint table in the format of Simakis 1992 (ship_planner.waypoint_table)
 
 Both return a RoutePlan (ship_guidance.path.Route in NED + metadata) or raise RouteError whose
 message names the file and the line (or table row). Both read only regular UTF-8 files and
 apply the same bounds (coordinates, route length, number of legs, file size), all defined in
-ship_planner.route_plan.
+ship_planner.route_data.
 """
 import os
 
-from ship_planner.route_plan import RouteError, RoutePlan  # noqa: F401  (re-exported for callers)
-from ship_planner.route_yaml import load_route_yaml
+from ship_planner.route_data import RouteError, RoutePlan  # noqa: F401  (re-exported for callers)
+from ship_planner.yaml_route_reader import load_route_yaml
 from ship_planner.waypoint_table import load_waypoint_table
 
 YAML_EXTENSIONS = ('.yaml', '.yml')

@@ -77,7 +77,8 @@ def build_loop(scenario_file=SCENARIO):
         gains = {'k1': a['k1'], 'k2': a['k2']}
     elif kind == 'pd' and a.get('omega_n'):
         nm = nomoto_gains(spec.model)
-        k1, k2 = pd_gains(nm['a'], nm['b'], a['omega_n'], a.get('zeta', 0.8))
+        k1, k2 = pd_gains(nm['a'], nm['b'], omega_n=a['omega_n'],
+                          zeta=a.get('zeta', 0.8))
         gains = {'k1': k1, 'k2': k2}
     autopilot = build_autopilot(kind, gains, model.rudder_max, model.rudder_rate_max,
                                 a.get('saturation', 'hard'))

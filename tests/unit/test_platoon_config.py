@@ -324,7 +324,7 @@ def test_amplification_warning_names_the_vessel(tmp_path):
 
 def test_pd_gains_are_read_back_as_their_design():
     nm = nomoto_gains('mariner')
-    k1, k2 = pd_gains(nm['a'], nm['b'], 0.1, 0.9)
+    k1, k2 = pd_gains(nm['a'], nm['b'], omega_n=0.1, zeta=0.9)
     zeta, omega_n, source = autopilot_design('mariner', {'controller': 'pd', 'k1': k1, 'k2': k2})
     assert (zeta, omega_n, source) == (pytest.approx(0.9), pytest.approx(0.1), 'k1, k2')
     assert autopilot_design('tanker', {'controller': 'fuzzy_pid'})[:2] == (

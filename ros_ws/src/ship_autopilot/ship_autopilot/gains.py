@@ -36,13 +36,16 @@ Files (data YAML read by this module; the autopilot node chooses one model's ent
 - data/nomoto_gains.yaml: identified K, T, a, b per model with the manoeuvre used.
 - data/autopilot_gains.yaml: the design choices above and the resulting gains per model.
 """
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import yaml
 
 from .fuzzy_pid import FuzzyPIDAutopilot, FuzzyPIDGains, scaling_from_pid
-from .pd import PDAutopilot, nomoto_ab, pd_gains
+from ship_guidance.heading_loop import pd_design, pd_gains
+
+from .pd import PDAutopilot, nomoto_ab
 from .rudder import RudderLimiter
 
 #: Default damping ratio (seed 003 Ch. III).
@@ -84,7 +87,7 @@ def design_gains(K, T, speed, length, omega_n_nd=1.0, zeta=ZETA, ki_factor=KI_FA
         raise ValueError(f'speed = {speed!r}, length = {length!r} must be positive')
     omega_n = omega_n_nd * speed / length
     a, b = nomoto_ab(K, T)
-    k1, k2 = pd_gains(a, b, omega_n, zeta)
+    k1, k2 = pd_gains(a, b, omega_n=omega_n, zeta=zeta)
     if not (k1 > 0 and k2 > 0):
         raise ValueError(f'PD design gives k1 = {k1:.4g}, k2 = {k2:.4g} (need > 0) for K = {K}, '
                          f'T = {T}, omega_n = {omega_n:.4g}: raise omega_n')
@@ -122,6 +125,45 @@ def _entry(data, model, where):
     if model not in models:
         raise ValueError(f"model '{model}' not in {where}; available: {', '.join(models)}")
     return models[model]
+
+
+@dataclass(frozen=True)
+class HeadingLoopDesign:
+    """The heading loop an autopilot runs: its gains (an autopilot_gains.yaml entry, or
+    {k1, k2}), the design (zeta, omega_n in rad/s) they place on the model's Nomoto model
+    (None if they place no oscillatory one), and where they came from ('k1, k2',
+    'omega_n, zeta' or 'gain table')."""
+    gains: dict
+    zeta: float
+    omega_n: float
+    source: str
+
+
+def heading_loop_design(model, controller='pd', k1=0.0, k2=0.0, omega_n=0.0, zeta=ZETA):
+    """The heading loop autopilot_node builds for ``model`` from its parameters, as a
+    HeadingLoopDesign; the node and the launcher's platoon check both call this.
+
+    PD with k1, k2 (both > 0) -> those gains and the design they place (Angelopoulos 2011
+    eq. 20 inverted, ship_guidance.heading_loop.pd_design); PD with omega_n > 0 -> gains
+    redesigned on the identified Nomoto a, b for (zeta, omega_n); otherwise (the gain table, or
+    the fuzzy PID whose linearisation is that PD) the table's entry and design. ValueError
+    (or KeyError, OSError from the tables) if the model or the parameters do not fit."""
+    table = autopilot_gains(model)
+    if controller == 'pd' and (k1 or k2):
+        if not (k1 and k2):
+            raise ValueError('k1 and k2 both > 0 (or both 0)')
+        nm = nomoto_gains(model)
+        try:
+            z, w = pd_design(nm['a'], nm['b'], k1=k1, k2=k2)
+        except ValueError:
+            z = w = None
+        return HeadingLoopDesign({'k1': k1, 'k2': k2}, z, w, 'k1, k2')
+    if controller == 'pd' and omega_n:
+        nm = nomoto_gains(model)
+        g1, g2 = pd_gains(nm['a'], nm['b'], omega_n=omega_n, zeta=zeta)
+        return HeadingLoopDesign({'k1': g1, 'k2': g2}, float(zeta), float(omega_n),
+                                 'omega_n, zeta')
+    return HeadingLoopDesign(table, float(table['zeta']), float(table['omega_n']), 'gain table')
 
 
 def build_autopilot(kind, gains, max_angle, max_rate=None, shape='hard', anti_windup=True):

@@ -123,7 +123,7 @@ from ship_sim.frames import wrap_angle
 
 from .guidance import Guidance, GuidanceOutput
 from .path import Route
-from .string_stability import VesselLoop, check_platoon
+from .string_stability import LookaheadLoop, check_platoon
 
 MODES = ('follow', 'route_fallback')
 FOLLOW, FALLBACK = MODES
@@ -415,7 +415,7 @@ class FollowerGuidance:
         # (los.critical_lookahead), i.e. the LOS limit at the speed U + 4 zeta^2 sigma; the
         # fallback is plain LOS.
         u_follow = speed + 4.0 * zeta ** 2 * self.integral_gain
-        loops = [VesselLoop(zeta, omega_n, d, u, name)
+        loops = [LookaheadLoop(zeta, omega_n, d, u, name)
                  for name, d, u in (('min_lookahead', self.min_lookahead, u_follow),
                                     ('fallback_lookahead', self.fallback_lookahead, speed))]
         checks = check_platoon(loops)

@@ -93,13 +93,17 @@ def ship_lengths_to_metres(n_lengths, ship_length):
 
 def critical_lookahead(zeta, omega_n, speed, sigma=0.0):
     """Smallest stable look-ahead (m) for the PD autopilot (zeta, omega_n in rad/s) at speed U
-    (m/s): U / (2 zeta omega_n) for LOS (001 eq. 34 in dimensional form); with ILOS gain sigma
-    (m/s): (U + 4 zeta^2 sigma) / (2 zeta omega_n). The loop is stable for d strictly above."""
-    zeta, omega_n, speed, sigma = float(zeta), float(omega_n), float(speed), float(sigma)
-    if not (zeta > 0.0 and omega_n > 0.0 and speed > 0.0 and sigma >= 0.0):
+    (m/s): U / (2 zeta omega_n) for LOS (Angelopoulos 2011 eq. 34 in dimensional form); with
+    ILOS gain sigma (m/s): (U + 4 zeta^2 sigma) / (2 zeta omega_n). The loop is stable for d
+    strictly above. Broadcasting: scalars give a float, arrays an array (the platoon check and
+    the Table 1 reproduction of string_stability use the same function)."""
+    z, w, u, s = (np.asarray(v, dtype=float) for v in (zeta, omega_n, speed, sigma))
+    if not np.all((z > 0.0) & (w > 0.0) & (u > 0.0) & (s >= 0.0)
+                  & np.isfinite(z) & np.isfinite(w) & np.isfinite(u) & np.isfinite(s)):
         raise ValueError(f'critical_lookahead needs zeta > 0, omega_n > 0, speed > 0, sigma >= 0; '
                          f'got zeta={zeta}, omega_n={omega_n}, speed={speed}, sigma={sigma}')
-    return (speed + 4.0 * zeta ** 2 * sigma) / (2.0 * zeta * omega_n)
+    d = (u + 4.0 * z ** 2 * s) / (2.0 * z * w)
+    return float(d) if d.ndim == 0 else d
 
 
 def critical_lookahead_nondim(zeta, omega_n_nd):

@@ -11,7 +11,7 @@ Conventions of this module (so that runs compare with each other):
   after the first odometry sample (the approach to the path is a transient, not tracking
   error). Default: ``DEFAULT_SETTLE_FRACTION`` (10 %) of the run's duration. The cut-off used
   is reported as ``settle_s``.
-- Cumulative Gaussian reward, seed 000 (Martinsen, "Curved path following with deep RL")
+- Cumulative Gaussian reward of Martinsen and Lekkas 2018 (ship_autopilot.learning.reward)
   eq. (8) and Table I: per step ``a exp(-e^2 / (2 sigma^2))`` with a = 1, sigma = 10 m, and 0
   when the yaw error to the path, |psi - gamma_p|, exceeds pi/2 (the eq. 8 gate; applied when
   the route is known). Table I sums the Gaussian term only (its title: "cumulative Gaussian
@@ -31,6 +31,9 @@ Conventions of this module (so that runs compare with each other):
 """
 import numpy as np
 
+from ship_autopilot.learning.reward import gaussian_reward as _gaussian_term
+from ship_sim.frames import wrap_angle
+
 DEFAULT_SETTLE_FRACTION = 0.10
 REWARD_SIGMA_M = 10.0   # seed 000 eq. (8): Gaussian standard deviation
 REWARD_STEP_S = 0.1     # assumed step of the seed's episodes (not stated in the document)
@@ -38,8 +41,8 @@ SATURATION_RTOL = 1e-3  # |delta| >= limit * (1 - rtol) counts as saturated
 
 
 def wrap(a):
-    """Angle(s) to [-pi, pi)."""
-    return (np.asarray(a, dtype=float) + np.pi) % (2.0 * np.pi) - np.pi
+    """Angle(s) to [-pi, pi) (ship_sim.frames.wrap_angle on a float array)."""
+    return wrap_angle(np.asarray(a, dtype=float))
 
 
 def _f(x):
@@ -123,7 +126,7 @@ def completion_time(t, s, length, finish_tolerance_m=0.0):
     return float(t[done[0]]) if done.size else None
 
 
-# -- reward (seed 000) ----------------------------------------------------------------------------
+# -- reward (Martinsen and Lekkas 2018) ------------------------------------------------------------
 
 def gaussian_reward(t, e, yaw_error=None, sigma_m=REWARD_SIGMA_M, step_s=REWARD_STEP_S, episode_s=None):
     """Cumulative Gaussian reward of seed 000, eq. (8) / Table I, on a uniform grid of ``step_s``.
@@ -141,10 +144,10 @@ def gaussian_reward(t, e, yaw_error=None, sigma_m=REWARD_SIGMA_M, step_s=REWARD_
     end = t[-1] if episode_s is None else min(t[-1], t[0] + episode_s)
     n = int(np.floor((end - t[0]) / step_s + 1e-9)) + 1
     grid = t[0] + step_s * np.arange(n)
-    r = np.exp(-np.interp(grid, t, e) ** 2 / (2.0 * sigma_m ** 2))
-    if yaw_error is not None:  # interpolated unwrapped, so +-pi never averages to 0
-        yaw_grid = wrap(np.interp(grid, t, np.unwrap(np.asarray(yaw_error, dtype=float))))
-        r = np.where(np.abs(yaw_grid) <= np.pi / 2, r, 0.0)
+    # the yaw error is interpolated unwrapped, so +-pi never averages to 0
+    yaw_grid = (0.0 if yaw_error is None else
+                np.interp(grid, t, np.unwrap(np.asarray(yaw_error, dtype=float))))
+    r = _gaussian_term(np.interp(grid, t, e), yaw_grid, sigma=sigma_m)
     total = float(r.sum())
     return {'reward_gaussian_sum': total, 'reward_gaussian_integral_s': total * step_s, 'reward_steps': int(n),
             'reward_step_s': float(step_s), 'reward_sigma_m': float(sigma_m),

@@ -27,11 +27,11 @@ import yaml
 
 from mission import metrics
 from mission.launcher import check_scenario, node_parameters, vessel_nodes
-from mission.platoon import (FOLLOWER_DEFAULTS, GUIDANCE_DEFAULTS, autopilot_design,
-                             follow_lookahead)
+from mission.platoon import autopilot_design, follow_lookahead
 from mission.scenario import ScenarioError, load_scenario
 from ship_autopilot.gains import nomoto_gains
 from ship_autopilot.pd import pd_gains
+from ship_guidance.node_defaults import FOLLOWER_DEFAULTS, GUIDANCE_DEFAULTS
 from ship_sim.models import make_model
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -130,6 +130,22 @@ class LookaheadCheck:
                 f'(ratio {self.ratio:.3f}): {state}')
 
 
+def los_loop(zeta, omega_n, speed, lookahead, integral_gain=0.0, name=''):
+    """The LookaheadLoop of a vessel steering (I)LOS with ``lookahead`` (m): ILOS's limit
+    (U + 4 zeta^2 sigma) / (2 zeta omega_n) (los.critical_lookahead) is the LOS limit at the
+    speed U + 4 zeta^2 sigma, so that is the loop's speed (sigma = 0: plain LOS)."""
+    return LookaheadLoop(zeta, omega_n, lookahead, speed + 4.0 * zeta ** 2 * integral_gain, name)
+
+
+def follower_loops(zeta, omega_n, speed, min_lookahead, fallback_lookahead, integral_gain=0.0,
+                   names=('min_lookahead', 'fallback_lookahead')):
+    """The LookaheadLoops a follower must keep stable (ship_guidance.follower): its smallest
+    look-ahead, with its integral action if any, and its plain-LOS fallback look-ahead. The
+    follower and the launcher's platoon check both pass these to ``check_platoon``."""
+    return [los_loop(zeta, omega_n, speed, min_lookahead, integral_gain, names[0]),
+            los_loop(zeta, omega_n, speed, fallback_lookahead, 0.0, names[1])]
+
+
 def check_platoon(vessels, margin=1.0):
     """Check every vessel of a platoon against its LOS stability limit (Angelopoulos 2011 eq. 41).
 

@@ -56,8 +56,9 @@ import gymnasium
 import numpy as np
 
 from ship_guidance.path import Line, Route
-from ship_sim.frames import wrap_angle
 from ship_sim.models import make_model
+
+from .reward import gaussian_reward, rudder_change_penalty
 
 from .features import CLIP, OBS_DIM, PathFeatures, default_scales, normalise
 
@@ -98,21 +99,6 @@ class EnvConfig:
     @property
     def substeps(self):
         return int(round(self.control_dt / self.sim_dt))
-
-
-def gaussian_reward(cross_track, heading_rel, amplitude=1.0, sigma=10.0,
-                    yaw_error_max=math.pi / 2):
-    """Eq. 8's Gaussian term: a exp(-e^2 / (2 sigma^2)) where |psi - gamma_p| <= psi_max, else 0."""
-    e = np.asarray(cross_track, dtype=float)
-    g = amplitude * np.exp(-0.5 * (e / sigma) ** 2)
-    return np.where(np.abs(wrap_angle(np.asarray(heading_rel, dtype=float))) <= yaw_error_max,
-                    g, 0.0)[()]
-
-
-def rudder_change_penalty(rudder_cmd, previous_cmd, rudder_max, weight):
-    """Eq. 8's rudder-change term (as we read it): weight ((d_k - d_k-1) / rudder_max)^2."""
-    change = (np.asarray(rudder_cmd, float) - np.asarray(previous_cmd, float)) / rudder_max
-    return (weight * change * change)[()]
 
 
 def make_curve_pool(model_name, speed, config, rng):

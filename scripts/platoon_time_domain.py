@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Time-domain confirmation of the platoon stability limit (Angelopoulos 2011 eqs. 31-41), in-process.
+"""Time-domain check of the platoon stability limit (Angelopoulos 2011 eqs. 31-41), in-process.
 
     scripts/platoon_time_domain.py [--models nomoto1 mariner] [--vessels 5] [--margin 0.1]
         [--dt 0.5] [--t-end 30000] [--y0 1e-6] [--ceiling 1] [--out DIR] [--no-plots]

@@ -1,20 +1,20 @@
 #!/usr/bin/env python3
-"""String-stability analysis: reproduce Angelopoulos 2011's Table 1 and Simakis 1992's exact look-ahead limit.
+"""String stability: Table 1 of Angelopoulos 2011 and the exact look-ahead limit of Simakis 1992.
 
     scripts/string_stability.py [--out runs/analysis/string_stability]
         [--table ../shared/reference/string_stability_table1.csv]
         [--brute-force {none,explained,all}] [--no-plots]
 
 Writes to --out:
-- table1_reproduction.csv: every printed row of Angelopoulos 2011 Table 1 next to ours (d1*, d2*, the exact
-  grid minima of the thesis's scan, the row's class and whether the printed value is what
+- table1_reproduction.csv: every printed row of Angelopoulos 2011 Table 1 next to ours (d1*, d2*,
+  the exact grid minima of the thesis's scan, the row's class and whether the printed value is what
   Appendix A's method predicts for that class; see ship_guidance/doc/string_stability.md).
 - nps_auv2_critical.csv: exact (sway/yaw, Simakis 1992 Sec. III.B) vs approximate 1/(2 zeta omega_n)
   critical look-ahead of the NPS AUV II over omega_n and zeta.
 - nps_auv2_sensitivity.csv: Simakis 1992 Sec. III.C, d_n = d/d_nom for +-50 % of each coefficient.
 - summary.md and summary.json: timing, the rows that differ and why, the NPS AUV II numbers.
-- PNGs: Angelopoulos 2011 Figures 9-11 (stability regions d2 vs d1) and 12-15 (limits vs omega_n), 003
-  Figures 2, 3 (exact vs approximate limit) and 5-8 (sensitivity).
+- PNGs: Angelopoulos 2011 Figures 9-11 (stability regions d2 vs d1) and 12-15 (limits vs
+  omega_n), Simakis 1992 Figures 2, 3 (exact vs approximate limit) and 5-8 (sensitivity).
 Exit code 0; 1 if a printed Table 1 value contradicts the method (an unexplained row).
 """
 import argparse
@@ -184,7 +184,8 @@ def plots(out, table, omegas, zetas, exact, approx, checks, sens, factors):
     top = 2.2
     w1s = np.arange(1.0, 4.51, 0.5)
     cmap = plt.get_cmap('viridis')
-    # Angelopoulos 2011 Figures 9-11: stable quadrants d1 > d1*, d2 > d2*, one L-shaped boundary per omega_n1.
+    # Angelopoulos 2011 Figures 9-11: stable quadrants d1 > d1*, d2 > d2*, one L-shaped boundary
+    # per omega_n1.
     for fig_no, p in zip((9, 10, 11), table1_scan.TABLE1_RATIOS):
         fig, axes = plt.subplots(1, 3, figsize=(15, 5.2), sharey=True)
         for ax, zeta in zip(axes, (0.6, 0.8, 1.2)):
@@ -207,7 +208,8 @@ def plots(out, table, omegas, zetas, exact, approx, checks, sens, factors):
         axes[0].set_ylabel('$d_2$ (ship lengths)')
         axes[-1].legend(fontsize=8, loc='upper right', title='lines: exact limit\n'
                         'circles: Table 1 grid minima', title_fontsize=8)
-        fig.suptitle(f'String stability regions (Angelopoulos 2011 Figure {fig_no} analogue): stable iff '
+        fig.suptitle(f'String stability regions (Angelopoulos 2011 Figure {fig_no} analogue): '
+                     'stable iff '
                      r'$d_1 > 1/(2\zeta\omega_{n1})$ and $d_2 > 1/(2\zeta\omega_{n2})$')
         files.append(_save(fig, out / f'fig{fig_no:02d}_regions_ratio_{p:g}.png'))
 
@@ -250,7 +252,8 @@ def plots(out, table, omegas, zetas, exact, approx, checks, sens, factors):
     ax.plot(c['omega_n'], c['eigen_bisection'], 'rs', ms=8, mfc='none',
             label=f"eigenvalue bisection at $\\omega_n$=3: {c['eigen_bisection']:.4f}")
     ax.set(xlabel=r'$\omega_n$ (U/L)', ylabel='critical look-ahead $d$ (vehicle lengths)',
-           title=r'NPS AUV II, $\zeta$ = 0.8 (Simakis 1992 Figure 2 analogue): stable above the curve',
+           title=r'NPS AUV II, $\zeta$ = 0.8 (Simakis 1992 Figure 2 analogue): '
+                 'stable above the curve',
            ylim=(0, min(3.0, float(np.nanmax(exact[iz])) * 1.05)))
     ax.grid(alpha=0.3)
     ax.legend()
@@ -381,7 +384,8 @@ def summary_md(t1, omegas, zetas, exact, approx, checks, sens, nomoto, files):
     for k, z in enumerate(zetas):
         lines.append(f'| {z:.1f} | ' + ' | '.join(
             f'{e / a:.3f}' for e, a in zip(exact[k, ::10], approx[k, ::10])) + ' |')
-    lines += ['', '## Simakis 1992: sensitivity (omega_n = 3, zeta = 0.8, coefficient x 0.5 ... 1.5)',
+    lines += ['', '## Simakis 1992: sensitivity (omega_n = 3, zeta = 0.8, coefficient x 0.5 ... '
+              '1.5)',
               '', '| coefficient | nominal | d_n at 0.5 | d_n at 1.5 | total change (gains fixed) '
               '| total change (gains redesigned) | document |', '|---|---|---|---|---|---|---|']
     for name in SENS_COEFFS:

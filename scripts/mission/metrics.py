@@ -17,7 +17,7 @@ Conventions of this module (so that runs compare with each other):
   the route is known). Table I sums the Gaussian term only (its title: "cumulative Gaussian
   reward"), over the whole episode (no settling), episodes being 1000 s. The document does not
   state its time step, so the sum depends on an assumed sampling: we resample e on a uniform
-  grid of ``reward_step_s`` (default 0.1 s, the step of the MSS simulations the seed runs) and
+  grid of ``reward_step_s`` (default 0.1 s, the step of the MSS simulations of the paper) and
   also report the sampling-free integral ``reward_gaussian_integral_s`` = sum * step, from
   which the sum at any other step h follows as integral / h. An episode of ``T`` s with e = 0
   scores T / step (10 000 for 1000 s at 0.1 s).
@@ -35,8 +35,8 @@ from ship_autopilot.learning.reward import gaussian_reward as _gaussian_term
 from ship_sim.frames import wrap_angle
 
 DEFAULT_SETTLE_FRACTION = 0.10
-REWARD_SIGMA_M = 10.0   # seed 000 eq. (8): Gaussian standard deviation
-REWARD_STEP_S = 0.1     # assumed step of the seed's episodes (not stated in the document)
+REWARD_SIGMA_M = 10.0   # Martinsen and Lekkas 2018 eq. (8): Gaussian standard deviation
+REWARD_STEP_S = 0.1     # assumed step of the paper's episodes (not stated there)
 SATURATION_RTOL = 1e-3  # |delta| >= limit * (1 - rtol) counts as saturated
 
 
@@ -129,7 +129,7 @@ def completion_time(t, s, length, finish_tolerance_m=0.0):
 # -- reward (Martinsen and Lekkas 2018) ------------------------------------------------------------
 
 def gaussian_reward(t, e, yaw_error=None, sigma_m=REWARD_SIGMA_M, step_s=REWARD_STEP_S, episode_s=None):
-    """Cumulative Gaussian reward of seed 000, eq. (8) / Table I, on a uniform grid of ``step_s``.
+    """Cumulative Gaussian reward of Martinsen and Lekkas 2018, eq. (8) / Table I, on a uniform grid of ``step_s``.
 
     e (m) is linearly interpolated at t0, t0 + step, ... (t0 = t[0]; the last grid point is <=
     t[-1], or t0 + episode_s when given). ``yaw_error`` (rad, same times as e) zeroes the reward
@@ -279,7 +279,7 @@ def string_ratios(values, predecessors):
     """String-stability measure of a platoon: each follower's value (e.g. its peak |cross-track
     error|) divided by its predecessor's. values: {vessel: float or None}; predecessors:
     {vessel: predecessor or None}. Returns {follower: ratio or None}; a ratio above 1 means the
-    deviation grew from the predecessor to the follower (seed 001's string stability asks
+    deviation grew from the predecessor to the follower (Angelopoulos 2011's string stability asks
     that it does not: the error of vessel i bounded by that of vessel i-1)."""
     out = {}
     for ns, pred in predecessors.items():

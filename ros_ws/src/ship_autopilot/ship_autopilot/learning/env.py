@@ -1,12 +1,12 @@
-"""Path-following environment for learning a steering policy (seed 000), batched and gymnasium.
+"""Path-following environment for learning a steering policy, batched and gymnasium.
 
-Source: Martinsen & Lekkas, "Curved path following with deep reinforcement learning: results
-from three vessel models" (seeds/000_9df48a050e3ea7fc.txt), Sec. III: episodes of 1000 s, the
+Source: Martinsen and Lekkas 2018, "Curved path following with deep reinforcement learning:
+results from three vessel models", Sec. III: episodes of 1000 s, the
 vessel started at random within a bound of the path, unknown ocean current, state eq. 9
 (learning.features), action = commanded rudder, reward eq. 8.
 
-Reward (eq. 8). The OCR reads "R(y_e, psi~, delta) = -c ... + {a exp(-y_e^2 / (2 sigma^2)) if
-|psi~| < ...; 0 otherwise}", with a = 1, sigma = 10 m, psi~ "the angle between the yaw angle
+Reward (eq. 8; the functions are learning.reward's, which the run metrics use too). The OCR
+reads "R(y_e, psi~, delta) = -c ... + {a exp(-y_e^2 / (2 sigma^2)) if |psi~| < ...; 0 otherwise}", with a = 1, sigma = 10 m, psi~ "the angle between the yaw angle
 of the vessel and the path heading", and the first term "a penalty to solutions that involve
 fast rudder changes" (its symbols are unreadable). We implement, per control step k,
 

@@ -6,8 +6,9 @@ vessel started at random within a bound of the path, unknown ocean current, stat
 (learning.features), action = commanded rudder, reward eq. 8.
 
 Reward (eq. 8; the functions are learning.reward's, which the run metrics use too). The OCR
-reads "R(y_e, psi~, delta) = -c ... + {a exp(-y_e^2 / (2 sigma^2)) if |psi~| < ...; 0 otherwise}", with a = 1, sigma = 10 m, psi~ "the angle between the yaw angle
-of the vessel and the path heading", and the first term "a penalty to solutions that involve
+reads "R(y_e, psi~, delta) = -c ... + {a exp(-y_e^2 / (2 sigma^2)) if |psi~| < ...; 0 otherwise}",
+with a = 1, sigma = 10 m, psi~ "the angle between the yaw angle of the vessel and the path
+heading", and the first term "a penalty to solutions that involve
 fast rudder changes" (its symbols are unreadable). We implement, per control step k,
 
     r_k = a exp(-e_k^2 / (2 sigma^2)) [|wrap(psi_k - gamma_p,k)| <= psi_max]

@@ -329,26 +329,26 @@ def check_stability(scenario):
     for (spec, key, _), res in zip(entries, results):
         unchecked = platoon.allow_unstable or spec.guidance_params.get('allow_unstable')
         if not res.ok and not unchecked:
-            loop = loops[spec.namespace]
+            design = loops[spec.namespace]
             raise ScenarioError(
                 f'{file}: platoon.vessels[{index[spec.namespace]}] ({spec.namespace}).guidance.'
                 f'{key}: look-ahead {res.lookahead:.1f} m is not above {platoon.stability_margin:g}'
                 f' x the stability limit {res.critical:.1f} m (ratio {res.ratio:.2f}; zeta '
-                f'{loop.zeta:.3g}, omega_n {loop.omega_n:.4g} rad/s from the {loop.source}, U '
-                f'{loop.speed:.4g} m/s; Angelopoulos 2011 eqs. 34, 41). Increase it or set '
-                'platoon.allow_unstable: true')
+                f'{design.zeta:.3g}, omega_n {design.omega_n:.4g} rad/s from the '
+                f'{design.source}, U {design.speed:.4g} m/s; Angelopoulos 2011 eqs. 34, 41). '
+                'Increase it or set platoon.allow_unstable: true')
     warnings = []
     for spec in scenario.vessels:
         if spec.predecessor is None:
             continue
-        loop = loops[spec.namespace]
-        need = platoon.stability_margin * no_amplification_spacing(loop.zeta, loop.omega_n,
-                                                                   loop.speed)
+        design = loops[spec.namespace]
+        d_need = platoon.stability_margin * no_amplification_spacing(design.zeta, design.omega_n,
+                                                                     design.speed)
         d = follow_lookahead(spec)
-        if d < need:
+        if d < d_need:
             warnings.append(
                 f'{spec.namespace}: look-ahead at the set gap {d:.1f} m is below '
-                f'{platoon.stability_margin:g} x 4 zeta U / omega_n = {need:.1f} m: cross-track '
+                f'{platoon.stability_margin:g} x 4 zeta U / omega_n = {d_need:.1f} m: cross-track '
                 f'errors can grow from {spec.predecessor} to {spec.namespace} before they decay')
     platoon.warnings = warnings
     return warnings
@@ -380,15 +380,16 @@ def follower_parameters(scenario, spec):
               'predecessor_wait_s': float(platoon.wait_s(spec.namespace))}
     if platoon.allow_unstable:
         params['allow_unstable'] = True
-    loop = platoon.loops.get(spec.namespace)
-    if loop is None:   # check_stability has not run (a caller that skipped check_scenario)
+    design = platoon.loops.get(spec.namespace)
+    if design is None:   # check_stability has not run (a caller that skipped check_scenario)
         try:
-            loop = SteeringDesign(*autopilot_design(spec.model, spec.autopilot_params)[:2],
+            design = SteeringDesign(*autopilot_design(spec.model, spec.autopilot_params)[:2],
                                   vessel_speed(spec), '')
         except (ValueError, KeyError, OSError):
-            loop = None   # the node then runs without its own check
+            design = None   # the node then runs without its own check
     keys = ('autopilot_zeta', 'autopilot_omega_n', 'speed')
-    if loop is not None and not any(k in spec.guidance_params for k in keys):
-        params.update(autopilot_zeta=loop.zeta, autopilot_omega_n=loop.omega_n, speed=loop.speed)
+    if design is not None and not any(k in spec.guidance_params for k in keys):
+        params.update(autopilot_zeta=design.zeta, autopilot_omega_n=design.omega_n,
+                      speed=design.speed)
     params.update(spec.guidance_params)
     return params

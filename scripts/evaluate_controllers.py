@@ -116,7 +116,7 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
         control_dt = policy.control_dt
     elif controller == 'los_lead':
         nomoto = nomoto_gains(m.name)
-        k1, k2 = pd_gains(nomoto['a'], nomoto['b'], omega_n, zeta)
+        k1, k2 = pd_gains(nomoto['a'], nomoto['b'], omega_n=omega_n, zeta=zeta)
         autopilot = build_autopilot('pd', {'k1': k1, 'k2': k2}, m.rudder_max, m.rudder_rate_max)
     else:
         autopilot = build_autopilot('pd' if controller in ('los', 'ilos') else 'fuzzy_pid',

@@ -20,7 +20,7 @@ import numpy as np
 import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
-for pkg in ('ship_sim', 'ship_autopilot'):
+for pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot'):
     sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
 
 from ship_autopilot import gains as design  # noqa: E402

@@ -1,48 +1,27 @@
 #!/usr/bin/env python3
-"""Time-domain confirmation of the platoon stability limit (seed 001 eqs. 31-41), pure, in-process.
+"""Time-domain check of the platoon stability limit (Angelopoulos 2011 eqs. 31-41), in-process.
 
     scripts/platoon_time_domain.py [--models nomoto1 mariner] [--vessels 5] [--margin 0.1]
         [--dt 0.5] [--t-end 30000] [--y0 1e-6] [--ceiling 1] [--out DIR] [--no-plots]
 
-The platoon: N identical vessels on a straight route due north, each a ship_sim model (its
-batched ``model.step``, RK4 as the simulator; every vessel of every case in one array), each with
-the PD autopilot of its ship_autopilot gains entry (001 eq. 20: zeta, omega_n; ship_autopilot.pd,
-rudder saturated at the model's limit), sampled every dt (zero-order hold, as the lockstep graph
-does). The leader steers LOS with look-ahead d1, follower i the follower law of
-ship_guidance.follower (001 eq. 31, nonlinear atan form) with the look-ahead = its measured
-along-path gap to vessel i-1 (no spacing control: the speeds are the ships' own), started at d_i.
+The platoon, its equilibrium, its linearisations and the envelope fits are
+ship_autopilot.platoon_simulation; this tool runs the cases and reports.
 
 Cases: every look-ahead (1 +- margin) d*, "above" and "below" the limit, for two limits: the
-document's d*_doc = U / (2 zeta omega_n) (001 eq. 34 in metres), and d*_sampled, the exact limit
-of the simulated loop (below). The below cases also run again without a stop, to see where the
-nonlinear ship ends up (limit cycle or divergence).
+thesis's d*_doc = U / (2 zeta omega_n) (eq. 34 in metres), and d*_sampled, the exact limit of
+the simulated loop. The below cases also run again without a stop, to see where the nonlinear
+ship ends up (limit cycle or divergence). The leader starts y0 off its equilibrium, the others
+at theirs, so the disturbance travels down the string.
 
-Equilibrium: a ship that needs rudder to run straight (the MSS mariner: about -1.1 deg, its
-asymmetry terms Y0, N0) under a PD autopilot without integral settles with a heading and
-cross-track offset y_eq(d); follower i then sits at y_{i-1} + y_eq(d_i). It is solved from the
-closed-loop derivative (``equilibrium``); the Nomoto model's is zero. The leader starts y0 off
-its equilibrium, the others at theirs, so the disturbance travels down the string.
-
-Measured (``envelope_rate``): the growth rate sigma of the envelope of each vessel's cross-track
-deviation from equilibrium: half the swing between consecutive extrema (``envelope_peaks``, so a
-slowly drifting mean does not bias it), log A = c + sigma t + m log t
-fitted by least squares with m = vessel index. The t^m factor is part of the linear response:
-the blocks are identical, so vessel i is driven at its own resonance by vessel i-1 and its
-deviation is a polynomial of degree i times e^{lambda t} (a Jordan chain); the raw slope (m = 0)
-is printed too. Peaks are used after t_skip (the fast real mode has died out), while the
-amplitude stays below --ceiling (linear regime; on the mariner the growth
-below its limit levels off a few metres further up, see below)
-and down to 1e-6 of the vessel's largest swing. Below that, rounding noise (about 1e-13 m on
-the leader) shows up, amplified by each follower's resonance: in the decaying cases the
-followers end on a noise floor that grows about tenfold per vessel.
+Measured: the growth rate sigma of the envelope of each vessel's cross-track deviation from
+equilibrium, fitted with the t^m factor of vessel m (the raw slope, m = 0, is printed too).
+Peaks are used after t_skip (the fast real mode has died out), while the amplitude stays below
+--ceiling (linear regime) and down to FIT_DECADES of the vessel's largest swing: below that,
+rounding noise shows up, amplified by each follower's resonance.
 
 Predicted: the real part of the dominant oscillatory eigenvalue pair of one vessel's loop
-(every follower's block has the same, 001 eq. 40):
-- doc:     001 eq. 30/33 (string_stability.single_vessel_matrix: Nomoto, PD, linearised LOS);
-- sampled: the Jacobian of one step dt of the simulated closed loop at the equilibrium (model,
-           rudder servo, PD with zero-order hold, LOS), lambda = log(mu) / dt; for the MSS
-           mariner this includes its sway dynamics. The exact critical look-ahead of this loop
-           (bisection on the sign of its dominant real part) is reported as d*_sampled.
+(every follower's block has the same, eq. 40), of the thesis's model (doc) and of the sampled
+closed loop (sampled).
 
 Writes to --out: summary.json, rates.csv, and PNGs <model>_cross_track.png (cross-track
 deviation of each vessel vs time above/below, linear and log envelope with the fits).
@@ -53,7 +32,6 @@ import json
 import math
 import sys
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -62,236 +40,17 @@ ROOT = Path(__file__).resolve().parents[1]
 for pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot'):
     sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
 
-from scipy.optimize import least_squares  # noqa: E402
-
-from ship_autopilot.gains import autopilot_gains  # noqa: E402
-from ship_autopilot.pd import PDAutopilot  # noqa: E402
-from ship_autopilot.rudder import RudderLimiter  # noqa: E402
-from ship_guidance.follower import (follower_gain, follower_heading_straight,  # noqa: E402
-                                    no_amplification_spacing)
-from ship_guidance.string_stability import single_vessel_matrix  # noqa: E402
-from ship_sim.frames import wrap_angle  # noqa: E402
-from ship_sim.models import make_model  # noqa: E402
+from ship_autopilot.platoon_simulation import (doc_eigenvalues, dominant_pair,  # noqa: E402
+                                               envelope_peaks, envelope_rate, make_loop,
+                                               sampled_critical_lookahead,
+                                               sampled_eigenvalues, simulate_platoon)
+from ship_guidance.follower import follower_gain, no_amplification_spacing  # noqa: E402
 
 DEFAULT_OUT = ROOT / 'runs' / 'analysis' / 'platoon_time_domain'
 #: Deviation (m) at which a run without a stop counts as diverged.
 LONG_RUN_STOP = 1e4
 #: Envelope samples used down to this fraction of a vessel's largest one (see ``analyse``).
 FIT_DECADES = 1e-6
-
-
-@dataclass
-class Loop:
-    """One vessel's closed loop: model, PD gains (k1, k2), design zeta, omega_n (rad/s), speed U
-    (m/s) and the document's critical look-ahead d* = U / (2 zeta omega_n) (m)."""
-    name: str
-    model: object
-    k1: float
-    k2: float
-    zeta: float
-    omega_n: float
-    speed: float
-    d_crit: float
-
-
-def make_loop(name):
-    """The model ``name`` with its autopilot_gains entry."""
-    model = make_model(name)
-    g = autopilot_gains(name)
-    speed = float(model.surge_speed(model.initial_state()))
-    zeta, omega_n = float(g['zeta']), float(g['omega_n'])
-    return Loop(name, model, float(g['pd']['k1']), float(g['pd']['k2']), zeta, omega_n, speed,
-                speed / (2.0 * zeta * omega_n))
-
-
-# ---------------------------------------------------------------- one vessel's loop
-
-def rudder_law(loop, x, psi_c):
-    """PD (001 eq. 16) as ship_autopilot.pd, hard-saturated at the model's rudder limit."""
-    m = loop.model
-    raw = loop.k1 * wrap_angle(x[..., m.IPSI] - psi_c) + loop.k2 * x[..., m.IR]
-    return np.clip(raw, -m.rudder_max, m.rudder_max)
-
-
-def loop_rhs(loop, x, d, y_pred=0.0):
-    """Closed-loop derivative: model + PD + (follower) LOS about a path due north; y_pred is the
-    predecessor's cross-track (0 for the leader)."""
-    m = loop.model
-    psi_c = follower_heading_straight(0.0, x[..., m.IY], y_pred, d)
-    return m.rhs(x, m.inputs(rudder_law(loop, x, psi_c)))
-
-
-def loop_step(loop, x, d, dt, y_pred=0.0):
-    """One sampled step: rudder computed at the start and held over dt (as the simulator)."""
-    m = loop.model
-    psi_c = follower_heading_straight(0.0, x[..., m.IY], y_pred, d)
-    return m.step(x, m.inputs(rudder_law(loop, x, psi_c)), dt)
-
-
-def _free(loop):
-    """State indices that evolve: all but north (no dynamics depends on it)."""
-    return [i for i in range(loop.model.n_states) if i != loop.model.IX]
-
-
-def equilibrium(loop, d):
-    """Straight-running equilibrium of the LOS loop with look-ahead d (m), full state (north 0).
-
-    Solved by least squares on the closed-loop derivative without the north component; for a
-    model whose speed is a constant (Nomoto) that state simply stays at its trim value."""
-    m = loop.model
-    x0 = np.asarray(m.initial_state(), dtype=float)
-    free = _free(loop)
-
-    def resid(z):
-        x = x0.copy()
-        x[free] = z
-        return loop_rhs(loop, x, d)[free]
-
-    sol = least_squares(resid, x0[free], method='lm', xtol=1e-15, ftol=1e-15, gtol=1e-15)
-    x = x0.copy()
-    x[free] = sol.x
-    if np.max(np.abs(resid(sol.x))) > 1e-9:
-        raise RuntimeError(f'{loop.name}: no equilibrium found for d = {d} m')
-    return x
-
-
-def sampled_eigenvalues(loop, d, dt, x_eq=None):
-    """Continuous-time equivalents log(mu)/dt of the eigenvalues mu of the one-step map's
-    Jacobian at the equilibrium (central differences). States whose derivative is identically
-    zero (a constant speed) are parameters and left out."""
-    x_eq = equilibrium(loop, d) if x_eq is None else x_eq
-    free = _free(loop)
-    n = len(free)
-    jac = np.zeros((n, n))
-    for j, k in enumerate(free):
-        h = 1e-6 * max(1.0, abs(x_eq[k]))
-        xp, xm = x_eq.copy(), x_eq.copy()
-        xp[k] += h
-        xm[k] -= h
-        jac[:, j] = (loop_step(loop, xp, d, dt)[free] - loop_step(loop, xm, d, dt)[free]) / (2 * h)
-    # A state whose derivative is zero at every perturbed state is a constant (Nomoto's u, v).
-    rng = np.random.default_rng(0)
-    probes = x_eq + 1e-3 * rng.standard_normal((4, len(x_eq)))
-    moving = np.any(loop_rhs(loop, probes, d)[:, free] != 0.0, axis=0)
-    keep = np.flatnonzero(moving)
-    mu = np.linalg.eigvals(jac[np.ix_(keep, keep)])
-    return np.log(mu.astype(complex)) / dt
-
-
-def dominant_pair(lams):
-    """The oscillatory eigenvalue with the largest real part (positive imaginary part)."""
-    lams = np.asarray(lams)
-    osc = lams[lams.imag > 1e-12]
-    return osc[np.argmax(osc.real)]
-
-
-def doc_eigenvalues(loop, d):
-    """001 eq. 30 (dimensional: y' = U psi) eigenvalues for look-ahead d."""
-    return np.linalg.eigvals(single_vessel_matrix(loop.zeta, loop.omega_n, d, loop.speed))
-
-
-def sampled_critical_lookahead(loop, dt, lo=0.5, hi=2.0, rtol=1e-6):
-    """Look-ahead where the sampled loop's dominant pair crosses the imaginary axis, by
-    bisection between lo d* (unstable) and hi d* (stable)."""
-    def re(d):
-        return dominant_pair(sampled_eigenvalues(loop, d, dt)).real
-    a, b = lo * loop.d_crit, hi * loop.d_crit
-    if not (re(a) > 0.0 > re(b)):
-        raise RuntimeError(f'{loop.name}: no stability change between {a:.1f} and {b:.1f} m')
-    while b - a > rtol * b:
-        mid = 0.5 * (a + b)
-        a, b = (a, mid) if re(mid) < 0.0 else (mid, b)
-    return b
-
-
-# ---------------------------------------------------------------- the platoon
-
-def simulate_platoon(loop, lookaheads, t_end, dt, y0, stop_amplitude=np.inf):
-    """Simulate platoons of identical vessels on a path due north, all cases in one batch.
-
-    lookaheads: (C, N) array, one row per case: d1 of the leader, then the initial gaps (the
-    followers' look-aheads). The leader starts y0 (m) east of its equilibrium, the others at
-    theirs. A case whose deviation exceeds stop_amplitude (m; scalar or one per case) is
-    stopped: from then on it is
-    held at its initial state and recorded as NaN. The follower law's look-ahead is the measured
-    gap, floored at half the initial gap (as FollowerGuidance's min_lookahead; it acts only far
-    outside the linear regime).
-    Returns dict t (T,), dy (T, C, N) cross-track deviation from equilibrium, y_eq (C, N),
-    stopped_at (C,) time of the stop or NaN."""
-    m = loop.model
-    d = np.atleast_2d(np.asarray(lookaheads, dtype=float))
-    c, n = d.shape
-    x = np.zeros((c, n, m.n_states))
-    y_eq = np.zeros((c, n))
-    for ci in range(c):
-        ahead = offset = 0.0
-        for i in range(n):
-            xe = equilibrium(loop, d[ci, i])
-            offset += xe[m.IY]          # follower i: y_{i-1} + y_eq(d_i)
-            x[ci, i] = xe
-            x[ci, i, m.IY] = y_eq[ci, i] = offset
-            x[ci, i, m.IX] = -ahead
-            if i + 1 < n:
-                ahead += d[ci, i + 1]
-    x[:, 0, m.IY] += y0
-    x0 = x.copy()
-    d_min = 0.5 * d[:, 1:]
-    stop = np.broadcast_to(np.asarray(stop_amplitude, dtype=float), (c,))
-    pd = PDAutopilot(loop.k1, loop.k2, RudderLimiter(m.rudder_max))
-    steps = int(round(t_end / dt))
-    dys = np.full((steps + 1, c, n), np.nan)
-    stopped_at = np.full(c, np.nan)
-    live = np.ones(c, dtype=bool)
-    psi_c = np.empty((c, n))
-    for k in range(steps + 1):
-        north, east, psi = x[..., m.IX], x[..., m.IY], x[..., m.IPSI]
-        dy = east - y_eq
-        dys[k, live] = dy[live]
-        over = live & ~(np.max(np.abs(dy), axis=1) <= stop)   # NaN counts as over
-        if over.any():
-            live &= ~over
-            stopped_at[over] = k * dt
-            x[over] = x0[over]
-            if not live.any():
-                dys = dys[:k + 1]
-                break
-        if k == steps:
-            break
-        psi_c[:, 0] = follower_heading_straight(0.0, east[:, 0], 0.0, d[:, 0])
-        gap = np.maximum(north[:, :-1] - north[:, 1:], d_min)
-        psi_c[:, 1:] = follower_heading_straight(0.0, east[:, 1:], east[:, :-1], gap)
-        rudder = pd.update(psi, x[..., m.IR], psi_c, dt)
-        x = m.step(x, m.inputs(rudder), dt)
-        x[~live] = x0[~live]
-    return {'t': dt * np.arange(len(dys)), 'dy': dys, 'y_eq': y_eq, 'stopped_at': stopped_at}
-
-
-def envelope_peaks(t, y):
-    """Envelope samples of an oscillation y(t) about a possibly drifting mean: half the
-    difference between consecutive extrema (each refined by a parabola through three samples),
-    at the mid time. Returns arrays (t_k, A_k)."""
-    y = np.asarray(y, dtype=float)
-    slope = np.diff(y)
-    k = np.nonzero(slope[:-1] * slope[1:] < 0.0)[0] + 1
-    y0, y1, y2 = y[k - 1], y[k], y[k + 1]
-    den = y0 - 2.0 * y1 + y2
-    off = 0.5 * (y0 - y2) / den
-    h = t[1] - t[0]
-    te, ve = t[k] + off * h, y1 - 0.25 * (y0 - y2) * off
-    return 0.5 * (te[1:] + te[:-1]), 0.5 * np.abs(np.diff(ve))
-
-
-def envelope_rate(t, y, t_skip, floor=0.0, ceiling=np.inf, power=0):
-    """Growth rate sigma (1/s) of the envelope of y(t): least squares of
-    log A_k - power log t_k = c + sigma t_k over the peaks with t_k >= t_skip and
-    floor < A_k < ceiling. Returns (sigma, number of peaks used); NaN if fewer than 4."""
-    tk, ak = envelope_peaks(t, y)
-    sel = (tk >= t_skip) & (ak > floor) & (ak < ceiling)
-    if np.count_nonzero(sel) < 4:
-        return math.nan, int(np.count_nonzero(sel))
-    tk, ak = tk[sel], ak[sel]
-    slope = np.polyfit(tk, np.log(ak) - power * np.log(tk), 1)[0]
-    return float(slope), int(tk.size)
 
 
 # ---------------------------------------------------------------- the report

@@ -7,7 +7,7 @@
     scripts/run_seed_scenarios.py scenarios/figure_eight_003.yaml 'scenarios/curved_*.yaml'
 
 Each scenario goes through mission.launcher.run_scenario (one process per node, lockstep, a
-bag), all on one ROS_DOMAIN_ID leased for the batch (DomainLease). The bag is then analysed
+bag), all on one ROS_DOMAIN_ID leased for the batch (quiet_domain_lease). The bag is then analysed
 with mission.report.analyse_bag (the run folder's metrics.json and plots, whole run), given the
 rudder limit of the vessel model so that saturation is counted. Everything lands in one batch
 folder, runs/seeds-<time>/ (runs/seeds-latest points at it): one run folder per scenario,
@@ -35,7 +35,6 @@ Units in the table: metres, degrees, seconds; reward = mission.metrics cumulativ
 (seed 000 eq. 8, sigma 10 m, sampled every 0.1 s, whole run).
 """
 import argparse
-import fcntl
 import fnmatch
 import glob
 import json
@@ -49,6 +48,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from mission.domain import DomainLease
 from mission.launcher import MissionFailed, run_scenario, use_install_tree
 from mission.processes import REPO
 from mission.scenario import ScenarioError, load_scenario
@@ -75,41 +75,11 @@ GROUPS = (  # (name prefix, heading in the table)
 )
 
 
-class DomainLease:
-    """An exclusive ROS_DOMAIN_ID for the whole batch, and one nobody is using right now.
-
-    Other graphs on this machine (tests, other launchers) with the same domain id would mix
-    their messages into ours (seen: a foreign route, rudder commands and odometry in a bag).
-    The lock protocol is that of tests/integration/harness.py (flock on LOCK_DIR/<id>.lock, ids
-    1..101), so the batch and the integration tests never share an id; a leased id on which a
-    probe node still discovers other nodes (a launcher that does not lease) is skipped.
-    """
-    LOCK_DIR = Path('/tmp/shipnav_ros_domain_locks')
-    IDS = range(1, 102)  # Fast DDS ports stay below Linux's ephemeral range up to 101
-
-    def __init__(self, probe_s=1.5):
-        self.LOCK_DIR.mkdir(parents=True, exist_ok=True)
-        ids = list(self.IDS)
-        start = (os.getpid() * 13) % len(ids)
-        self.domain_id, self._fd = None, None
-        for i in range(len(ids)):
-            did = ids[(start + i) % len(ids)]
-            fd = os.open(self.LOCK_DIR / f'{did}.lock', os.O_CREAT | os.O_RDWR, 0o666)
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError:
-                os.close(fd)
-                continue
-            if _domain_is_quiet(did, probe_s):
-                self.domain_id, self._fd = did, fd
-                return
-            os.close(fd)
-        raise RuntimeError(f'no free and quiet ROS_DOMAIN_ID in {self.IDS}')
-
-    def close(self):
-        if self._fd is not None:
-            os.close(self._fd)
-            self._fd = None
+def quiet_domain_lease(probe_s=1.5):
+    """A ROS_DOMAIN_ID for the whole batch (mission.domain.DomainLease, the lease every graph
+    on this machine takes) on which a probe node also sees no other node: a launcher that does
+    not lease would otherwise mix its messages into ours."""
+    return DomainLease(accept=lambda did: _domain_is_quiet(did, probe_s))
 
 
 def _domain_is_quiet(domain_id, probe_s):
@@ -504,7 +474,7 @@ def main(argv=None):
     print(f'{len(files)} scenarios -> {batch}' + (' (quick)' if args.quick else ''), flush=True)
 
     results, code, t0 = [], 0, time.monotonic()
-    lease = DomainLease() if args.domain_id is None else None
+    lease = quiet_domain_lease() if args.domain_id is None else None
     domain_id = args.domain_id if lease is None else lease.domain_id
     print(f'ROS_DOMAIN_ID {domain_id}' + (' (leased, quiet)' if lease else ''), flush=True)
     try:

@@ -1,20 +1,20 @@
 #!/usr/bin/env python3
-"""String-stability analysis: reproduce seed 001's Table 1 and seed 003's exact look-ahead limit.
+"""String stability: Table 1 of Angelopoulos 2011 and the exact look-ahead limit of Simakis 1992.
 
     scripts/string_stability.py [--out runs/analysis/string_stability]
         [--table ../shared/reference/string_stability_table1.csv]
         [--brute-force {none,explained,all}] [--no-plots]
 
 Writes to --out:
-- table1_reproduction.csv: every printed row of 001 Table 1 next to ours (d1*, d2*, the exact
-  grid minima of the document's scan, the row's class and whether the printed value is what
+- table1_reproduction.csv: every printed row of Angelopoulos 2011 Table 1 next to ours (d1*, d2*,
+  the exact grid minima of the thesis's scan, the row's class and whether the printed value is what
   Appendix A's method predicts for that class; see ship_guidance/doc/string_stability.md).
-- nps_auv2_critical.csv: exact (sway/yaw, 003 Sec. III.B) vs approximate 1/(2 zeta omega_n)
+- nps_auv2_critical.csv: exact (sway/yaw, Simakis 1992 Sec. III.B) vs approximate 1/(2 zeta omega_n)
   critical look-ahead of the NPS AUV II over omega_n and zeta.
-- nps_auv2_sensitivity.csv: 003 Sec. III.C, d_n = d/d_nom for +-50 % of each coefficient.
+- nps_auv2_sensitivity.csv: Simakis 1992 Sec. III.C, d_n = d/d_nom for +-50 % of each coefficient.
 - summary.md and summary.json: timing, the rows that differ and why, the NPS AUV II numbers.
-- PNGs: 001 Figures 9-11 (stability regions d2 vs d1) and 12-15 (limits vs omega_n), 003
-  Figures 2, 3 (exact vs approximate limit) and 5-8 (sensitivity).
+- PNGs: Angelopoulos 2011 Figures 9-11 (stability regions d2 vs d1) and 12-15 (limits vs
+  omega_n), Simakis 1992 Figures 2, 3 (exact vs approximate limit) and 5-8 (sensitivity).
 Exit code 0; 1 if a printed Table 1 value contradicts the method (an unexplained row).
 """
 import argparse
@@ -31,11 +31,15 @@ for pkg in ('ship_sim', 'ship_guidance'):
     sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
 
 from ship_guidance import string_stability as ss  # noqa: E402
+from ship_guidance import string_stability_table1 as table1_scan  # noqa: E402
+from ship_guidance import sway_yaw_lookahead as sy  # noqa: E402
+from ship_guidance.heading_loop import pd_gains  # noqa: E402
+from ship_guidance.los import critical_lookahead_nondim  # noqa: E402
 from ship_sim.models.nps_auv2 import COEFFS  # noqa: E402
 
 DEFAULT_TABLE = ROOT.parent / 'shared' / 'reference' / 'string_stability_table1.csv'
 DEFAULT_OUT = ROOT / 'runs' / 'analysis' / 'string_stability'
-#: 003 Figures 5-8 as printed (OCR lost the dots; see the summary for the attribution).
+#: Simakis 1992 Figures 5-8 as printed (OCR lost the dots; see the summary for the attribution).
 DOC_SENSITIVITY = {'Yvdot': 0.40, 'Yv': 0.37, 'Nrdot': 0.14, 'Nr': 0.102}
 SENS_COEFFS = ('Yvdot', 'Yv', 'Nrdot', 'Nr', 'Yr', 'Nv', 'Yrdot', 'Nvdot', 'Yds', 'Nds',
                'Ydb', 'Ndb')
@@ -74,11 +78,12 @@ def key(z, w1, w2):
 # ---------------------------------------------------------------- Table 1
 
 def reproduce_table1(table, brute_force):
-    z, w1, w2 = ss.table1_parameters()
+    z, w1, w2 = table1_scan.table1_parameters()
     timing = {}
     for method in ('routh', 'eig'):
-        best, med, (d1, d2) = timed(lambda m=method: ss.grid_minima(z, w1, w2, method=m),
-                                    repeat=7 if method == 'routh' else 3)
+        best, med, (d1, d2) = timed(
+            lambda m=method: table1_scan.grid_minima(z, w1, w2, method=m),
+            repeat=7 if method == 'routh' else 3)
         timing[method] = {'best_s': best, 'median_s': med}
         if method == 'routh':
             d1r, d2r = d1, d2
@@ -88,9 +93,10 @@ def reproduce_table1(table, brute_force):
     ours = {key(*k): i for i, k in enumerate(zip(z, w1, w2))}
     idx = np.array([ours[key(*r)] for r in zip(table['zeta'], table['wn1'], table['wn2'])])
     missing = sorted(set(range(z.size)) - set(idx.tolist()))
-    cls, lo1, hi1, lo2, hi2 = ss.classify_table1(table['zeta'], table['wn1'], table['wn2'])
-    d1s = ss.nomoto_critical_lookahead(table['zeta'], table['wn1'])
-    d2s = ss.nomoto_critical_lookahead(table['zeta'], table['wn2'])
+    cls, lo1, hi1, lo2, hi2 = table1_scan.classify_table1(table['zeta'], table['wn1'],
+                                                          table['wn2'])
+    d1s = critical_lookahead_nondim(table['zeta'], table['wn1'])
+    d2s = critical_lookahead_nondim(table['zeta'], table['wn2'])
     tol = 1e-9
     consistent = ((table['d1_sim'] >= lo1 - tol) & (table['d1_sim'] <= hi1 + tol)
                   & (table['d2_sim'] >= lo2 - tol) & (table['d2_sim'] <= hi2 + tol))
@@ -114,11 +120,11 @@ def reproduce_table1(table, brute_force):
     brute = []
     if brute_force != 'none':
         sel = range(len(table)) if brute_force == 'all' else \
-            [i for i in range(len(table)) if cls[i] != ss.ROW_EXACT]
+            [i for i in range(len(table)) if cls[i] != table1_scan.ROW_EXACT]
         t0 = time.perf_counter()
         for i in sel:
             j = idx[i]
-            b1, b2, _ = ss.appendix_a_scan(z[j], w1[j], w2[j])
+            b1, b2, _ = table1_scan.appendix_a_scan(z[j], w1[j], w2[j])
             brute.append({'csv_line': i + 2, 'zeta': float(z[j]), 'wn1': round(float(w1[j]), 6),
                           'wn2': round(float(w2[j]), 6), 'class': cls[i],
                           'doc': (float(table['d1_sim'][i]), float(table['d2_sim'][i])),
@@ -130,7 +136,7 @@ def reproduce_table1(table, brute_force):
         'rows': rows, 'timing': timing, 'eig_equals_routh': bool(same_eig),
         'missing': [{'zeta': float(z[j]), 'wn1': round(float(w1[j]), 6),
                      'wn2': round(float(w2[j]), 6),
-                     'd2_star': float(ss.nomoto_critical_lookahead(z[j], w2[j])),
+                     'd2_star': float(critical_lookahead_nondim(z[j], w2[j])),
                      'scan_finds_stable_point': bool(np.isfinite(d1r[j]))} for j in missing],
         'brute': brute,
         'd_star_max_err': float(max(np.abs(np.round(d1s, 6) - table['d1_star']).max(),
@@ -138,29 +144,29 @@ def reproduce_table1(table, brute_force):
     }
 
 
-# ---------------------------------------------------------------- NPS AUV II (seed 003)
+# ---------------------------------------------------------------- NPS AUV II (Simakis 1992)
 
 def nps_auv2(omegas, zetas):
-    exact = ss.nps_auv2_critical_lookahead(np.asarray(zetas)[:, None], np.asarray(omegas)[None])
-    approx = ss.nomoto_critical_lookahead(np.asarray(zetas)[:, None], np.asarray(omegas)[None])
-    plant = ss.nps_auv2_plant()
-    a, b = ss.nps_auv2_nomoto(plant)
+    exact = sy.nps_auv2_critical_lookahead(np.asarray(zetas)[:, None], np.asarray(omegas)[None])
+    approx = critical_lookahead_nondim(np.asarray(zetas)[:, None], np.asarray(omegas)[None])
+    plant = sy.nps_auv2_plant()
+    a, b = sy.nps_auv2_nomoto(plant)
     checks = []
     for zeta, w in ((0.8, 3.0), (0.4, 1.0), (1.2, 5.0), (0.6, 0.5)):
-        k1, k2 = ss.pd_gains(a, b, zeta, w)
-        d = float(ss.nps_auv2_critical_lookahead(zeta, w))
-        d_eig = ss.critical_lookahead_by_eigenvalues(plant, k1, k2, 0.2 * d, 5.0 * d)
+        k1, k2 = pd_gains(a, b, zeta=zeta, omega_n=w)
+        d = float(sy.nps_auv2_critical_lookahead(zeta, w))
+        d_eig = sy.critical_lookahead_by_eigenvalues(plant, k1, k2, 0.2 * d, 5.0 * d)
         checks.append({'zeta': zeta, 'omega_n': w, 'k1': float(k1), 'k2': float(k2),
                        'exact_routh': d, 'eigen_bisection': d_eig,
-                       'approx': float(ss.nomoto_critical_lookahead(zeta, w))})
+                       'approx': float(critical_lookahead_nondim(zeta, w))})
     return exact, approx, checks, (a, b)
 
 
 def sensitivity(factors):
     out = {}
     for name in SENS_COEFFS:
-        fixed = ss.nps_auv2_sensitivity(name, factors)
-        redesign = ss.nps_auv2_sensitivity(name, factors, redesign=True)
+        fixed = sy.nps_auv2_sensitivity(name, factors)
+        redesign = sy.nps_auv2_sensitivity(name, factors, redesign=True)
         out[name] = {'nominal': COEFFS[name], 'fixed': fixed, 'redesign': redesign,
                      'total_fixed': float(fixed[-1] - fixed[0]),
                      'total_redesign': float(redesign[-1] - redesign[0])}
@@ -178,13 +184,14 @@ def plots(out, table, omegas, zetas, exact, approx, checks, sens, factors):
     top = 2.2
     w1s = np.arange(1.0, 4.51, 0.5)
     cmap = plt.get_cmap('viridis')
-    # 001 Figures 9-11: stable quadrants d1 > d1*, d2 > d2*, one L-shaped boundary per omega_n1.
-    for fig_no, p in zip((9, 10, 11), ss.TABLE1_RATIOS):
+    # Angelopoulos 2011 Figures 9-11: stable quadrants d1 > d1*, d2 > d2*, one L-shaped boundary
+    # per omega_n1.
+    for fig_no, p in zip((9, 10, 11), table1_scan.TABLE1_RATIOS):
         fig, axes = plt.subplots(1, 3, figsize=(15, 5.2), sharey=True)
         for ax, zeta in zip(axes, (0.6, 0.8, 1.2)):
             for k, w1 in enumerate(w1s):
                 c = cmap(k / (len(w1s) - 1))
-                d1, d2 = (float(ss.nomoto_critical_lookahead(zeta, w)) for w in (w1, p * w1))
+                d1, d2 = (float(critical_lookahead_nondim(zeta, w)) for w in (w1, p * w1))
                 ax.plot([d1, top], [d2, d2], color=c, lw=1.6)
                 ax.plot([d1, d1], [d2, top], color=c, lw=1.6, label=rf'$\omega_{{n1}}$={w1:g}')
                 m = ((np.abs(table['zeta'] - zeta) < 1e-9) & (np.abs(table['wn1'] - w1) < 1e-9)
@@ -201,11 +208,12 @@ def plots(out, table, omegas, zetas, exact, approx, checks, sens, factors):
         axes[0].set_ylabel('$d_2$ (ship lengths)')
         axes[-1].legend(fontsize=8, loc='upper right', title='lines: exact limit\n'
                         'circles: Table 1 grid minima', title_fontsize=8)
-        fig.suptitle(f'String stability regions (seed 001 Figure {fig_no} analogue): stable iff '
+        fig.suptitle(f'String stability regions (Angelopoulos 2011 Figure {fig_no} analogue): '
+                     'stable iff '
                      r'$d_1 > 1/(2\zeta\omega_{n1})$ and $d_2 > 1/(2\zeta\omega_{n2})$')
         files.append(_save(fig, out / f'fig{fig_no:02d}_regions_ratio_{p:g}.png'))
 
-    # 001 Figures 12-15: limit of each vessel vs omega_n1 for zeta 0.4..1.2.
+    # Angelopoulos 2011 Figures 12-15: limit of each vessel vs omega_n1 for zeta 0.4..1.2.
     fig, axes = plt.subplots(2, 2, figsize=(12, 9), sharex=True)
     wgrid = np.linspace(1.0, 4.5, 200)
     panels = [(None, 'vessel 1 (Fig. 12)'),
@@ -213,10 +221,10 @@ def plots(out, table, omegas, zetas, exact, approx, checks, sens, factors):
               (1.0, 'vessel 2, $\\omega_{n2}=\\omega_{n1}$ (Fig. 14)'),
               (1.5, 'vessel 2, $\\omega_{n2}=1.5\\omega_{n1}$ (Fig. 15)')]
     for ax, (p, title) in zip(axes.ravel(), panels):
-        for k, zeta in enumerate(ss.TABLE1_ZETAS):
+        for k, zeta in enumerate(table1_scan.TABLE1_ZETAS):
             c = plt.get_cmap('plasma')(k / 5)
             w = wgrid if p is None else p * wgrid
-            ax.plot(wgrid, ss.nomoto_critical_lookahead(zeta, w), color=c,
+            ax.plot(wgrid, critical_lookahead_nondim(zeta, w), color=c,
                     label=f'$\\zeta$={zeta:g}')
             m = np.abs(table['zeta'] - zeta) < 1e-9
             if p is None:
@@ -231,11 +239,11 @@ def plots(out, table, omegas, zetas, exact, approx, checks, sens, factors):
         ax.set_xlabel('$\\omega_{n1}$ (U/L)')
     axes[0, 0].legend(fontsize=9, title='lines: $1/(2\\zeta\\omega_n)$; dots: Table 1',
                       title_fontsize=8)
-    fig.suptitle('Critical look-ahead per vessel (seed 001 Figures 12-15 analogue); '
+    fig.suptitle('Critical look-ahead per vessel (Angelopoulos 2011 Figures 12-15 analogue); '
                  'dotted line: the scan grid ends at 2.0')
     files.append(_save(fig, out / 'fig12-15_limits_vs_omega.png'))
 
-    # 003 Figure 2: exact vs approximate, zeta = 0.8.
+    # Simakis 1992 Figure 2: exact vs approximate, zeta = 0.8.
     iz = int(np.argmin(np.abs(np.asarray(zetas) - 0.8)))
     fig, ax = plt.subplots(figsize=(8, 5.5))
     ax.plot(omegas, exact[iz], 'k-', lw=2, label='exact (sway/yaw model, Routh quadratic)')
@@ -244,25 +252,26 @@ def plots(out, table, omegas, zetas, exact, approx, checks, sens, factors):
     ax.plot(c['omega_n'], c['eigen_bisection'], 'rs', ms=8, mfc='none',
             label=f"eigenvalue bisection at $\\omega_n$=3: {c['eigen_bisection']:.4f}")
     ax.set(xlabel=r'$\omega_n$ (U/L)', ylabel='critical look-ahead $d$ (vehicle lengths)',
-           title=r'NPS AUV II, $\zeta$ = 0.8 (seed 003 Figure 2 analogue): stable above the curve',
+           title=r'NPS AUV II, $\zeta$ = 0.8 (Simakis 1992 Figure 2 analogue): '
+                 'stable above the curve',
            ylim=(0, min(3.0, float(np.nanmax(exact[iz])) * 1.05)))
     ax.grid(alpha=0.3)
     ax.legend()
     files.append(_save(fig, out / 'nps_fig02_exact_vs_approx.png'))
 
-    # 003 Figure 3: family over zeta.
+    # Simakis 1992 Figure 3: family over zeta.
     fig, ax = plt.subplots(figsize=(8, 5.5))
     for k, zeta in enumerate(zetas):
         ax.plot(omegas, exact[k], color=plt.get_cmap('coolwarm')(k / (len(zetas) - 1)),
                 label=f'$\\zeta$={zeta:.1f}')
     ax.set(xlabel=r'$\omega_n$ (U/L)', ylabel='exact critical look-ahead $d$ (vehicle lengths)',
-           title='NPS AUV II exact stability curves (seed 003 Figure 3 analogue)',
+           title='NPS AUV II exact stability curves (Simakis 1992 Figure 3 analogue)',
            ylim=(0, 2.0))
     ax.grid(alpha=0.3)
     ax.legend(ncol=3, fontsize=9)
     files.append(_save(fig, out / 'nps_fig03_zeta_family.png'))
 
-    # 003 Figures 5-8: sensitivity.
+    # Simakis 1992 Figures 5-8: sensitivity.
     fig, axes = plt.subplots(2, 2, figsize=(11, 8.5), sharex=True)
     for ax, (fig_no, name) in zip(axes.ravel(), zip((5, 6, 7, 8), DOC_SENSITIVITY)):
         s = sens[name]
@@ -278,7 +287,7 @@ def plots(out, table, omegas, zetas, exact, approx, checks, sens, factors):
         ax.set_xlabel('coefficient / nominal')
     axes[0, 0].legend(fontsize=8)
     fig.suptitle(r'NPS AUV II critical look-ahead sensitivity, $\omega_n$ = 3, $\zeta$ = 0.8 '
-                 '(seed 003 Figures 5-8 analogue)')
+                 '(Simakis 1992 Figures 5-8 analogue)')
     files.append(_save(fig, out / 'nps_fig05-08_sensitivity.png'))
 
     fig, ax = plt.subplots(figsize=(9, 6))
@@ -319,7 +328,7 @@ def summary_md(t1, omegas, zetas, exact, approx, checks, sens, nomoto, files):
     lines = ['# String stability: reproduction summary', '',
              'Generated by `scripts/string_stability.py`; method and explanations in '
              '`ros_ws/src/ship_guidance/doc/string_stability.md`.', '',
-             '## Seed 001 Table 1', '',
+             '## Angelopoulos 2011 Table 1', '',
              f"- Printed rows: {len(rows)} (the scan covers 540; missing: "
              + ', '.join(f"zeta {m['zeta']:g}, wn1 {m['wn1']:g}, wn2 {m['wn2']:g} "
                          f"(d2* = {m['d2_star']:.3f} > 2)" for m in t1['missing']) + ').',
@@ -359,8 +368,8 @@ def summary_md(t1, omegas, zetas, exact, approx, checks, sens, nomoto, files):
                          f"{b['class']} | {b['doc'][0]:g}, {b['doc'][1]:g} | "
                          f"{b['numpy_scan'][0]:g}, {b['numpy_scan'][1]:g} | "
                          f"{b['exact'][0]:g}, {b['exact'][1]:g} |")
-    lines += ['', '## Seed 003: NPS AUV II exact critical look-ahead', '',
-              f'Nomoto reduction (003 eq. 2.11, non-dimensional): a = {nomoto[0]:.4f}, '
+    lines += ['', '## Simakis 1992: NPS AUV II exact critical look-ahead', '',
+              f'Nomoto reduction (Simakis 1992 eq. 2.11, non-dimensional): a = {nomoto[0]:.4f}, '
               f'b = {nomoto[1]:.4f}.', '',
               '| zeta | omega_n | k1 | k2 | exact (Routh) | eigenvalue bisection '
               '| approx 1/(2 zeta wn) | exact/approx |',
@@ -375,7 +384,8 @@ def summary_md(t1, omegas, zetas, exact, approx, checks, sens, nomoto, files):
     for k, z in enumerate(zetas):
         lines.append(f'| {z:.1f} | ' + ' | '.join(
             f'{e / a:.3f}' for e, a in zip(exact[k, ::10], approx[k, ::10])) + ' |')
-    lines += ['', '## Seed 003: sensitivity (omega_n = 3, zeta = 0.8, coefficient x 0.5 ... 1.5)',
+    lines += ['', '## Simakis 1992: sensitivity (omega_n = 3, zeta = 0.8, coefficient x 0.5 ... '
+              '1.5)',
               '', '| coefficient | nominal | d_n at 0.5 | d_n at 1.5 | total change (gains fixed) '
               '| total change (gains redesigned) | document |', '|---|---|---|---|---|---|---|']
     for name in SENS_COEFFS:

@@ -41,9 +41,9 @@ QUICK_REPEATS = 2
 
 def build_loop(scenario_file=SCENARIO):
     """(sim, guidance, autopilot, dt) as the flagship scenario's nodes would build them."""
-    from ship_autopilot.gains import autopilot_gains, build_autopilot, nomoto_gains
-    from ship_autopilot.pd import pd_gains
+    from ship_autopilot.gains import build_autopilot, heading_loop_design
     from ship_guidance.guidance import Guidance
+    from ship_guidance.node_defaults import GUIDANCE_DEFAULTS as G
     from ship_planner.route_loader import load_route
     from ship_sim.current import OceanCurrent
     from ship_sim.frames import yaw_to_psi
@@ -65,20 +65,16 @@ def build_loop(scenario_file=SCENARIO):
     if all(k in g for k in ('autopilot_zeta', 'autopilot_omega_n', 'speed')):
         stability = dict(zeta=g['autopilot_zeta'], omega_n=g['autopilot_omega_n'],
                          speed=g['speed'])
-    guidance = Guidance(route, law=g.get('law', 'ilos'), lookahead=g.get('lookahead_m', 500.0),
+    guidance = Guidance(route, law=g.get('law', G['law']),
+                        lookahead=g.get('lookahead_m', G['lookahead_m']),
                         acceptance_radius=g.get('acceptance_radius_m', 0.0),
-                        integral_gain=g.get('integral_gain', 0.5),
+                        integral_gain=g.get('integral_gain', G['integral_gain']),
                         curvature_lead=g.get('curvature_lead', False), **stability)
-    # Gains as the autopilot node chooses them: table, or k1/k2, or redesigned for omega_n.
+    # Gains as the autopilot node chooses them (the function it calls).
     a = spec.autopilot_params
     kind = a.get('controller', 'pd')
-    gains = autopilot_gains(spec.model)
-    if kind == 'pd' and a.get('k1') and a.get('k2'):
-        gains = {'k1': a['k1'], 'k2': a['k2']}
-    elif kind == 'pd' and a.get('omega_n'):
-        nm = nomoto_gains(spec.model)
-        k1, k2 = pd_gains(nm['a'], nm['b'], a['omega_n'], a.get('zeta', 0.8))
-        gains = {'k1': k1, 'k2': k2}
+    gains = heading_loop_design(spec.model, **{k: a[k] for k in ('controller', 'k1', 'k2',
+                                                                 'omega_n', 'zeta') if k in a}).gains
     autopilot = build_autopilot(kind, gains, model.rudder_max, model.rudder_rate_max,
                                 a.get('saturation', 'hard'))
     return sim, guidance, autopilot, scenario.dt_s

@@ -138,7 +138,7 @@ def _domain_id():
     run (a lock per id, held until the process ends), so no other run or test shares it; the
     runs of the bench use it one after the other, each in its own namespace."""
     try:
-        from mission.launcher import lease_domain_id
+        from mission.domain import lease_domain_id
     except ImportError:  # a launcher without leases: a domain from the pid
         return 80 + os.getpid() % 20
     return lease_domain_id()

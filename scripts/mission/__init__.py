@@ -1,5 +1,10 @@
 """Mission tooling shared by the launcher and the analysis scripts (``from mission import ...``).
 
+- ``scenario``: scenario files (load_scenario); ``platoon``: the `platoon:` section and its
+  checks; ``vessel_spec`` and ``fields``: the vessel mapping and the checked YAML fields both
+  share (scenario -> platoon -> vessel_spec -> fields: no import cycle).
+- ``launcher``: check and run a scenario; ``domain``: the ROS_DOMAIN_ID lease every graph on
+  this machine takes (launcher, integration tests, seed batch, benchmarks).
 - ``processes``: start/stop node processes from the colcon install.
 - ``recorder``: rosbag2 (MCAP) recording of a running graph (rclpy + rosbags).
 - ``bag``: read a bag back into numpy arrays per vessel namespace.

@@ -15,7 +15,6 @@ Afterwards the bag is turned into metrics.json and PNG plots.
 Run folder: runs/<scenario>-<timestamp>/ with params/ (one ROS parameter file per node),
 logs/ (one log per process), bag/ (rosbag2 MCAP), metrics.json, *.png; runs/latest points at it.
 """
-import fcntl
 import math
 import os
 import signal
@@ -26,14 +25,11 @@ from pathlib import Path
 
 import yaml
 
+from mission.domain import NoFreeDomain, lease_domain_id
 from mission.processes import INSTALL, PY_SITE, REPO, ProcessGroup, install_env
 from mission.scenario import ScenarioError, start_pose
 
 RECORDER = Path(__file__).resolve().parent / 'recorder.py'
-# One lock file per ROS_DOMAIN_ID, shared with tests/integration/harness.py (DomainLease), so a
-# run never shares its domain with another run or an integration test on this machine.
-DOMAIN_LOCKS = Path('/tmp/shipnav_ros_domain_locks')
-DOMAIN_IDS = range(1, 102)  # Fast DDS ports stay below Linux's ephemeral range up to 101
 NODES = (('route_node', 'ship_planner'), ('guidance_node', 'ship_guidance'),
          ('autopilot_node', 'ship_autopilot'))
 FOLLOWER_NODES = (('route_node', 'ship_planner'), ('follower_node', 'ship_guidance'),
@@ -111,6 +107,17 @@ def node_parameter_names(package, executable):
     raise ScenarioError(f'{executable}: no parameter list config/{name} in package {package}')
 
 
+def route_plan(scenario, spec):
+    """The parsed route file of ``spec``, parsed once per file and run: kept in
+    ``scenario.routes`` (check_scenario fills it, node_parameters reads it from there).
+    RouteError if the file is not a valid route."""
+    plan = scenario.routes.get(spec.route_file)
+    if plan is None:
+        from ship_planner.route_loader import load_route
+        plan = scenario.routes[spec.route_file] = load_route(spec.route_file)
+    return plan
+
+
 def check_scenario(scenario):
     """What load_scenario cannot check without the packages: model names, route files, start
     points within their route, the number of steps (mission.scenario.MAX_STEPS), node
@@ -122,7 +129,7 @@ def check_scenario(scenario):
     import difflib
     from mission.scenario import MAX_STEPS
     use_install_tree()
-    from ship_planner.route_loader import RouteError, load_route
+    from ship_planner.route_loader import RouteError
     from ship_sim.models import MODEL_NAMES
     platoon = scenario.platoon
     for key, v in (('duration_s', scenario.duration_s), ('dt_s', scenario.dt_s)):
@@ -140,7 +147,7 @@ def check_scenario(scenario):
             raise ScenarioError(f'{where}model: unknown model {spec.model!r}; one of '
                                 f'{", ".join(MODEL_NAMES)}')
         try:
-            plan = load_route(spec.route_file)
+            plan = route_plan(scenario, spec)
         except RouteError as exc:
             key = f'{where}route' if platoon is None else f'{scenario.file}: platoon.route'
             raise ScenarioError(f'{key}: {exc}') from None
@@ -164,20 +171,6 @@ def check_scenario(scenario):
         from mission.platoon import check_lead, check_stability
         check_lead(scenario)
         check_stability(scenario)
-
-
-def lease_domain_id():
-    """A free ROS_DOMAIN_ID, locked (flock) for the life of this process."""
-    DOMAIN_LOCKS.mkdir(parents=True, exist_ok=True)
-    for i in range(len(DOMAIN_IDS)):
-        did = DOMAIN_IDS[(os.getpid() + i) % len(DOMAIN_IDS)]
-        fd = os.open(DOMAIN_LOCKS / f'{did}.lock', os.O_CREAT | os.O_RDWR, 0o666)
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            return did  # fd stays open: the lock is released when this process ends
-        except OSError:
-            os.close(fd)
-    raise MissionFailed(f'no free ROS_DOMAIN_ID in {DOMAIN_IDS} (locks in {DOMAIN_LOCKS})')
 
 
 def make_run_dir(scenario, root):
@@ -229,8 +222,7 @@ def node_parameters(scenario, spec, index, record):
 
     A platoon follower gets 'follower_node' (mission.platoon.follower_parameters) instead of
     'guidance_node'; every platoon vessel_node also waits for the followers of its vessel."""
-    from ship_planner.route_loader import load_route
-    plan = load_route(spec.route_file)
+    plan = route_plan(scenario, spec)
     x, y, yaw = start_pose(spec, plan.route)
     lockstep = scenario.stepping == 'lockstep'
     steps = int(round(scenario.duration_s / scenario.dt_s))
@@ -382,7 +374,11 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
     use_install_tree()
     record = scenario.record if record is None else record
     run = make_run_dir(scenario, runs_root)
-    domain_id = domain_id if domain_id is not None else lease_domain_id()
+    if domain_id is None:
+        try:
+            domain_id = lease_domain_id()   # a run never shares its domain (mission.domain)
+        except NoFreeDomain as exc:
+            raise MissionFailed(str(exc)) from None
     env = install_env(domain_id=domain_id)
     os.environ['ROS_DOMAIN_ID'] = str(domain_id)
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'

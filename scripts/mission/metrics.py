@@ -11,13 +11,13 @@ Conventions of this module (so that runs compare with each other):
   after the first odometry sample (the approach to the path is a transient, not tracking
   error). Default: ``DEFAULT_SETTLE_FRACTION`` (10 %) of the run's duration. The cut-off used
   is reported as ``settle_s``.
-- Cumulative Gaussian reward, seed 000 (Martinsen, "Curved path following with deep RL")
+- Cumulative Gaussian reward of Martinsen and Lekkas 2018 (ship_autopilot.learning.reward)
   eq. (8) and Table I: per step ``a exp(-e^2 / (2 sigma^2))`` with a = 1, sigma = 10 m, and 0
   when the yaw error to the path, |psi - gamma_p|, exceeds pi/2 (the eq. 8 gate; applied when
   the route is known). Table I sums the Gaussian term only (its title: "cumulative Gaussian
   reward"), over the whole episode (no settling), episodes being 1000 s. The document does not
   state its time step, so the sum depends on an assumed sampling: we resample e on a uniform
-  grid of ``reward_step_s`` (default 0.1 s, the step of the MSS simulations the seed runs) and
+  grid of ``reward_step_s`` (default 0.1 s, the step of the MSS simulations of the paper) and
   also report the sampling-free integral ``reward_gaussian_integral_s`` = sum * step, from
   which the sum at any other step h follows as integral / h. An episode of ``T`` s with e = 0
   scores T / step (10 000 for 1000 s at 0.1 s).
@@ -31,15 +31,18 @@ Conventions of this module (so that runs compare with each other):
 """
 import numpy as np
 
+from ship_autopilot.learning.reward import gaussian_reward as _gaussian_term
+from ship_sim.frames import wrap_angle
+
 DEFAULT_SETTLE_FRACTION = 0.10
-REWARD_SIGMA_M = 10.0   # seed 000 eq. (8): Gaussian standard deviation
-REWARD_STEP_S = 0.1     # assumed step of the seed's episodes (not stated in the document)
+REWARD_SIGMA_M = 10.0   # Martinsen and Lekkas 2018 eq. (8): Gaussian standard deviation
+REWARD_STEP_S = 0.1     # assumed step of the paper's episodes (not stated there)
 SATURATION_RTOL = 1e-3  # |delta| >= limit * (1 - rtol) counts as saturated
 
 
 def wrap(a):
-    """Angle(s) to [-pi, pi)."""
-    return (np.asarray(a, dtype=float) + np.pi) % (2.0 * np.pi) - np.pi
+    """Angle(s) to [-pi, pi) (ship_sim.frames.wrap_angle on a float array)."""
+    return wrap_angle(np.asarray(a, dtype=float))
 
 
 def _f(x):
@@ -123,10 +126,10 @@ def completion_time(t, s, length, finish_tolerance_m=0.0):
     return float(t[done[0]]) if done.size else None
 
 
-# -- reward (seed 000) ----------------------------------------------------------------------------
+# -- reward (Martinsen and Lekkas 2018) ------------------------------------------------------------
 
 def gaussian_reward(t, e, yaw_error=None, sigma_m=REWARD_SIGMA_M, step_s=REWARD_STEP_S, episode_s=None):
-    """Cumulative Gaussian reward of seed 000, eq. (8) / Table I, on a uniform grid of ``step_s``.
+    """Cumulative Gaussian reward of Martinsen and Lekkas 2018, eq. (8) / Table I, on a uniform grid of ``step_s``.
 
     e (m) is linearly interpolated at t0, t0 + step, ... (t0 = t[0]; the last grid point is <=
     t[-1], or t0 + episode_s when given). ``yaw_error`` (rad, same times as e) zeroes the reward
@@ -141,10 +144,10 @@ def gaussian_reward(t, e, yaw_error=None, sigma_m=REWARD_SIGMA_M, step_s=REWARD_
     end = t[-1] if episode_s is None else min(t[-1], t[0] + episode_s)
     n = int(np.floor((end - t[0]) / step_s + 1e-9)) + 1
     grid = t[0] + step_s * np.arange(n)
-    r = np.exp(-np.interp(grid, t, e) ** 2 / (2.0 * sigma_m ** 2))
-    if yaw_error is not None:  # interpolated unwrapped, so +-pi never averages to 0
-        yaw_grid = wrap(np.interp(grid, t, np.unwrap(np.asarray(yaw_error, dtype=float))))
-        r = np.where(np.abs(yaw_grid) <= np.pi / 2, r, 0.0)
+    # the yaw error is interpolated unwrapped, so +-pi never averages to 0
+    yaw_grid = (0.0 if yaw_error is None else
+                np.interp(grid, t, np.unwrap(np.asarray(yaw_error, dtype=float))))
+    r = _gaussian_term(np.interp(grid, t, e), yaw_grid, sigma=sigma_m)
     total = float(r.sum())
     return {'reward_gaussian_sum': total, 'reward_gaussian_integral_s': total * step_s, 'reward_steps': int(n),
             'reward_step_s': float(step_s), 'reward_sigma_m': float(sigma_m),
@@ -276,7 +279,7 @@ def string_ratios(values, predecessors):
     """String-stability measure of a platoon: each follower's value (e.g. its peak |cross-track
     error|) divided by its predecessor's. values: {vessel: float or None}; predecessors:
     {vessel: predecessor or None}. Returns {follower: ratio or None}; a ratio above 1 means the
-    deviation grew from the predecessor to the follower (seed 001's string stability asks
+    deviation grew from the predecessor to the follower (Angelopoulos 2011's string stability asks
     that it does not: the error of vessel i bounded by that of vessel i-1)."""
     out = {}
     for ns, pred in predecessors.items():

@@ -1,8 +1,8 @@
 """Platoon scenarios: the `platoon:` section of a scenario file, its checks, and the node parameters
 that tie a string of vessels together.
 
-Source of the law: seed 001 (Angelopoulos, "String stability of multiple surface marine vessels",
-NPS 2011), Sec. II.E.2, Figure 8, eqs. 31-41: the leader follows the route with LOS, every other
+Source of the law: Angelopoulos 2011 ("String stability of multiple surface marine vessels",
+NPS thesis), Sec. II.E.2, Figure 8, eqs. 31-41: the leader follows the route with LOS, every other
 vessel steers at its predecessor (ship_guidance.follower, follower_node). Units SI; angles in
 degrees only in the *_deg keys.
 
@@ -59,25 +59,27 @@ Choices:
   DDS discovery alone can take longer than predecessor_wait_s). /clock is the first vessel's;
   the followers' nodes go by their own odometry stamps.
   A dead predecessor costs its follower one wait, then the follower runs on without waiting.
-- Stability (001 eqs. 34, 41): the string is stable iff every vessel is, so every look-ahead a
-  vessel can use is checked with string_stability.check_platoon against U / (2 zeta omega_n) of
-  its own autopilot design (zeta, omega_n from its autopilot block or the gain table, U its
-  speed), times ``stability_margin``: the leader's LOS look-ahead, a follower's min_lookahead_m
-  (the floor of the look-ahead it takes from the gap) and its fallback lookahead_m. For an ILOS
-  leader the limit is (U + 4 zeta^2 sigma) / (2 zeta omega_n) (ship_guidance.los), which
-  check_platoon gives with the speed U + 4 zeta^2 sigma. The margin exists because the document's
-  Nomoto-level limit is not sufficient for a real hull: the MSS Mariner's sampled loop with sway
-  needs 1.43 x (omega_n 0.12 rad/s) to 1.66 x (0.048 rad/s) that limit
-  (scripts/platoon_time_domain.py).
+- Stability (Angelopoulos 2011 eqs. 34, 41): the string is stable iff every vessel is, so every
+  look-ahead a vessel can use is checked with string_stability.check_platoon against
+  U / (2 zeta omega_n) of its own autopilot design, times ``stability_margin``. The packages give
+  what is checked, so the launcher and the nodes check the same: the design from
+  ship_autopilot.gains.heading_loop_design (the autopilot node's own), the look-aheads and
+  their limits from string_stability.los_loop / follower_loops (the follower's own: its
+  min_lookahead_m, the floor of the look-ahead it takes from the gap, and its fallback
+  lookahead_m; for (I)LOS the limit (U + 4 zeta^2 sigma) / (2 zeta omega_n) of
+  ship_guidance.los), the defaults of keys a block leaves out from ship_guidance.node_defaults.
+  The margin exists because the thesis's Nomoto-level limit is not sufficient for a real hull:
+  a sampled loop with sway dynamics needs a multiple of it (scripts/platoon_time_domain.py
+  measures it).
 - Amplification: stable is not enough; cross-track errors grow from vessel to vessel unless the
   follower's look-ahead at its set gap, clip(spacing, min, max), is at least the
   no-amplification look-ahead 4 zeta U / omega_n (ship_guidance.follower, zeta >= 1/sqrt 2).
   Below margin x that, the launcher warns (it does not refuse: a close string can be wanted).
 """
-import math
 from dataclasses import dataclass, field
 
-from mission.scenario import ScenarioError, _need, _number, _unknown, parse_vessel
+from mission.fields import ScenarioError, need, number, unknown
+from mission.vessel_spec import parse_vessel
 
 PLATOON_KEYS = {'route', 'spacing_m', 'current', 'stability_margin', 'allow_unstable',
                 'predecessor_wait_s', 'vessels'}
@@ -88,12 +90,6 @@ LAUNCHER_FOLLOWER_KEYS = {'predecessor_odom_topic': 'predecessor',
                           'spacing_m': 'spacing_m', 'stepping_mode': 'the scenario\'s stepping'}
 #: Default deepest predecessor wait as a fraction of lockstep_timeout_s.
 WAIT_FRACTION = 0.5
-#: Node defaults the stability check needs when a block leaves them out (guidance_node and
-#: follower_node; tests/unit/test_platoon_config.py compares them with config/*.yaml).
-GUIDANCE_DEFAULTS = {'law': 'ilos', 'lookahead_m': 500.0, 'integral_gain': 0.5}
-FOLLOWER_DEFAULTS = {'min_lookahead_m': 200.0, 'max_lookahead_m': 0.0, 'lookahead_m': 500.0}
-#: autopilot_node's default damping when only omega_n is given.
-AUTOPILOT_ZETA = 0.8
 #: vessel_node's log line when it publishes its first lockstep step.
 STEP0_LINE = 'lockstep: publishing step 0'
 
@@ -108,7 +104,7 @@ class Platoon:
     predecessor_wait_s: float                # of a first follower; k x that at depth k
     predecessors: dict                       # namespace -> predecessor namespace or None
     warnings: list = field(default_factory=list)
-    loops: dict = field(default_factory=dict)  # namespace -> Loop, filled by check_stability
+    loops: dict = field(default_factory=dict)  # namespace -> SteeringDesign (check_stability)
 
     def followers_of(self, namespace):
         """Namespaces of the vessels that steer at ``namespace``."""
@@ -146,9 +142,9 @@ def start_order(platoon):
 
 
 @dataclass(frozen=True)
-class Loop:
-    """A vessel's steering loop for the checks: autopilot design zeta, omega_n (rad/s), speed
-    U (m/s), and where they came from."""
+class SteeringDesign:
+    """A vessel's heading loop as the checks see it: autopilot design zeta, omega_n (rad/s),
+    speed U (m/s), and where the design came from."""
     zeta: float
     omega_n: float
     speed: float
@@ -161,29 +157,29 @@ def parse_platoon(section, path, lockstep_timeout_s):
     Everything that needs no package: keys, namespaces (unique), predecessors (existing, no
     cycle), spacings, the route file's existence, the lockstep wait. ScenarioError names the
     file, the key and the vessel."""
-    _need(isinstance(section, dict), path, 'platoon', 'a mapping (route, vessels, ...)')
-    _unknown(section, PLATOON_KEYS, path, 'platoon.')
-    _need(isinstance(section.get('route'), str), path, 'platoon.route', 'a route file')
+    need(isinstance(section, dict), path, 'platoon', 'a mapping (route, vessels, ...)')
+    unknown(section, PLATOON_KEYS, path, 'platoon.')
+    need(isinstance(section.get('route'), str), path, 'platoon.route', 'a route file')
     route = (path.parent / section['route']).resolve()
-    _need(route.exists(), path, 'platoon.route', f'{route} does not exist')
+    need(route.exists(), path, 'platoon.route', f'{route} does not exist')
     spacing = section.get('spacing_m')
     if spacing is not None:
-        spacing = _number(section, 'spacing_m', path, None, lo=1e-3, hi=1e6, where='platoon.')
-    margin = _number(section, 'stability_margin', path, 1.0, lo=1.0, hi=100.0, where='platoon.')
+        spacing = number(section, 'spacing_m', path, None, lo=1e-3, hi=1e6, where='platoon.')
+    margin = number(section, 'stability_margin', path, 1.0, lo=1.0, hi=100.0, where='platoon.')
     allow = section.get('allow_unstable', False)
-    _need(isinstance(allow, bool), path, 'platoon.allow_unstable', f'true or false, got {allow!r}')
+    need(isinstance(allow, bool), path, 'platoon.allow_unstable', f'true or false, got {allow!r}')
     current = section.get('current', {}) or {}
-    _need(isinstance(current, dict), path, 'platoon.current', 'a mapping')
+    need(isinstance(current, dict), path, 'platoon.current', 'a mapping')
     vessels = section.get('vessels')
-    _need(isinstance(vessels, list) and vessels, path, 'platoon.vessels',
+    need(isinstance(vessels, list) and vessels, path, 'platoon.vessels',
           'a list of vessels, leader first')
 
     names, where_of = [], {}
     for i, v in enumerate(vessels):
         where = f'platoon.vessels[{i}]'
-        _need(isinstance(v, dict), path, where, 'a mapping with namespace, model, ...')
+        need(isinstance(v, dict), path, where, 'a mapping with namespace, model, ...')
         ns = v.get('namespace')
-        _need(isinstance(ns, str) and ns.isidentifier(), path, where + '.namespace',
+        need(isinstance(ns, str) and ns.isidentifier(), path, where + '.namespace',
               f'a plain name like vessel_{i}, got {ns!r}')
         if ns in where_of:
             raise ScenarioError(f'{path}: {where}.namespace: {ns} is already the namespace of '
@@ -198,26 +194,26 @@ def parse_platoon(section, path, lockstep_timeout_s):
         if 'route' in extra:
             raise ScenarioError(f'{path}: {where}route: the vessels of a platoon share '
                                 'platoon.route')
-        _unknown(v, VESSEL_KEYS, path, where)
+        unknown(v, VESSEL_KEYS, path, where)
         pred = v['predecessor'] if 'predecessor' in v else (names[i - 1] if i else None)
         if pred is not None:
-            _need(isinstance(pred, str) and pred in where_of, path, where + 'predecessor',
+            need(isinstance(pred, str) and pred in where_of, path, where + 'predecessor',
                   f'no vessel {pred!r} in the platoon (namespaces: {", ".join(names)})')
-            _need(pred != ns, path, where + 'predecessor', f'{ns} cannot follow itself')
+            need(pred != ns, path, where + 'predecessor', f'{ns} cannot follow itself')
         predecessors[ns] = pred
         spec = parse_vessel(ns, {**v, 'current': v.get('current', current)}, route, path, where)
         if pred is None:
-            _need('spacing_m' not in v, path, where + 'spacing_m',
+            need('spacing_m' not in v, path, where + 'spacing_m',
                   'only a follower (a vessel with a predecessor) keeps a spacing')
         else:
             gap = v.get('spacing_m', spacing)
-            _need(gap is not None, path, where + 'spacing_m',
+            need(gap is not None, path, where + 'spacing_m',
                   'a follower needs a spacing: give it here or as platoon.spacing_m')
-            spec.spacing = _number({'spacing_m': gap}, 'spacing_m', path, None, lo=1e-3,
+            spec.spacing = number({'spacing_m': gap}, 'spacing_m', path, None, lo=1e-3,
                                    hi=1e6, where=where)
             spec.predecessor = pred
             for key, instead in LAUNCHER_FOLLOWER_KEYS.items():
-                _need(key not in spec.guidance_params, path, f'{where}guidance.{key}',
+                need(key not in spec.guidance_params, path, f'{where}guidance.{key}',
                       f'set by the launcher (from {instead}); remove it here')
         specs.append(spec)
 
@@ -233,10 +229,10 @@ def parse_platoon(section, path, lockstep_timeout_s):
             chain.append(nxt)
     platoon = Platoon(route, spacing, margin, allow, 0.0, predecessors)
     deepest = max(platoon.depth(ns) for ns in names)
-    platoon.predecessor_wait_s = _number(
+    platoon.predecessor_wait_s = number(
         section, 'predecessor_wait_s', path,
         WAIT_FRACTION * lockstep_timeout_s / max(deepest, 1), lo=0.0, where='platoon.')
-    _need(deepest * platoon.predecessor_wait_s < lockstep_timeout_s, path,
+    need(deepest * platoon.predecessor_wait_s < lockstep_timeout_s, path,
           'platoon.predecessor_wait_s',
           f'{deepest} x {platoon.predecessor_wait_s:g} s (the wait of the deepest follower) must '
           f'be below lockstep_timeout_s ({lockstep_timeout_s:g} s): a simulator must not give '
@@ -247,26 +243,16 @@ def parse_platoon(section, path, lockstep_timeout_s):
 # ---------------------------------------------------------------- checks that need the packages
 
 def autopilot_design(model, autopilot_params):
-    """(zeta, omega_n in rad/s, source) of the heading loop autopilot_node builds from this block.
-
-    As the node: PD with k1, k2 given -> the Nomoto design they place (001 eq. 20 inverted:
-    omega_n = sqrt(-k1 b), zeta = (-k2 b - a) / (2 omega_n)); PD with omega_n -> (zeta, omega_n);
-    otherwise (gain table, or the fuzzy PID whose linearisation is that PD) the table's design."""
-    from ship_autopilot.gains import autopilot_gains, nomoto_gains
-    a = autopilot_params
-    kind = a.get('controller', 'pd')
-    if kind == 'pd' and a.get('k1') and a.get('k2'):
-        nm = nomoto_gains(model)
-        w2 = -float(a['k1']) * float(nm['b'])
-        if not w2 > 0.0:
-            raise ValueError(f'k1 = {a["k1"]} gives no oscillatory design for {model} '
-                             f'(b = {nm["b"]})')
-        w = math.sqrt(w2)
-        return (-float(a['k2']) * float(nm['b']) - float(nm['a'])) / (2.0 * w), w, 'k1, k2'
-    if kind == 'pd' and a.get('omega_n'):
-        return float(a.get('zeta', AUTOPILOT_ZETA)), float(a['omega_n']), 'omega_n, zeta'
-    g = autopilot_gains(model)
-    return float(g['zeta']), float(g['omega_n']), 'gain table'
+    """(zeta, omega_n in rad/s, source) of the heading loop autopilot_node builds from this block:
+    ship_autopilot.gains.heading_loop_design, the function the node calls."""
+    from ship_autopilot.gains import heading_loop_design
+    keys = ('controller', 'k1', 'k2', 'omega_n', 'zeta')
+    design = heading_loop_design(model, **{k: autopilot_params[k] for k in keys
+                                           if k in autopilot_params})
+    if design.zeta is None:
+        raise ValueError(f'k1 = {autopilot_params["k1"]}, k2 = {autopilot_params["k2"]} give no '
+                         f'oscillatory design for {model}')
+    return design.zeta, design.omega_n, design.source
 
 
 def vessel_speed(spec):
@@ -281,9 +267,13 @@ def vessel_speed(spec):
     return float(m.surge_speed(m.initial_state()))
 
 
-def _lookaheads(spec, loop):
-    """[(parameter name, look-ahead m, speed for check_platoon)] a vessel can steer with."""
-    g = spec.guidance_params
+def _lookahead_loops(spec, design):
+    """[(parameter name, LookaheadLoop)] of every look-ahead a vessel can steer with, as its
+    node checks them (string_stability.los_loop, follower_loops)."""
+    from ship_guidance.node_defaults import FOLLOWER_DEFAULTS, GUIDANCE_DEFAULTS
+    from ship_guidance.string_stability import follower_loops, los_loop
+    g, ns = spec.guidance_params, spec.namespace
+    z, w, u = design.zeta, design.omega_n, design.speed
     if spec.predecessor is None:
         law = g.get('law', GUIDANCE_DEFAULTS['law'])
         if law not in ('los', 'ilos'):
@@ -295,23 +285,18 @@ def _lookaheads(spec, loop):
             d = float(g['lookahead_ship_lengths']) * float(g['ship_length_m'])
         else:
             name, d = 'lookahead_m', float(g.get('lookahead_m', GUIDANCE_DEFAULTS['lookahead_m']))
-        u = loop.speed
-        if law == 'ilos':   # (U + 4 zeta^2 sigma) / (2 zeta omega_n), ship_guidance.los
-            u += 4.0 * loop.zeta ** 2 * float(g.get('integral_gain',
-                                                      GUIDANCE_DEFAULTS['integral_gain']))
-        return [(name, d, u)]
-    # As the follower node checks itself (ship_guidance.follower): with integral action its
-    # look-ahead must clear ILOS's limit, the LOS one at U + 4 zeta^2 sigma; the fallback
-    # (lookahead_m) is plain LOS.
-    u_follow = loop.speed + 4.0 * loop.zeta ** 2 * float(g.get('integral_gain', 0.0))
-    return [('min_lookahead_m', float(g.get('min_lookahead_m',
-                                            FOLLOWER_DEFAULTS['min_lookahead_m'])), u_follow),
-            ('lookahead_m', float(g.get('lookahead_m', FOLLOWER_DEFAULTS['lookahead_m'])),
-             loop.speed)]
+        sigma = (float(g.get('integral_gain', GUIDANCE_DEFAULTS['integral_gain']))
+                 if law == 'ilos' else 0.0)
+        return [(name, los_loop(z, w, u, d, sigma, ns))]
+    f = {**FOLLOWER_DEFAULTS, **g}
+    loops = follower_loops(z, w, u, float(f['min_lookahead_m']), float(f['lookahead_m']),
+                           float(f['integral_gain']), names=(ns, ns))
+    return list(zip(('min_lookahead_m', 'lookahead_m'), loops))
 
 
 def follow_lookahead(spec):
     """The look-ahead a follower steers with at its set gap: clip(spacing, min, max) (m)."""
+    from ship_guidance.node_defaults import FOLLOWER_DEFAULTS
     g = spec.guidance_params
     d = max(spec.spacing, float(g.get('min_lookahead_m', FOLLOWER_DEFAULTS['min_lookahead_m'])))
     cap = float(g.get('max_lookahead_m', FOLLOWER_DEFAULTS['max_lookahead_m']))
@@ -323,7 +308,7 @@ def check_stability(scenario):
     spacings that amplify errors down the string. Fills ``platoon.loops`` and
     ``platoon.warnings``; returns the warnings. ScenarioError names the vessel and the key."""
     from ship_guidance.follower import no_amplification_spacing
-    from ship_guidance.string_stability import VesselLoop, check_platoon
+    from ship_guidance.string_stability import check_platoon
     platoon = scenario.platoon
     file = scenario.file
     index = {spec.namespace: i for i, spec in enumerate(scenario.vessels)}
@@ -332,39 +317,38 @@ def check_stability(scenario):
         where = f'{file}: platoon.vessels[{index[spec.namespace]}] ({spec.namespace}).'
         try:
             zeta, omega_n, source = autopilot_design(spec.model, spec.autopilot_params)
-            loop = Loop(zeta, omega_n, vessel_speed(spec), source)
-            checks = _lookaheads(spec, loop)
+            design = SteeringDesign(zeta, omega_n, vessel_speed(spec), source)
+            checks = _lookahead_loops(spec, design)
         except (ValueError, KeyError, OSError) as exc:
             raise ScenarioError(f'{where}autopilot: cannot tell the steering design: '
                                 f'{exc}') from None
-        loops[spec.namespace] = loop
-        for key, d, u in checks:
-            entries.append((spec, key, VesselLoop(zeta, omega_n, d, u, spec.namespace)))
+        loops[spec.namespace] = design
+        entries += [(spec, key, loop) for key, loop in checks]
     platoon.loops = loops
     results = check_platoon([e[2] for e in entries], margin=platoon.stability_margin)
     for (spec, key, _), res in zip(entries, results):
         unchecked = platoon.allow_unstable or spec.guidance_params.get('allow_unstable')
         if not res.ok and not unchecked:
-            loop = loops[spec.namespace]
+            design = loops[spec.namespace]
             raise ScenarioError(
                 f'{file}: platoon.vessels[{index[spec.namespace]}] ({spec.namespace}).guidance.'
                 f'{key}: look-ahead {res.lookahead:.1f} m is not above {platoon.stability_margin:g}'
                 f' x the stability limit {res.critical:.1f} m (ratio {res.ratio:.2f}; zeta '
-                f'{loop.zeta:.3g}, omega_n {loop.omega_n:.4g} rad/s from the {loop.source}, U '
-                f'{loop.speed:.4g} m/s; seed 001 eqs. 34, 41). Increase it or set '
-                'platoon.allow_unstable: true')
+                f'{design.zeta:.3g}, omega_n {design.omega_n:.4g} rad/s from the '
+                f'{design.source}, U {design.speed:.4g} m/s; Angelopoulos 2011 eqs. 34, 41). '
+                'Increase it or set platoon.allow_unstable: true')
     warnings = []
     for spec in scenario.vessels:
         if spec.predecessor is None:
             continue
-        loop = loops[spec.namespace]
-        need = platoon.stability_margin * no_amplification_spacing(loop.zeta, loop.omega_n,
-                                                                   loop.speed)
+        design = loops[spec.namespace]
+        d_need = platoon.stability_margin * no_amplification_spacing(design.zeta, design.omega_n,
+                                                                     design.speed)
         d = follow_lookahead(spec)
-        if d < need:
+        if d < d_need:
             warnings.append(
                 f'{spec.namespace}: look-ahead at the set gap {d:.1f} m is below '
-                f'{platoon.stability_margin:g} x 4 zeta U / omega_n = {need:.1f} m: cross-track '
+                f'{platoon.stability_margin:g} x 4 zeta U / omega_n = {d_need:.1f} m: cross-track '
                 f'errors can grow from {spec.predecessor} to {spec.namespace} before they decay')
     platoon.warnings = warnings
     return warnings
@@ -396,15 +380,16 @@ def follower_parameters(scenario, spec):
               'predecessor_wait_s': float(platoon.wait_s(spec.namespace))}
     if platoon.allow_unstable:
         params['allow_unstable'] = True
-    loop = platoon.loops.get(spec.namespace)
-    if loop is None:   # check_stability has not run (a caller that skipped check_scenario)
+    design = platoon.loops.get(spec.namespace)
+    if design is None:   # check_stability has not run (a caller that skipped check_scenario)
         try:
-            loop = Loop(*autopilot_design(spec.model, spec.autopilot_params)[:2],
-                        vessel_speed(spec), '')
+            design = SteeringDesign(*autopilot_design(spec.model, spec.autopilot_params)[:2],
+                                  vessel_speed(spec), '')
         except (ValueError, KeyError, OSError):
-            loop = None   # the node then runs without its own check
+            design = None   # the node then runs without its own check
     keys = ('autopilot_zeta', 'autopilot_omega_n', 'speed')
-    if loop is not None and not any(k in spec.guidance_params for k in keys):
-        params.update(autopilot_zeta=loop.zeta, autopilot_omega_n=loop.omega_n, speed=loop.speed)
+    if design is not None and not any(k in spec.guidance_params for k in keys):
+        params.update(autopilot_zeta=design.zeta, autopilot_omega_n=design.omega_n,
+                      speed=design.speed)
     params.update(spec.guidance_params)
     return params

@@ -17,6 +17,8 @@ matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402 (after selecting the backend)
 import numpy as np  # noqa: E402
 
+from ship_sim.frames import wrap_angle  # noqa: E402
+
 DPI = 110
 
 
@@ -119,7 +121,7 @@ def plot_heading(vessels, path):
             if len(c.t):
                 # unwrap the command onto the same branch as the yaw for the plot
                 ref = np.interp(c.t, v.t, yaw)
-                cmd = ref + (np.asarray(c.v) - ref + np.pi) % (2 * np.pi) - np.pi
+                cmd = ref + wrap_angle(np.asarray(c.v) - ref)
                 ax.plot(c.t - t0, np.degrees(cmd), '--', color='k', lw=1.0, label='command')
         ax.set_ylabel('yaw (deg)')
         ax.grid(True, alpha=0.3)

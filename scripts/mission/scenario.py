@@ -30,7 +30,7 @@ every parameter a node declares can be set from a scenario; the launcher adds th
 the graph together (model, start pose, stepping mode, pairing, rates). The launcher's check
 (mission.launcher.check_scenario) refuses keys a node does not declare, naming the closest one.
 Errors name the file and the key. The file must be a regular UTF-8 file; numbers may be written
-``1e9`` (read as YAML 1.2 does, ship_planner.route_yaml.Loader, as route files are).
+``1e9`` (read as YAML 1.2 does, ship_planner.yaml_route_reader.Loader, as route files are).
 
 A platoon (a string of vessels, each steering at its predecessor) is written as a `platoon:`
 section instead of `vessels:`; its schema and checks are in mission.platoon. Its vessels come out
@@ -43,8 +43,13 @@ from pathlib import Path
 
 import yaml
 
-from ship_planner.route_data import MAX_COORDINATE_M, TextFileError, read_text_file
+from mission.fields import ScenarioError, need, number, unknown
+from mission.platoon import parse_platoon
+from mission.vessel_spec import parse_vessel
+
+from ship_planner.route_data import TextFileError, read_text_file
 from ship_planner.yaml_route_reader import Loader
+from ship_sim.frames import psi_to_yaw
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s'}
@@ -55,27 +60,6 @@ STEPPING = ('lockstep', 'realtime')
 #: bound (ros_ws/src/ship_sim/ship_sim/vessel_node.py, 10**12), so the launcher's check refuses
 #: what the node would refuse after the graph has started.
 MAX_STEPS = 10**12
-
-
-class ScenarioError(ValueError):
-    """A scenario file that cannot run; the message names the file and the key."""
-
-
-@dataclass
-class VesselSpec:
-    namespace: str
-    model: str
-    route_file: Path
-    start: dict
-    speed: float = None
-    current: dict = field(default_factory=dict)
-    vessel_params: dict = field(default_factory=dict)
-    guidance_params: dict = field(default_factory=dict)
-    autopilot_params: dict = field(default_factory=dict)
-    # Platoon followers only (mission.platoon): the predecessor's namespace and the set gap (m).
-    # A follower runs follower_node (its `guidance` block holds follower_node parameters).
-    predecessor: str = None
-    spacing: float = None
 
 
 @dataclass
@@ -93,34 +77,16 @@ class Scenario:
     lockstep_timeout_s: float
     vessels: list
     platoon: object = None   # mission.platoon.Platoon for a `platoon:` scenario
-
-
-def _need(cond, file, key, what):
-    if not cond:
-        raise ScenarioError(f'{file}: {key}: {what}')
-
-
-def _number(d, key, file, default, lo=None, hi=None, where=''):
-    v = d.get(key, default)
-    name = f'{where}{key}'
-    _need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v), file,
-          name, f'must be a number, got {v!r}')
-    _need(lo is None or v >= lo, file, name, f'must be >= {lo}, got {v}')
-    _need(hi is None or v <= hi, file, name, f'must be <= {hi}, got {v}')
-    return float(v)
-
-
-def _unknown(d, allowed, file, where):
-    extra = sorted(set(d) - allowed)
-    _need(not extra, file, where + extra[0] if extra else where,
-          f"unknown key; allowed: {', '.join(sorted(allowed))}")
+    #: route file -> its parsed RoutePlan, filled once by mission.launcher.check_scenario and
+    #: passed on to the nodes' parameters (a route file is parsed once per run by the launcher)
+    routes: dict = field(default_factory=dict)
 
 
 def check_name(name, file):
     """A scenario name makes the run folder's name: non-empty text that is a single path
     component (no '/', '\\', NUL, not '.' or '..', no '..' in it), so a run stays in --runs."""
-    _need(isinstance(name, str) and name.strip(), file, 'name', f'a non-empty string, got {name!r}')
-    _need(not any(c in name for c in '/\\\0') and '..' not in name and name != '.', file, 'name',
+    need(isinstance(name, str) and name.strip(), file, 'name', f'a non-empty string, got {name!r}')
+    need(not any(c in name for c in '/\\\0') and '..' not in name and name != '.', file, 'name',
           f"a plain name without '/', '\\' or '..' (it names the run folder), got {name!r}")
 
 
@@ -134,68 +100,42 @@ def load_scenario(path):
         raise ScenarioError(f'{where}: cannot read: {exc.detail}') from None
     except yaml.YAMLError as exc:
         raise ScenarioError(f'{path}: not valid YAML: ' + ' '.join(str(exc).split())) from None
-    _need(isinstance(data, dict), path, '(top)', 'must be a mapping')
-    _unknown(data, TOP_KEYS, path, '')
+    need(isinstance(data, dict), path, '(top)', 'must be a mapping')
+    unknown(data, TOP_KEYS, path, '')
     check_name(data.get('name'), path)
     stepping = data.get('stepping', 'lockstep')
-    _need(stepping in STEPPING, path, 'stepping', f"one of {', '.join(STEPPING)}, got {stepping!r}")
-    lockstep_timeout = _number(data, 'lockstep_timeout_s', path, 10.0, lo=0.1)
-    _need(not ('vessels' in data and 'platoon' in data), path, 'platoon',
+    need(stepping in STEPPING, path, 'stepping', f"one of {', '.join(STEPPING)}, got {stepping!r}")
+    lockstep_timeout = number(data, 'lockstep_timeout_s', path, 10.0, lo=0.1)
+    need(not ('vessels' in data and 'platoon' in data), path, 'platoon',
           "give either 'vessels' (independent vessels) or 'platoon' (a string), not both")
     platoon = None
     if 'platoon' in data:
-        from mission.platoon import parse_platoon
         platoon, specs = parse_platoon(data['platoon'], path, lockstep_timeout)
     else:
         vessels = data.get('vessels')
-        _need(isinstance(vessels, dict) and vessels, path, 'vessels',
+        need(isinstance(vessels, dict) and vessels, path, 'vessels',
               'a mapping namespace -> vessel')
         specs = []
         for ns, v in vessels.items():
             where = f'vessels.{ns}.'
-            _need(isinstance(ns, str) and ns.isidentifier(), path, f'vessels.{ns}',
+            need(isinstance(ns, str) and ns.isidentifier(), path, f'vessels.{ns}',
                   'namespace must be a plain name like vessel_0')
-            _need(isinstance(v, dict), path, where[:-1], 'must be a mapping')
-            _unknown(v, VESSEL_KEYS, path, where)
-            _need(isinstance(v.get('model'), str), path, where + 'model', 'a model name')
-            _need(isinstance(v.get('route'), str), path, where + 'route', 'a route file')
+            need(isinstance(v, dict), path, where[:-1], 'must be a mapping')
+            unknown(v, VESSEL_KEYS, path, where)
+            need(isinstance(v.get('model'), str), path, where + 'model', 'a model name')
+            need(isinstance(v.get('route'), str), path, where + 'route', 'a route file')
             route = (path.parent / v['route']).resolve()
-            _need(route.exists(), path, where + 'route', f'{route} does not exist')
+            need(route.exists(), path, where + 'route', f'{route} does not exist')
             specs.append(parse_vessel(ns, v, route, path, where))
     return Scenario(
         file=path, name=data['name'], source=str(data.get('source', '')),
         description=str(data.get('description', '')),
-        duration_s=_number(data, 'duration_s', path, 1000.0, lo=0.1),
-        stepping=stepping, speedup=_number(data, 'speedup', path, 1.0, lo=0.01, hi=1e4),
-        dt_s=_number(data, 'dt_s', path, 0.1, lo=1e-3, hi=10.0),
-        settle_s=_number(data, 'settle_s', path, 0.0, lo=0.0),
+        duration_s=number(data, 'duration_s', path, 1000.0, lo=0.1),
+        stepping=stepping, speedup=number(data, 'speedup', path, 1.0, lo=0.01, hi=1e4),
+        dt_s=number(data, 'dt_s', path, 0.1, lo=1e-3, hi=10.0),
+        settle_s=number(data, 'settle_s', path, 0.0, lo=0.0),
         record=bool(data.get('record', True)),
         lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon)
-
-
-def parse_vessel(ns, v, route, path, where):
-    """VesselSpec of one checked vessel mapping ``v`` (its keys already known to be allowed) with
-    the resolved ``route`` file; ``where`` prefixes the keys in error messages."""
-    _need(isinstance(v.get('model'), str), path, where + 'model', 'a model name')
-    start = v.get('start', {}) or {}
-    _need(isinstance(start, dict), path, where + 'start', 'a mapping')
-    absolute = {'x_m', 'y_m', 'yaw_deg'}
-    relative = {'along_m', 'cross_m', 'heading_deg'}
-    _need(set(start) <= absolute | relative and not (set(start) & absolute
-                                                     and set(start) & relative),
-          path, where + 'start', f'either {sorted(absolute)} or {sorted(relative)}')
-    for k in start:   # positions as physical as route points (ship_planner.route_plan);
-        # along_m is checked against its route's length (mission.launcher.check_scenario)
-        bound = MAX_COORDINATE_M if k in ('x_m', 'y_m', 'cross_m') else None
-        _number(start, k, path, 0.0, lo=bound and -bound, hi=bound, where=where + 'start.')
-    speed = v.get('speed_mps')
-    if speed is not None:
-        speed = _number(v, 'speed_mps', path, None, lo=0.0, hi=50.0, where=where)
-    for key in ('current', 'vessel', 'guidance', 'autopilot'):
-        _need(isinstance(v.get(key, {}) or {}, dict), path, where + key, 'a mapping')
-    return VesselSpec(ns, v['model'], route, dict(start), speed,
-                      dict(v.get('current') or {}), dict(v.get('vessel') or {}),
-                      dict(v.get('guidance') or {}), dict(v.get('autopilot') or {}))
 
 
 def start_pose(spec, route):
@@ -209,4 +149,4 @@ def start_pose(spec, route):
     north += cross * math.cos(alpha + math.pi / 2)
     east += cross * math.sin(alpha + math.pi / 2)
     psi = alpha + math.radians(s.get('heading_deg', 0.0))
-    return float(east), float(north), (math.pi / 2 - psi + math.pi) % (2 * math.pi) - math.pi
+    return float(east), float(north), float(psi_to_yaw(psi))

@@ -1,7 +1,8 @@
 """Fixtures of the integration tests (real node processes; see harness.py)."""
 import pytest
 
-from harness import DomainLease, RosGraph
+from harness import RosGraph
+from mission.domain import DomainLease
 from mission.processes import install_env
 
 

@@ -28,7 +28,6 @@ Usage (fixture ``ros_graph`` from conftest.py)::
         assert tn.wait_for_message(odom, timeout=10.0) is not None
         assert ros_graph.stop(sim) == 0
 """
-import fcntl
 import os
 import re
 import signal
@@ -45,8 +44,6 @@ from ship_sim.ros.qos import STREAM
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 INSTALL = REPO_ROOT / 'ros_ws' / 'install'
-DOMAIN_IDS = range(1, 102)   # Fast DDS ports stay below Linux's ephemeral range up to 101
-LOCK_DIR = Path('/tmp/shipnav_ros_domain_locks')
 
 # Teardown timeouts (s): SIGINT (normal end), then SIGTERM, then SIGKILL.
 SIGINT_TIMEOUT = 5.0
@@ -61,29 +58,8 @@ SIGTERM_TIMEOUT = 3.0
 
 # -- domain ids ---------------------------------------------------------------------------------
 
-class DomainLease:
-    """An exclusive ROS_DOMAIN_ID for one test (flock on a file per id; released on close)."""
-
-    def __init__(self):
-        LOCK_DIR.mkdir(parents=True, exist_ok=True)
-        ids = list(DOMAIN_IDS)
-        start = (os.getpid() * 7) % len(ids)
-        for i in range(len(ids)):
-            did = ids[(start + i) % len(ids)]
-            fd = os.open(LOCK_DIR / f'{did}.lock', os.O_CREAT | os.O_RDWR, 0o666)
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError:
-                os.close(fd)
-                continue
-            self.domain_id, self._fd = did, fd
-            return
-        raise RuntimeError(f'no free ROS_DOMAIN_ID in {DOMAIN_IDS}')
-
-    def close(self):
-        if self._fd is not None:
-            os.close(self._fd)
-            self._fd = None
+# DomainLease (an exclusive ROS_DOMAIN_ID per test) is mission.domain's, shared with the
+# launcher, the seed-scenario batch and the benchmarks.
 
 
 # -- node processes ------------------------------------------------------------------------------

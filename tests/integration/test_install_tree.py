@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from catkin_pkg.package import parse_package
 
-from harness import DomainLease
+from mission.domain import DomainLease
 
 REPO = Path(__file__).resolve().parents[2]
 SRC = REPO / 'ros_ws' / 'src'

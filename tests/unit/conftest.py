@@ -7,7 +7,7 @@ import pytest
 @functools.cache
 def _domain_id():
     # One ROS_DOMAIN_ID of the shared lease scheme for this pytest process (held until it ends).
-    from mission.launcher import lease_domain_id
+    from mission.domain import lease_domain_id
     return lease_domain_id()
 
 

@@ -109,7 +109,7 @@ def test_scaling_from_pid_hand_values():
 K_PLANT, T_PLANT = 0.185, 107.3
 A, B = nomoto_ab(K_PLANT, T_PLANT)
 WN, ZETA = 0.05, 0.8
-K1, K2 = pd_gains(A, B, WN, ZETA)            # 1.45, 40.99
+K1, K2 = pd_gains(A, B, omega_n=WN, zeta=ZETA)            # 1.45, 40.99
 GAINS = scaling_from_pid(K1, K2, K1 * WN / 10, 30 * DEG)
 CHANGES = np.array([30.0, 45.0, 60.0, 90.0]) * DEG
 OFFSET = 3 * DEG                              # constant rudder offset (yaw moment) disturbance

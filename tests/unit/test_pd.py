@@ -41,13 +41,13 @@ def closed_loop(ctrl, a, b, psi_c, t_end, dt, psi0=0.0, disturbance=0.0):
 # -- gains ------------------------------------------------------------------------------------
 def test_pd_gains_hand_values():
     # a = -0.1, b = -0.02, wn = 0.2, zeta = 0.5: k1 = 0.04/0.02, k2 = -(-0.1 + 0.2)/(-0.02)
-    k1, k2 = pd_gains(-0.1, -0.02, 0.2, 0.5)
+    k1, k2 = pd_gains(-0.1, -0.02, omega_n=0.2, zeta=0.5)
     assert k1 == pytest.approx(2.0, rel=1e-12)
     assert k2 == pytest.approx(5.0, rel=1e-12)
     # Nomoto K = 0.185 1/s, T = 107.3 s (Lee 2004 Table 4.1, first order): a = -1/T, b = -K/T.
     a, b = nomoto_ab(0.185, 107.3)
     assert (a, b) == pytest.approx((-1 / 107.3, -0.185 / 107.3))
-    k1, k2 = pd_gains(a, b, 0.05, 0.8)
+    k1, k2 = pd_gains(a, b, omega_n=0.05, zeta=0.8)
     assert k1 == pytest.approx(0.05 ** 2 * 107.3 / 0.185, rel=1e-12)
     assert k2 == pytest.approx((2 * 0.8 * 0.05 * 107.3 - 1.0) / 0.185, rel=1e-12)
 
@@ -55,7 +55,7 @@ def test_pd_gains_hand_values():
 def test_pd_gains_reproduce_simakis_choice():
     # Simakis 1992 Ch. III: NPS AUV II, a' = -1.468, b' = -2.859 (eq. 2.11, time in L/U),
     # wn = 3.0, zeta = 0.8 give gains "about 3.2 and 1.2".
-    k1, k2 = pd_gains(-1.468, -2.859, 3.0, 0.8)
+    k1, k2 = pd_gains(-1.468, -2.859, omega_n=3.0, zeta=0.8)
     assert k1 == pytest.approx(3.2, abs=0.1)
     assert k2 == pytest.approx(1.2, abs=0.1)
 
@@ -65,7 +65,8 @@ def test_pd_gains_reproduce_simakis_choice():
                                   (-0.1, -0.02, float('inf'), 0.5)])
 def test_pd_gains_refuse_bad_arguments(args):
     with pytest.raises(ValueError):
-        pd_gains(*args)
+        a, b, omega_n, zeta = args
+        pd_gains(a, b, omega_n=omega_n, zeta=zeta)
 
 
 # -- closed loop has the designed poles -------------------------------------------------------

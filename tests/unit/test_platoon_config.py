@@ -27,11 +27,11 @@ import yaml
 
 from mission import metrics
 from mission.launcher import check_scenario, node_parameters, vessel_nodes
-from mission.platoon import (FOLLOWER_DEFAULTS, GUIDANCE_DEFAULTS, autopilot_design,
-                             follow_lookahead)
+from mission.platoon import autopilot_design, follow_lookahead
 from mission.scenario import ScenarioError, load_scenario
 from ship_autopilot.gains import nomoto_gains
 from ship_autopilot.pd import pd_gains
+from ship_guidance.node_defaults import FOLLOWER_DEFAULTS, GUIDANCE_DEFAULTS
 from ship_sim.models import make_model
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -324,7 +324,7 @@ def test_amplification_warning_names_the_vessel(tmp_path):
 
 def test_pd_gains_are_read_back_as_their_design():
     nm = nomoto_gains('mariner')
-    k1, k2 = pd_gains(nm['a'], nm['b'], 0.1, 0.9)
+    k1, k2 = pd_gains(nm['a'], nm['b'], omega_n=0.1, zeta=0.9)
     zeta, omega_n, source = autopilot_design('mariner', {'controller': 'pd', 'k1': k1, 'k2': k2})
     assert (zeta, omega_n, source) == (pytest.approx(0.9), pytest.approx(0.1), 'k1, k2')
     assert autopilot_design('tanker', {'controller': 'fuzzy_pid'})[:2] == (

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-import platoon_time_domain as ptd
+from ship_autopilot import platoon_simulation as ptd
 from ship_sim.models import make_model
 
 

@@ -12,7 +12,10 @@ import numpy as np
 import pytest
 
 from ship_guidance import string_stability as ss
-from ship_guidance.los import critical_lookahead, linear_loop_matrix
+from ship_guidance import string_stability_table1 as table1_scan
+from ship_guidance import sway_yaw_lookahead as sy
+from ship_guidance.heading_loop import pd_gains
+from ship_guidance.los import critical_lookahead, critical_lookahead_nondim, linear_loop_matrix
 
 # provenance: tests/data/README.md
 TABLE = Path(__file__).resolve().parents[1] / 'data' / 'string_stability_table1.csv'
@@ -26,7 +29,7 @@ def table():
 @pytest.fixture(scope='module')
 def minima(table):
     """Exact grid minima of Angelopoulos's scan (0.05:0.01:2) for every printed row."""
-    return ss.grid_minima(table['zeta'], table['wn1'], table['wn2'])
+    return table1_scan.grid_minima(table['zeta'], table['wn1'], table['wn2'])
 
 
 def _on_two_decimal_grid(d):
@@ -39,7 +42,7 @@ def _on_two_decimal_grid(d):
 @pytest.mark.parametrize('zeta, omega_n', [(0.4, 1.0), (0.8, 3.0), (1.2, 4.5), (0.7, 0.35)])
 def test_eigenvalues_at_the_limit(zeta, omega_n):
     d_star = 1.0 / (2.0 * zeta * omega_n)
-    assert ss.nomoto_critical_lookahead(zeta, omega_n) == pytest.approx(d_star, rel=1e-15)
+    assert critical_lookahead_nondim(zeta, omega_n) == pytest.approx(d_star, rel=1e-15)
     lam = np.sort_complex(np.linalg.eigvals(ss.single_vessel_matrix(zeta, omega_n, d_star)))
     want = np.sort_complex(np.array([1j * omega_n, -1j * omega_n, -2.0 * zeta * omega_n]))
     np.testing.assert_allclose(lam, want, atol=1e-9 * omega_n)
@@ -54,8 +57,14 @@ def test_eigenvalues_at_the_limit(zeta, omega_n):
 
 def test_dimensional_form_agrees_with_los_module():
     zeta, omega_n, speed, d = 0.8, 0.12, 6.0, 40.0     # rad/s, m/s, m
-    assert ss.nomoto_critical_lookahead(zeta, omega_n, speed) == pytest.approx(
-        critical_lookahead(zeta, omega_n, speed), rel=1e-14)
+    # the dimensional limit is the theses' d* (ship lengths at omega_n' = omega_n L / U) times L
+    length = 160.93
+    d_star = critical_lookahead(zeta, omega_n, speed)
+    assert d_star == pytest.approx(
+        length * critical_lookahead_nondim(zeta, omega_n * length / speed), rel=1e-14)
+    # and the LOS loop is marginal there: its slowest eigenvalue sits on the imaginary axis
+    re = np.linalg.eigvals(linear_loop_matrix(zeta, omega_n, speed, d_star)).real.max()
+    assert abs(re) < 1e-9 * omega_n
     np.testing.assert_allclose(ss.single_vessel_matrix(zeta, omega_n, d, speed),
                                linear_loop_matrix(zeta, omega_n, speed, d))
 
@@ -91,7 +100,7 @@ def test_two_vessel_characteristic_polynomial_factorises():
 
 def test_string_stable_iff_every_vessel_is():
     w, zeta = [2.0, 2.5, 1.5], [0.8, 0.8, 0.8]
-    crit = ss.nomoto_critical_lookahead(zeta, w)
+    crit = critical_lookahead_nondim(zeta, w)
     ok = ss.string_matrix(zeta, w, crit * 1.05)
     assert np.linalg.eigvals(ok).real.max() < 0.0
     bad = ss.string_matrix(zeta, w, crit * np.array([1.05, 0.95, 1.05]))   # middle vessel
@@ -102,7 +111,7 @@ def test_string_stable_iff_every_vessel_is():
 
 def test_critical_lookaheads_of_every_row(table):
     for col, w in (('d1_star', table['wn1']), ('d2_star', table['wn2'])):
-        ours = ss.nomoto_critical_lookahead(table['zeta'], w)
+        ours = critical_lookahead_nondim(table['zeta'], w)
         np.testing.assert_allclose(ours, table[col], atol=5.01e-7)   # printed to 6 decimals
 
 
@@ -159,17 +168,18 @@ def test_rows_with_a_limit_on_the_grid_follow_the_rounding_noise_rule(table):
     assert np.all(np.isclose(table['d2_sim'][only2], d2s[only2])
                   | np.isclose(table['d2_sim'][only2], d2s[only2] + 0.01))
     # and the module's classification says the same for every row
-    cls, lo1, hi1, lo2, hi2 = ss.classify_table1(table['zeta'], table['wn1'], table['wn2'])
-    np.testing.assert_array_equal(cls == ss.ROW_TIE_D1, t1)
-    np.testing.assert_array_equal(cls == ss.ROW_TIE_D2, only2)
+    cls, lo1, hi1, lo2, hi2 = table1_scan.classify_table1(table['zeta'], table['wn1'],
+                                                          table['wn2'])
+    np.testing.assert_array_equal(cls == table1_scan.ROW_TIE_D1, t1)
+    np.testing.assert_array_equal(cls == table1_scan.ROW_TIE_D2, only2)
     assert np.all((table['d1_sim'] >= lo1 - 1e-9) & (table['d1_sim'] <= hi1 + 1e-9)
                   & (table['d2_sim'] >= lo2 - 1e-9) & (table['d2_sim'] <= hi2 + 1e-9))
 
 
 def test_missing_rows_are_those_without_a_stable_grid_point(table):
-    z, w1, w2 = ss.table1_parameters()
+    z, w1, w2 = table1_scan.table1_parameters()
     assert z.size == 540
-    d1, _ = ss.grid_minima(z, w1, w2)
+    d1, _ = table1_scan.grid_minima(z, w1, w2)
     printed = {(round(a, 6), round(b, 6), round(c, 6))
                for a, b, c in zip(table['zeta'], table['wn1'], table['wn2'])}
     absent = {(round(a, 6), round(b, 6), round(c, 6)) for a, b, c in zip(z, w1, w2)} - printed
@@ -181,8 +191,8 @@ def test_missing_rows_are_those_without_a_stable_grid_point(table):
 
 def test_block_eigenvalue_scan_equals_routh_scan(table):
     z, w1, w2 = table['zeta'], table['wn1'], table['wn2']
-    r1, r2 = ss.grid_minima(z, w1, w2, method='routh')
-    e1, e2 = ss.grid_minima(z, w1, w2, method='eig')
+    r1, r2 = table1_scan.grid_minima(z, w1, w2, method='routh')
+    e1, e2 = table1_scan.grid_minima(z, w1, w2, method='eig')
     np.testing.assert_array_equal(r1, e1)
     np.testing.assert_array_equal(r2, e2)
 
@@ -190,17 +200,17 @@ def test_block_eigenvalue_scan_equals_routh_scan(table):
 def test_literal_appendix_a_scan_equals_fast_scan_on_a_clean_row():
     """Full 6x6 eigenvalues on the 196 x 196 grid vs the block-structured scan."""
     zeta, w1, w2 = 0.6, 2.3, 1.5 * 2.3
-    d1, d2, v = ss.appendix_a_scan(zeta, w1, w2)
-    f1, f2 = ss.grid_minima(zeta, w1, w2)
+    d1, d2, v = table1_scan.appendix_a_scan(zeta, w1, w2)
+    f1, f2 = table1_scan.grid_minima(zeta, w1, w2)
     assert (d1, d2) == pytest.approx((f1[0], f2[0]), abs=1e-12)
     assert v.shape == (196, 196)
 
 
 def test_matlab_colon_grid():
-    g = ss.matlab_colon(0.05, 0.01, 2.0)
+    g = table1_scan.matlab_colon(0.05, 0.01, 2.0)
     assert g.size == 196 and g[0] == 0.05 and g[-1] == 2.0
     np.testing.assert_allclose(g, 0.05 + 0.01 * np.arange(196), atol=1e-15)
-    assert ss.matlab_colon(1.0, 0.1, 4.5).size == 36
+    assert table1_scan.matlab_colon(1.0, 0.1, 4.5).size == 36
 
 
 # ------------------------------------------------------------------ platoon validation
@@ -208,8 +218,8 @@ def test_matlab_colon_grid():
 def test_check_platoon_flags_vessels_below_their_limit():
     # SI: U = 5 m/s, omega_n = 0.1 rad/s, zeta = 0.8 -> limit 31.25 m
     vessels = [dict(zeta=0.8, omega_n=0.1, lookahead=60.0, speed=5.0, name='leader'),
-               ss.VesselLoop(0.8, 0.1, 30.0, 5.0, 'f1'),
-               ss.VesselLoop(1.0, 0.1, 30.0, 5.0, 'f2')]        # limit 25 m
+               ss.LookaheadLoop(0.8, 0.1, 30.0, 5.0, 'f1'),
+               ss.LookaheadLoop(1.0, 0.1, 30.0, 5.0, 'f2')]        # limit 25 m
     checks = ss.check_platoon(vessels)
     assert [c.ok for c in checks] == [True, False, True]
     assert checks[1].critical == pytest.approx(31.25)
@@ -232,47 +242,47 @@ def test_check_platoon_flags_vessels_below_their_limit():
 
 def test_nps_auv2_gains_match_the_document():
     """Simakis 1992 Sec. III.B: at omega_n = 3, zeta = 0.8 the gains are 'about 3.2 and 1.2'."""
-    k1, k2 = ss.pd_gains(*ss.nps_auv2_nomoto(), 0.8, 3.0)
+    k1, k2 = pd_gains(*sy.nps_auv2_nomoto(), zeta=0.8, omega_n=3.0)
     assert k1 == pytest.approx(3.2, abs=0.1)
     assert k2 == pytest.approx(1.2, abs=0.1)
 
 
 def test_sway_yaw_characteristic_terms_match_the_matrix():
-    plant = ss.nps_auv2_plant()
-    k1, k2 = ss.pd_gains(*ss.nps_auv2_nomoto(plant), 0.8, 3.0)
-    b, c1, c2, d1, d2, e = ss.sway_yaw_char_terms(plant, k1, k2)
+    plant = sy.nps_auv2_plant()
+    k1, k2 = pd_gains(*sy.nps_auv2_nomoto(plant), zeta=0.8, omega_n=3.0)
+    b, c1, c2, d1, d2, e = sy.sway_yaw_char_terms(plant, k1, k2)
     for d in (0.2, 0.7):
-        np.testing.assert_allclose(np.poly(ss.sway_yaw_matrix(plant, k1, k2, d)),
+        np.testing.assert_allclose(np.poly(sy.sway_yaw_matrix(plant, k1, k2, d)),
                                    [1.0, b, c1 + c2 / d, d1 + d2 / d, e / d], rtol=1e-9, atol=1e-12)
 
 
 def test_nps_auv2_exact_critical_lookahead_vs_eigenvalue_scan():
-    plant = ss.nps_auv2_plant()
-    k1, k2 = ss.pd_gains(*ss.nps_auv2_nomoto(plant), 0.8, 3.0)
-    d_routh = float(ss.nps_auv2_critical_lookahead(0.8, 3.0))
-    d_eig = ss.critical_lookahead_by_eigenvalues(plant, k1, k2, 0.05, 2.0)
+    plant = sy.nps_auv2_plant()
+    k1, k2 = pd_gains(*sy.nps_auv2_nomoto(plant), zeta=0.8, omega_n=3.0)
+    d_routh = float(sy.nps_auv2_critical_lookahead(0.8, 3.0))
+    d_eig = sy.critical_lookahead_by_eigenvalues(plant, k1, k2, 0.05, 2.0)
     assert d_routh == pytest.approx(d_eig, rel=1e-8)
     # stable above, unstable below
     for f, sign in ((1.001, -1), (0.999, 1)):
-        re = np.linalg.eigvals(ss.sway_yaw_matrix(plant, k1, k2, f * d_routh)).real.max()
+        re = np.linalg.eigvals(sy.sway_yaw_matrix(plant, k1, k2, f * d_routh)).real.max()
         assert np.sign(re) == sign
 
 
 def test_exact_limit_reduces_to_nomoto_limit_without_sway_coupling():
     """No sway in y' and no sway/yaw coupling: the quartic is the cubic times (s - a11)."""
-    plant = ss.SwayYawPlant(a11=-1.5, a12=0.0, a21=0.0, a22=-1.2, b1=0.0, b2=-2.5)
+    plant = sy.SwayYawPlant(a11=-1.5, a12=0.0, a21=0.0, a22=-1.2, b1=0.0, b2=-2.5)
     for zeta, w in ((0.4, 1.0), (0.8, 3.0), (1.2, 2.0)):
-        k1, k2 = ss.pd_gains(plant.a22, plant.b2, zeta, w)
-        assert float(ss.sway_yaw_critical_lookahead(plant, k1, k2)) == pytest.approx(
+        k1, k2 = pd_gains(plant.a22, plant.b2, zeta=zeta, omega_n=w)
+        assert float(sy.sway_yaw_critical_lookahead(plant, k1, k2)) == pytest.approx(
             1 / (2 * zeta * w), rel=1e-12)
 
 
 def test_exact_limit_vectorises_over_zeta_and_omega():
     w = np.array([1.0, 2.0, 3.0])
     z = np.array([[0.6], [0.8]])
-    grid = ss.nps_auv2_critical_lookahead(z, w)
+    grid = sy.nps_auv2_critical_lookahead(z, w)
     assert grid.shape == (2, 3)
-    assert grid[1, 2] == pytest.approx(float(ss.nps_auv2_critical_lookahead(0.8, 3.0)))
+    assert grid[1, 2] == pytest.approx(float(sy.nps_auv2_critical_lookahead(0.8, 3.0)))
     assert np.all(np.diff(grid, axis=1) < 0)      # more bandwidth, shorter look-ahead (Simakis 1992)
 
 
@@ -281,7 +291,7 @@ def test_sensitivity_zero_coefficients_and_relative_size():
     terms move the limit about 3-4 times more than the yaw terms (Simakis 1992 Sec. III.C)."""
     f = np.array([0.5, 1.0, 1.5])
     for name in ('Yr', 'Nv'):
-        np.testing.assert_allclose(ss.nps_auv2_sensitivity(name, f), 1.0, atol=1e-12)
-    total = {n: abs(np.ptp(ss.nps_auv2_sensitivity(n, f))) for n in ('Yv', 'Yvdot', 'Nr', 'Nrdot')}
+        np.testing.assert_allclose(sy.nps_auv2_sensitivity(name, f), 1.0, atol=1e-12)
+    total = {n: abs(np.ptp(sy.nps_auv2_sensitivity(n, f))) for n in ('Yv', 'Yvdot', 'Nr', 'Nrdot')}
     assert min(total['Yv'], total['Yvdot']) > 2.5 * max(total['Nr'], total['Nrdot'])
-    assert ss.nps_auv2_sensitivity('Yv', [1.0])[0] == pytest.approx(1.0)
+    assert sy.nps_auv2_sensitivity('Yv', [1.0])[0] == pytest.approx(1.0)

@@ -33,8 +33,8 @@ from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from std_msgs.msg import Float64, Float64MultiArray
 
-from ship_autopilot.gains import CONTROLLERS, autopilot_gains, build_autopilot, nomoto_gains
-from ship_autopilot.pd import pd_gains
+from ship_autopilot.gains import (CONTROLLERS, ZETA, autopilot_gains, build_autopilot,
+                                  heading_loop_design)
 from ship_autopilot.steering import HeadingSteering, PolicySteering
 from ship_sim.models import MODEL_NAMES, make_model
 from ship_sim.pacing import SequencePairer
@@ -64,7 +64,7 @@ class AutopilotNode(Node):
                        unit='rad/(rad/s)', read_only=True)
         omega_n = p.declare('omega_n', 0.0, 'redesign PD gains for this natural frequency '
                             '(0: gain table)', lo=0.0, hi=100.0, unit='rad/s', read_only=True)
-        zeta = p.declare('zeta', 0.8, 'damping ratio used with omega_n', lo=0.05, hi=5.0,
+        zeta = p.declare('zeta', ZETA, 'damping ratio used with omega_n', lo=0.05, hi=5.0,
                          read_only=True)
         rmax = p.declare('rudder_max_deg', 0.0, 'rudder angle limit (0: the model\'s)', lo=0.0,
                          hi=90.0, unit='deg', read_only=True)
@@ -128,16 +128,10 @@ class AutopilotNode(Node):
         return LearnedSteering(policy, recovery=law)
 
     def _build_classical(self, kind, model, k1, k2, omega_n, zeta, max_angle, max_rate, shape):
+        if kind == 'pd' and (k1 or k2) and not (k1 and k2):
+            raise ParameterError('k1', k1, 'k1 and k2 both > 0 (or both 0)')
         try:
-            gains = autopilot_gains(model)
-            if kind == 'pd' and (k1 or k2):
-                if not (k1 and k2):
-                    raise ParameterError('k1', k1, 'k1 and k2 both > 0 (or both 0)')
-                gains = {'k1': k1, 'k2': k2}
-            elif kind == 'pd' and omega_n:
-                nm = nomoto_gains(model)
-                g1, g2 = pd_gains(nm['a'], nm['b'], omega_n, zeta)
-                gains = {'k1': g1, 'k2': g2}
+            gains = heading_loop_design(model, kind, k1, k2, omega_n, zeta).gains
             self.controller = build_autopilot(kind, gains, max_angle, max_rate, shape)
         except (ValueError, KeyError, OSError) as exc:
             raise ParameterError('vessel_model', message=f'vessel_model {model!r}: {exc}') from None

@@ -3,49 +3,51 @@
 Design (the choices, documented once here; ``scripts/identify_nomoto.py`` applies them to the
 identified K, T and writes ship_autopilot/data/autopilot_gains.yaml):
 
-- PD (seed 001 eq. 20, seed 003 eqs. 2.15-2.16): k1 = -wn^2/b, k2 = -(a + 2 zeta wn)/b with
-  a = -1/T, b = -K/T (unified rudder sign, ship_autopilot.pd).
-- zeta = 0.8 for every model: seed 003 (Ch. III) picks 0.8 as "neither too sluggish, nor too
-  stiff"; it is inside Fossen's recommended 0.8..1.0 and gives about 1.5 % overshoot.
+- PD (Angelopoulos 2011 eq. 20, Simakis 1992 eqs. 2.15-2.16; ship_guidance.heading_loop):
+  k1 = -wn^2/b, k2 = -(a + 2 zeta wn)/b with a = -1/T, b = -K/T (unified rudder sign).
+  ``heading_loop_design`` is the one place that turns an autopilot's parameters (table, k1/k2,
+  or omega_n/zeta) into gains and a design; autopilot_node and the launcher's platoon check
+  both call it.
+- zeta = 0.8 for every model: Simakis 1992 (Ch. III) picks 0.8 as "neither too sluggish, nor too
+  stiff"; it is inside Fossen's (2011) recommended 0.8..1.0.
 - wn is chosen nondimensionally, wn' = wn L / U (time in ship lengths travelled, the natural
   time scale of steering; K' = K L/U, T' = T U/L are the usual nondimensional Nomoto gains):
-  * nps_auv2: wn' = 3.0, the value seed 003 selects for the NPS AUV II (it gives the seed's
-    k1 = 3.2, k2' = 1.2 from its a' = -1.468, b' = -2.859);
-  * the ships (mariner, tanker, container, nomoto1): wn' = 1.0. That is about 0.05 rad/s for
-    the mariner, the closed-loop frequency usual for ship autopilots; it satisfies Fossen's
-    bandwidth rule 1/T < wn for the identified T of every ship, and gives k1 of order 1
-    (one degree of rudder per degree of heading error), so a 10 deg error uses the 10 deg
-    rudder of the tanker and the container, and the PD stays inside the rudder-rate limits
-    for small errors. wn' = 3 would ask for about 10 deg of rudder per degree on the ships.
-- Fuzzy PID (seed 004 Ch. 5, ship_autopilot.fuzzy_pid): its linearisation at the origin is the
+  * nps_auv2: wn' = 3.0, the value Simakis 1992 selects for the NPS AUV II (it reproduces the
+    thesis's gains k1, k2' from its a', b');
+  * the ships (mariner, tanker, container, nomoto1): wn' = 1.0, the closed-loop frequency
+    usual for ship autopilots; it satisfies Fossen's bandwidth rule 1/T < wn for the identified
+    T of every ship and gives k1 of order 1 (one degree of rudder per degree of heading error),
+    so the PD stays inside the rudder and rudder-rate limits for small errors, which a larger
+    wn' would not.
+- Fuzzy PID (Lee 2004 Ch. 5, ship_autopilot.fuzzy_pid): its linearisation at the origin is the
   PID K_P = k1, K_D = k2 (the PD above near zero error), K_I = k1 wn / 10 (Fossen's rule of
   thumb for the integral of a PID autopilot: integral time 10/wn, well below the closed-loop
   bandwidth, so it hardly changes the designed transient). The free scaling is set by
   e_sat = 30 deg, the heading error where block 1 saturates: larger errors are handled as a
   course change whose approach rate the fuzzy block limits to r_sat = e_sat K_P / K_D; with
-  30 deg this is about 1.7 deg/s for the mariner, above its steady turn rate at 35 deg of
-  rudder (about 0.6 deg/s), so the fuzzy block does not slow course changes, while e_sat =
-  10 deg would cap the approach at about 0.56 deg/s (a 90 deg change would take 3 minutes
-  more on the linear mariner). The integrator
-  runs only while |psi_e| < 10 deg (integration band, part of the anti-windup of
-  ship_autopilot.fuzzy_pid): on the MSS mariner this halves the overshoot the integral adds to
-  30-90 deg course changes compared with integrating over the whole 30 deg universe, and any
-  offset the rudder can hold leaves a PD error well below 10 deg (k1 is about 1).
+  30 deg that rate is above the ships' steady turn rates at full rudder, so the fuzzy block
+  does not slow course changes (a smaller e_sat would). The integrator runs only while
+  |psi_e| < 10 deg (integration band, part of the anti-windup of ship_autopilot.fuzzy_pid):
+  it limits the overshoot the integral adds to large course changes, and any offset the rudder
+  can hold leaves a PD error well inside the band (k1 is of order 1).
 
 Files (data YAML read by this module; the autopilot node chooses one model's entry):
 - data/nomoto_gains.yaml: identified K, T, a, b per model with the manoeuvre used.
 - data/autopilot_gains.yaml: the design choices above and the resulting gains per model.
 """
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import yaml
 
 from .fuzzy_pid import FuzzyPIDAutopilot, FuzzyPIDGains, scaling_from_pid
-from .pd import PDAutopilot, nomoto_ab, pd_gains
+from ship_guidance.heading_loop import pd_design, pd_gains
+
+from .pd import PDAutopilot, nomoto_ab
 from .rudder import RudderLimiter
 
-#: Default damping ratio (seed 003 Ch. III).
+#: Default damping ratio (Simakis 1992 Ch. III).
 ZETA = 0.8
 #: Nondimensional natural frequency wn L / U per model (see the module docstring).
 OMEGA_N_ND = {'nps_auv2': 3.0, 'mariner': 1.0, 'tanker': 1.0, 'container': 1.0,
@@ -84,7 +86,7 @@ def design_gains(K, T, speed, length, omega_n_nd=1.0, zeta=ZETA, ki_factor=KI_FA
         raise ValueError(f'speed = {speed!r}, length = {length!r} must be positive')
     omega_n = omega_n_nd * speed / length
     a, b = nomoto_ab(K, T)
-    k1, k2 = pd_gains(a, b, omega_n, zeta)
+    k1, k2 = pd_gains(a, b, omega_n=omega_n, zeta=zeta)
     if not (k1 > 0 and k2 > 0):
         raise ValueError(f'PD design gives k1 = {k1:.4g}, k2 = {k2:.4g} (need > 0) for K = {K}, '
                          f'T = {T}, omega_n = {omega_n:.4g}: raise omega_n')
@@ -122,6 +124,45 @@ def _entry(data, model, where):
     if model not in models:
         raise ValueError(f"model '{model}' not in {where}; available: {', '.join(models)}")
     return models[model]
+
+
+@dataclass(frozen=True)
+class HeadingLoopDesign:
+    """The heading loop an autopilot runs: its gains (an autopilot_gains.yaml entry, or
+    {k1, k2}), the design (zeta, omega_n in rad/s) they place on the model's Nomoto model
+    (None if they place no oscillatory one), and where they came from ('k1, k2',
+    'omega_n, zeta' or 'gain table')."""
+    gains: dict
+    zeta: float
+    omega_n: float
+    source: str
+
+
+def heading_loop_design(model, controller='pd', k1=0.0, k2=0.0, omega_n=0.0, zeta=ZETA):
+    """The heading loop autopilot_node builds for ``model`` from its parameters, as a
+    HeadingLoopDesign; the node and the launcher's platoon check both call this.
+
+    PD with k1, k2 (both > 0) -> those gains and the design they place (Angelopoulos 2011
+    eq. 20 inverted, ship_guidance.heading_loop.pd_design); PD with omega_n > 0 -> gains
+    redesigned on the identified Nomoto a, b for (zeta, omega_n); otherwise (the gain table, or
+    the fuzzy PID whose linearisation is that PD) the table's entry and design. ValueError
+    (or KeyError, OSError from the tables) if the model or the parameters do not fit."""
+    table = autopilot_gains(model)
+    if controller == 'pd' and (k1 or k2):
+        if not (k1 and k2):
+            raise ValueError('k1 and k2 both > 0 (or both 0)')
+        nm = nomoto_gains(model)
+        try:
+            z, w = pd_design(nm['a'], nm['b'], k1=k1, k2=k2)
+        except ValueError:
+            z = w = None
+        return HeadingLoopDesign({'k1': k1, 'k2': k2}, z, w, 'k1, k2')
+    if controller == 'pd' and omega_n:
+        nm = nomoto_gains(model)
+        g1, g2 = pd_gains(nm['a'], nm['b'], omega_n=omega_n, zeta=zeta)
+        return HeadingLoopDesign({'k1': g1, 'k2': g2}, float(zeta), float(omega_n),
+                                 'omega_n, zeta')
+    return HeadingLoopDesign(table, float(table['zeta']), float(table['omega_n']), 'gain table')
 
 
 def build_autopilot(kind, gains, max_angle, max_rate=None, shape='hard', anti_windup=True):

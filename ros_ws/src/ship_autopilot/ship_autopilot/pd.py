@@ -1,13 +1,12 @@
 """PD heading autopilot designed by pole placement on the first-order Nomoto model.
 
 Sources
-- Seed 001 (platoon thesis) eqs. (12)-(20) and seed 003 (Simakis, NPS) eqs. (2.12)-(2.16):
-  plant psi_dot = r, r_dot = a r + b delta; law delta = k1 (psi - psi_c) + k2 r (001 eq. 16);
-  closed loop psi / psi_c = -b k1 / (s^2 - (a + b k2) s - b k1) (001 eq. 17), matched to
-  s^2 + 2 zeta omega_n s + omega_n^2 (001 eq. 19) by
-      k1 = -omega_n^2 / b,   k2 = -(a + 2 zeta omega_n) / b      (001 eq. 20, 003 eqs. 2.15-16)
-- Rudder saturation: hard limit or delta_sat tanh(delta_0 / delta_sat) (001 eq. 15 / 25), see
-  ship_autopilot.rudder.
+- Angelopoulos 2011, eqs. 12-20, and Simakis 1992, eqs. 2.12-2.16: plant psi_dot = r,
+  r_dot = a r + b delta; law delta = k1 (psi - psi_c) + k2 r (Angelopoulos 2011 eq. 16), gains by
+  pole placement (``pd_gains``, ship_guidance.heading_loop: the one design the guidance laws'
+  stability limits assume too).
+- Rudder saturation: hard limit or delta_sat tanh(delta_0 / delta_sat) (Angelopoulos 2011
+  eqs. 15, 25), see ship_autopilot.rudder.
 
 Units: a (1/s), b (1/s^2), omega_n (rad/s), zeta (-), k1 (rad rudder per rad heading, i.e. -),
 k2 (s). Signs: unified rudder (+ turns to port), NED psi, r; for a normal ship a = -1/T < 0 and
@@ -15,22 +14,10 @@ b = -K/T < 0 (K > 0), so k1 > 0 and k2 > 0 (see ship_sim.models.nomoto).
 """
 import math
 
+from ship_guidance.heading_loop import pd_gains
+
 from .controller import HeadingController
 from .rudder import RudderLimiter
-
-
-def pd_gains(a, b, omega_n, zeta):
-    """PD gains (k1, k2) placing the Nomoto closed-loop poles at omega_n, zeta (001 eq. 20)."""
-    a, b, omega_n, zeta = (float(v) for v in (a, b, omega_n, zeta))
-    if not (math.isfinite(b) and b != 0.0):
-        raise ValueError(f'b = {b!r} must be finite and nonzero (no rudder authority)')
-    if not (math.isfinite(omega_n) and omega_n > 0.0):
-        raise ValueError(f'omega_n = {omega_n!r} is outside the allowed range (0, inf)')
-    if not (math.isfinite(zeta) and zeta > 0.0):
-        raise ValueError(f'zeta = {zeta!r} is outside the allowed range (0, inf)')
-    if not math.isfinite(a):
-        raise ValueError(f'a = {a!r} must be finite')
-    return -omega_n ** 2 / b, -(a + 2.0 * zeta * omega_n) / b
 
 
 def nomoto_ab(K, T):
@@ -57,7 +44,7 @@ class PDAutopilot(HeadingController):
 
     @classmethod
     def from_nomoto(cls, a, b, omega_n, zeta, limiter):
-        return cls(*pd_gains(a, b, omega_n, zeta), limiter)
+        return cls(*pd_gains(a, b, omega_n=omega_n, zeta=zeta), limiter)
 
     def _law(self, e, r, dt):
         return self.k1 * e + self.k2 * r, {}

@@ -25,7 +25,7 @@ from ship_sim.frames import wrap_angle
 
 from .guidance import Guidance, GuidanceOutput
 from .path import Route
-from .string_stability import VesselLoop, check_platoon
+from .string_stability import check_platoon, follower_loops
 
 MODES = ('follow', 'route_fallback')
 FOLLOW, FALLBACK = MODES
@@ -316,10 +316,8 @@ class FollowerGuidance:
         # With integral action the limit is ILOS's (U + 4 zeta^2 sigma) / (2 zeta omega_n)
         # (los.critical_lookahead), i.e. the LOS limit at the speed U + 4 zeta^2 sigma; the
         # fallback is plain LOS.
-        u_follow = speed + 4.0 * zeta ** 2 * self.integral_gain
-        loops = [VesselLoop(zeta, omega_n, d, u, name)
-                 for name, d, u in (('min_lookahead', self.min_lookahead, u_follow),
-                                    ('fallback_lookahead', self.fallback_lookahead, speed))]
+        loops = follower_loops(zeta, omega_n, speed, self.min_lookahead,
+                               self.fallback_lookahead, self.integral_gain)
         checks = check_platoon(loops)
         self.critical_lookahead = checks[0].critical
         self.no_amplification_spacing = no_amplification_spacing(zeta, omega_n, speed)

@@ -60,6 +60,7 @@ from std_msgs.msg import Bool, Float64, String
 from ship_guidance.follower import (AIMS, FALLBACK, FOLLOW, MAX_SPEED_CORRECTION, SPACING_KI,
                                     SPACING_KP, FollowerGuidance, PredecessorTrack,
                                     speed_to_shaft)
+from ship_guidance.node_defaults import FOLLOWER_DEFAULTS
 from ship_guidance.path import Line, Route
 from ship_guidance.ros.odom_gate import OdomGate
 from ship_guidance.ros.outputs import GuidancePublishers
@@ -86,12 +87,15 @@ class FollowerNode(Node):
                                     "the predecessor's odometry topic", check=_topic_check, **ro)
         spacing = p.declare('spacing_m', 800.0, 'set along-path gap to the predecessor (the '
                             "document's d2 at equilibrium)", lo=1e-3, hi=1e6, unit='m', **ro)
-        d_min = p.declare('min_lookahead_m', 200.0, 'smallest look-ahead used when the gap '
+        d_min = p.declare('min_lookahead_m', FOLLOWER_DEFAULTS['min_lookahead_m'],
+                          'smallest look-ahead used when the gap '
                           'shrinks (must be above the stability limit)', lo=1e-3, hi=1e6,
                           unit='m', **ro)
-        d_max = p.declare('max_lookahead_m', 0.0, 'largest look-ahead used when far behind '
+        d_max = p.declare('max_lookahead_m', FOLLOWER_DEFAULTS['max_lookahead_m'],
+                          'largest look-ahead used when far behind '
                           '(0: no cap)', lo=0.0, hi=1e7, unit='m', **ro)
-        d_fb = p.declare('lookahead_m', 500.0, 'route LOS look-ahead (as guidance_node), used '
+        d_fb = p.declare('lookahead_m', FOLLOWER_DEFAULTS['lookahead_m'],
+                         'route LOS look-ahead (as guidance_node), used '
                          'while the predecessor is stale', lo=1e-3, hi=1e6, unit='m', **ro)
         acc = p.declare('acceptance_radius_m', 0.0, 'waypoint acceptance circle at corners (0: '
                         'switch at the corner normal)', lo=0.0, hi=1e6, unit='m', **ro)
@@ -131,7 +135,8 @@ class FollowerNode(Node):
         aim = p.declare('aim', 'predecessor', "steer at the predecessor (Angelopoulos 2011 eq. 31) or "
                         'ILOS toward the path with look-ahead = gap (ship_guidance.follower)',
                         choices=AIMS, **ro)
-        sigma = p.declare('integral_gain', 0.0, 'integral action on the own cross-track error '
+        sigma = p.declare('integral_gain', FOLLOWER_DEFAULTS['integral_gain'],
+                          'integral action on the own cross-track error '
                           '(Borhaug ILOS gain sigma; 0: none, Angelopoulos\'s law)', lo=0.0,
                           hi=100.0, unit='m/s', **ro)
         lead = p.declare('curvature_lead', False, 'lead the heading command by 2 zeta U kappa '

@@ -40,6 +40,7 @@ from rclpy.node import Node
 from std_msgs.msg import Bool, Float64MultiArray, MultiArrayDimension
 
 from ship_guidance.guidance import LAWS, Guidance, course_schedule_for
+from ship_guidance.node_defaults import GUIDANCE_DEFAULTS
 from ship_guidance.ros.odom_gate import OdomGate
 from ship_guidance.ros.outputs import GuidancePublishers
 from ship_guidance.ros.path_msgs import accept_route
@@ -52,10 +53,12 @@ class GuidanceNode(Node):
     def __init__(self):
         super().__init__('guidance_node')
         p = self.params = NodeParameters(self)
-        self.law = p.declare('law', 'ilos', 'guidance law (course: follow course_schedule_deg)',
+        self.law = p.declare('law', GUIDANCE_DEFAULTS['law'],
+                             'guidance law (course: follow course_schedule_deg)',
                              choices=LAWS, read_only=True)
         self.schedule = self._declare_course_schedule()
-        self.lookahead_m = p.declare('lookahead_m', 500.0, 'LOS look-ahead distance', lo=1e-3,
+        self.lookahead_m = p.declare('lookahead_m', GUIDANCE_DEFAULTS['lookahead_m'],
+                                     'LOS look-ahead distance', lo=1e-3,
                                      hi=1e6, unit='m', read_only=True)
         self.lookahead_l = p.declare('lookahead_ship_lengths', 0.0,
                                      'look-ahead in ship lengths (0: use lookahead_m)', lo=0.0,
@@ -67,7 +70,8 @@ class GuidanceNode(Node):
                           unit='m', read_only=True)
         acc_l = p.declare('acceptance_radius_ship_lengths', 0.0, 'acceptance radius in ship '
                           'lengths (0: use acceptance_radius_m)', lo=0.0, hi=1e3, read_only=True)
-        self.sigma = p.declare('integral_gain', 0.5, 'ILOS integral gain sigma', lo=1e-6,
+        self.sigma = p.declare('integral_gain', GUIDANCE_DEFAULTS['integral_gain'],
+                               'ILOS integral gain sigma', lo=1e-6,
                                hi=1e3, unit='m/s', read_only=True)
         zeta = p.declare('autopilot_zeta', 0.0, 'damping of the paired autopilot, for the '
                          'stability check (0: no check)', lo=0.0, hi=10.0, read_only=True)

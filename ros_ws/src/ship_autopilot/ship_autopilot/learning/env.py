@@ -1,13 +1,14 @@
-"""Path-following environment for learning a steering policy (seed 000), batched and gymnasium.
+"""Path-following environment for learning a steering policy, batched and gymnasium.
 
-Source: Martinsen & Lekkas, "Curved path following with deep reinforcement learning: results
-from three vessel models" (seeds/000_9df48a050e3ea7fc.txt), Sec. III: episodes of 1000 s, the
+Source: Martinsen and Lekkas 2018, "Curved path following with deep reinforcement learning:
+results from three vessel models", Sec. III: episodes of 1000 s, the
 vessel started at random within a bound of the path, unknown ocean current, state eq. 9
 (learning.features), action = commanded rudder, reward eq. 8.
 
-Reward (eq. 8). The OCR reads "R(y_e, psi~, delta) = -c ... + {a exp(-y_e^2 / (2 sigma^2)) if
-|psi~| < ...; 0 otherwise}", with a = 1, sigma = 10 m, psi~ "the angle between the yaw angle
-of the vessel and the path heading", and the first term "a penalty to solutions that involve
+Reward (eq. 8; the functions are learning.reward's, which the run metrics use too). The OCR
+reads "R(y_e, psi~, delta) = -c ... + {a exp(-y_e^2 / (2 sigma^2)) if |psi~| < ...; 0 otherwise}",
+with a = 1, sigma = 10 m, psi~ "the angle between the yaw angle of the vessel and the path
+heading", and the first term "a penalty to solutions that involve
 fast rudder changes" (its symbols are unreadable). We implement, per control step k,
 
     r_k = a exp(-e_k^2 / (2 sigma^2)) [|wrap(psi_k - gamma_p,k)| <= psi_max]
@@ -56,8 +57,9 @@ import gymnasium
 import numpy as np
 
 from ship_guidance.path import Line, Route
-from ship_sim.frames import wrap_angle
 from ship_sim.models import make_model
+
+from .reward import gaussian_reward, rudder_change_penalty
 
 from .features import CLIP, OBS_DIM, PathFeatures, default_scales, normalise
 
@@ -98,21 +100,6 @@ class EnvConfig:
     @property
     def substeps(self):
         return int(round(self.control_dt / self.sim_dt))
-
-
-def gaussian_reward(cross_track, heading_rel, amplitude=1.0, sigma=10.0,
-                    yaw_error_max=math.pi / 2):
-    """Eq. 8's Gaussian term: a exp(-e^2 / (2 sigma^2)) where |psi - gamma_p| <= psi_max, else 0."""
-    e = np.asarray(cross_track, dtype=float)
-    g = amplitude * np.exp(-0.5 * (e / sigma) ** 2)
-    return np.where(np.abs(wrap_angle(np.asarray(heading_rel, dtype=float))) <= yaw_error_max,
-                    g, 0.0)[()]
-
-
-def rudder_change_penalty(rudder_cmd, previous_cmd, rudder_max, weight):
-    """Eq. 8's rudder-change term (as we read it): weight ((d_k - d_k-1) / rudder_max)^2."""
-    change = (np.asarray(rudder_cmd, float) - np.asarray(previous_cmd, float)) / rudder_max
-    return (weight * change * change)[()]
 
 
 def make_curve_pool(model_name, speed, config, rng):

@@ -28,7 +28,7 @@ Setup (the same for every controller):
   lengths for all three (stable: checked against the PD's zeta, omega_n); guidance and
   autopilot run every 0.1 s, as the nodes do. 'policy' = the shipped DDPG policy
   (ship_autopilot/data/policies/<model>.npz), acting every control_dt of its file (1 s, the
-  step it was trained with) on the eq. 9 state (learning.features) from the same projection.
+  step it was trained with) on the eq. 9 state (ship_guidance.path_state) from the same projection.
   'los_lead' = the best classical loop we have (the flagship's): LOS + PD placed at a faster
   omega_n = k U / L (from the identified Nomoto a, b) + the guidance's turn-rate lead
   (psi_c += 2 zeta U kappa / omega_n), look-ahead d ship lengths. (k, d) per ship come from
@@ -55,7 +55,7 @@ for pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot', 'ship_planner'):
 from ship_autopilot.gains import autopilot_gains, build_autopilot, nomoto_gains  # noqa: E402
 from ship_autopilot.learning.env import (EnvConfig, PathFollowingBatch,  # noqa: E402
                                          gaussian_reward)
-from ship_autopilot.learning.features import PathFeatures  # noqa: E402
+from ship_guidance.path_state import PathFeatures  # noqa: E402
 from ship_autopilot.learning.policy import LearnedSteering, load_policy  # noqa: E402
 from ship_autopilot.pd import pd_gains  # noqa: E402
 from ship_guidance.guidance import Guidance  # noqa: E402

@@ -57,7 +57,7 @@ for pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot', 'ship_planner'):
     sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
 
 from ship_autopilot.learning.env import EnvConfig, PathFollowingBatch  # noqa: E402
-from ship_autopilot.learning.features import CLIP, OBS_DIM  # noqa: E402
+from ship_guidance.path_state import CLIP, OBS_DIM  # noqa: E402
 from ship_autopilot.learning.policy import policy_path, save_policy  # noqa: E402
 
 HIDDEN = (400, 300)

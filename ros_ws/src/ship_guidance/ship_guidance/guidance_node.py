@@ -129,7 +129,7 @@ class GuidanceNode(Node):
         self.features = self.pub_state = None
         if self.want_path_state:
             # Imported only when asked for: the one implementation the policy was trained on.
-            from ship_autopilot.learning.features import STATE_NAMES, PathFeatures
+            from ship_guidance.path_state import STATE_NAMES, PathFeatures
             self.features = PathFeatures()
             self.pub_state = self.create_publisher(Float64MultiArray, 'path_state', STREAM)
             self.m_state = Float64MultiArray()

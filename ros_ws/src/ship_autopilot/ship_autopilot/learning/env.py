@@ -56,10 +56,9 @@ import gymnasium
 import numpy as np
 
 from ship_guidance.path import Line, Route
+from ship_guidance.path_state import CLIP, OBS_DIM, PathFeatures, default_scales, normalise
 from ship_sim.frames import wrap_angle
 from ship_sim.models import make_model
-
-from .features import CLIP, OBS_DIM, PathFeatures, default_scales, normalise
 
 MODES = ('straight', 'curved')
 
@@ -117,7 +116,7 @@ def rudder_change_penalty(rudder_cmd, previous_cmd, rudder_max, weight):
 
 def make_curve_pool(model_name, speed, config, rng):
     """``config.n_routes`` sine Routes (NED) for ``model_name`` (see the module docstring)."""
-    from ship_planner.curves import sine_route  # only curved mode needs the planner
+    from ship_guidance.curves import sine_route  # only curved mode samples a curve
     amp0, wave0 = NOMINAL_CURVES.get(model_name, (500.0, 4000.0))
     r_min0 = wave0 ** 2 / (4 * math.pi ** 2 * amp0)
     length = speed * config.episode_s + config.route_margin + config.start_along_max

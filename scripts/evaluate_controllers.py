@@ -48,18 +48,15 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
-for pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot', 'ship_planner'):
-    sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
+from ship_autopilot.gains import autopilot_gains, build_autopilot, nomoto_gains
+from ship_autopilot.learning.env import EnvConfig, PathFollowingBatch, gaussian_reward
+from ship_autopilot.learning.policy import LearnedSteering, load_policy
+from ship_autopilot.pd import pd_gains
+from ship_guidance.guidance import Guidance
+from ship_guidance.path_state import PathFeatures
+from ship_planner.route_files import load_route
 
-from ship_autopilot.gains import autopilot_gains, build_autopilot, nomoto_gains  # noqa: E402
-from ship_autopilot.learning.env import (EnvConfig, PathFollowingBatch,  # noqa: E402
-                                         gaussian_reward)
-from ship_guidance.path_state import PathFeatures  # noqa: E402
-from ship_autopilot.learning.policy import LearnedSteering, load_policy  # noqa: E402
-from ship_autopilot.pd import pd_gains  # noqa: E402
-from ship_guidance.guidance import Guidance  # noqa: E402
-from ship_planner.route_files import load_route  # noqa: E402
+ROOT = Path(__file__).resolve().parent.parent
 
 MODELS = ('mariner', 'container', 'tanker')
 CURRENTS = (0.0, 0.9)

@@ -51,27 +51,24 @@ import argparse
 import csv
 import json
 import math
-import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-for pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot'):
-    sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
+from scipy.optimize import least_squares
 
-from scipy.optimize import least_squares  # noqa: E402
-
-from ship_autopilot.gains import autopilot_gains  # noqa: E402
-from ship_autopilot.pd import PDAutopilot  # noqa: E402
-from ship_autopilot.rudder import RudderLimiter  # noqa: E402
-from ship_guidance.follower import (follower_gain, follower_heading_straight,  # noqa: E402
+from ship_autopilot.gains import autopilot_gains
+from ship_autopilot.pd import PDAutopilot
+from ship_autopilot.rudder import RudderLimiter
+from ship_guidance.follower import (follower_gain, follower_heading_straight,
                                     no_amplification_spacing)
-from ship_guidance.string_stability import single_vessel_matrix  # noqa: E402
-from ship_sim.frames import wrap_angle  # noqa: E402
-from ship_sim.models import make_model  # noqa: E402
+from ship_guidance.string_stability import single_vessel_matrix
+from ship_sim.frames import wrap_angle
+from ship_sim.models import make_model
+
+ROOT = Path(__file__).resolve().parents[1]
 
 DEFAULT_OUT = ROOT / 'runs' / 'analysis' / 'platoon_time_domain'
 #: Deviation (m) at which a run without a stop counts as diverged.

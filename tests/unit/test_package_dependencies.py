@@ -10,6 +10,7 @@ packages its modules import. Imports are read from the source (ast), at module l
 functions alike: a lazy import is still a dependency.
 """
 import ast
+import configparser
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -77,6 +78,16 @@ def test_the_packages_are_the_four_of_the_order():
     found = sorted(p.name for p in SRC.iterdir() if (p / 'package.xml').exists())
     assert found == PACKAGES, ('ros_ws/src holds packages %s; add a new one to ALLOWED in this '
                                'test with the packages it may import' % found)
+
+
+def test_pytest_puts_every_package_and_scripts_on_the_path():
+    # The venv's shipnav.pth (Makefile) lists ros_ws/src/* and scripts/ by itself; pytest.ini
+    # names them by hand, so a new package must be added there too.
+    ini = configparser.ConfigParser()
+    ini.read(REPO / 'pytest.ini')
+    listed = set(ini['pytest']['pythonpath'].split())
+    want = {f'ros_ws/src/{pkg}' for pkg in PACKAGES} | {'scripts'}
+    assert listed == want, f'pytest.ini pythonpath {sorted(listed)} should be {sorted(want)}'
 
 
 def scripts_top_level_names():

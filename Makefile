@@ -25,12 +25,14 @@ $(VENV)/.installed: requirements.txt
 	@touch $@
 
 # Runs every time (cheap) and rewrites the .pth only when PATH_DIRS changed (a package added,
-# removed or renamed, or the checkout moved).
+# removed or renamed, or the checkout moved). A venv serves one checkout: one shared by several
+# checkouts imports from whichever ran make last (the old list is printed when it is replaced).
 paths: $(VENV)/.installed
 	@pth=$$($(PY) -c 'import sysconfig; print(sysconfig.get_path("purelib"))')/shipnav.pth; \
-	  new=$$(printf '%s\n' $(PATH_DIRS)); \
-	  if [ "$$new" != "$$(cat $$pth 2>/dev/null)" ]; then \
-	    printf '%s\n' "$$new" > $$pth && echo "wrote $$pth:" && sed 's/^/  /' $$pth; fi
+	  new=$$(printf '%s\n' $(PATH_DIRS)); old=$$(cat $$pth 2>/dev/null); \
+	  if [ "$$new" != "$$old" ]; then \
+	    printf '%s\n' "$$new" > $$pth && echo "wrote $$pth:" && sed 's/^/  /' $$pth && \
+	    if [ -n "$$old" ]; then echo "  (it named:"; echo "$$old" | sed 's/^/  /'; echo "  )"; fi; fi
 
 build: $(WS)/install/.built paths
 

@@ -56,7 +56,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-
 from scipy.optimize import least_squares
 
 from ship_autopilot.gains import autopilot_gains

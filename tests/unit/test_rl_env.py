@@ -15,9 +15,9 @@ gymnasium = pytest.importorskip('gymnasium')
 from ship_autopilot.learning.env import (EnvConfig, PathFollowingBatch,  # noqa: E402
                                          PathFollowingEnv, gaussian_reward,
                                          rudder_change_penalty)
-from ship_guidance.path_state import (OBS_DIM, STATE_NAMES, PathFeatures,  # noqa: E402
-                                              default_scales, normalise)
 from ship_guidance.path import Arc, Line, Route  # noqa: E402
+from ship_guidance.path_state import (OBS_DIM, STATE_NAMES, PathFeatures,  # noqa: E402
+                                      default_scales, normalise)
 
 
 def start(cross=0.0, heading=0.0, current=0.0, direction=0.0, along=100.0):

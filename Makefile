@@ -1,5 +1,7 @@
 # The README's commands. Every target bootstraps what it needs:
 #   .venv (pinned wheels, only when requirements.txt changed) -> colcon build (only when sources changed).
+# The venv also gets one .pth file naming the packages' source folders and scripts/, so that
+# `.venv/bin/python scripts/X.py` and pytest import ship_* and mission without sys.path edits.
 SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
@@ -7,20 +9,32 @@ PY := $(VENV)/bin/python
 WS := ros_ws
 SRC_FILES := $(shell find $(WS)/src -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null)
 SCENARIO ?= scenarios/flagship_mariner.yaml
+# Folders the venv's shipnav.pth puts on sys.path: every package of ros_ws/src, and scripts/.
+PATH_DIRS := $(abspath $(sort $(dir $(wildcard $(WS)/src/*/package.xml))) scripts)
 PYTEST_ARGS ?=
 
-.PHONY: all venv build demo test bench clean distclean
+.PHONY: all venv paths build demo test bench clean distclean
 
 all: build
 
-venv: $(VENV)/.installed
+venv: $(VENV)/.installed paths
 
 $(VENV)/.installed: requirements.txt
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --disable-pip-version-check -q -r requirements.txt
 	@touch $@
 
-build: $(WS)/install/.built
+# Runs every time (cheap) and rewrites the .pth only when PATH_DIRS changed (a package added,
+# removed or renamed, or the checkout moved). A venv serves one checkout: one shared by several
+# checkouts imports from whichever ran make last (the old list is printed when it is replaced).
+paths: $(VENV)/.installed
+	@pth=$$($(PY) -c 'import sysconfig; print(sysconfig.get_path("purelib"))')/shipnav.pth; \
+	  new=$$(printf '%s\n' $(PATH_DIRS)); old=$$(cat $$pth 2>/dev/null); \
+	  if [ "$$new" != "$$old" ]; then \
+	    printf '%s\n' "$$new" > $$pth && echo "wrote $$pth:" && sed 's/^/  /' $$pth && \
+	    if [ -n "$$old" ]; then echo "  (it named:"; echo "$$old" | sed 's/^/  /'; echo "  )"; fi; fi
+
+build: $(WS)/install/.built paths
 
 $(WS)/install/.built: $(VENV)/.installed $(SRC_FILES)
 	cd $(WS) && source ../$(VENV)/bin/activate && \

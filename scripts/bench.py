@@ -24,10 +24,8 @@ import time
 import traceback
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from benchmarks import SECTIONS, section_function  # noqa: E402
-from benchmarks.common import REPO, format_section, machine_info  # noqa: E402
+from benchmarks import SECTIONS, section_function
+from benchmarks.common import REPO, format_section, machine_info
 
 DEFAULT_OUT = REPO / 'bench' / 'results' / 'bench.json'
 

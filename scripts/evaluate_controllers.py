@@ -28,7 +28,7 @@ Setup (the same for every controller):
   lengths for all three (stable: checked against the PD's zeta, omega_n); guidance and
   autopilot run every 0.1 s, as the nodes do. 'policy' = the shipped DDPG policy
   (ship_autopilot/data/policies/<model>.npz), acting every control_dt of its file (1 s, the
-  step it was trained with) on the eq. 9 state (learning.features) from the same projection.
+  step it was trained with) on the eq. 9 state (ship_guidance.path_state) from the same projection.
   'los_lead' = the best classical loop we have (the flagship's): LOS + PD placed at a faster
   omega_n = k U / L (from the identified Nomoto a, b) + the guidance's turn-rate lead
   (psi_c += 2 zeta U kappa / omega_n), look-ahead d ship lengths. (k, d) per ship come from
@@ -48,18 +48,16 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
-for pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot', 'ship_planner'):
-    sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
-
-from ship_autopilot.gains import autopilot_gains, build_autopilot, nomoto_gains  # noqa: E402
-from ship_autopilot.learning.env import (EnvConfig, PathFollowingBatch,  # noqa: E402
+from ship_autopilot.gains import autopilot_gains, build_autopilot, nomoto_gains
+from ship_autopilot.learning.env import (EnvConfig, PathFollowingBatch,
                                          gaussian_reward)
-from ship_autopilot.learning.features import PathFeatures  # noqa: E402
-from ship_autopilot.learning.policy import LearnedSteering, load_policy  # noqa: E402
-from ship_autopilot.pd import pd_gains  # noqa: E402
-from ship_guidance.guidance import Guidance  # noqa: E402
-from ship_planner.route_loader import load_route  # noqa: E402
+from ship_guidance.path_state import PathFeatures
+from ship_autopilot.learning.policy import LearnedSteering, load_policy
+from ship_autopilot.pd import pd_gains
+from ship_guidance.guidance import Guidance
+from ship_planner.route_loader import load_route
+
+ROOT = Path(__file__).resolve().parent.parent
 
 MODELS = ('mariner', 'container', 'tanker')
 CURRENTS = (0.0, 0.9)

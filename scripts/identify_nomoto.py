@@ -19,13 +19,11 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-ROOT = Path(__file__).resolve().parents[1]
-for pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot'):
-    sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
+from ship_autopilot import gains as design
+from ship_autopilot.identification import heading_prediction_rms, identify_nomoto
+from ship_sim.models import make_model
 
-from ship_autopilot import gains as design  # noqa: E402
-from ship_autopilot.identification import heading_prediction_rms, identify_nomoto  # noqa: E402
-from ship_sim.models import make_model  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 DEFAULT_MODELS = ('mariner', 'tanker', 'container', 'nomoto1', 'nps_auv2')
 

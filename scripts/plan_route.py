@@ -24,17 +24,11 @@ import time
 
 import numpy as np
 
-_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-for _pkg in ('ship_sim', 'ship_guidance', 'ship_planner'):
-    _p = os.path.join(_ROOT, 'ros_ws', 'src', _pkg)
-    if _p not in sys.path:
-        sys.path.insert(0, _p)
-
-from ship_planner.chart import (DEFAULT_MAX_CELLS, PROVIDERS, ChartError, chart_from_file,  # noqa: E402
+from ship_planner.chart import (DEFAULT_MAX_CELLS, PROVIDERS, ChartError, chart_from_file,
                                 default_cache_dir, shoreline_chart)
-from ship_planner.fillets import suggest_fillet_radius  # noqa: E402
-from ship_planner.optimal_route import DEFAULT_ENERGY_WEIGHT, PlannerConfig, plan_route, route_yaml_text  # noqa: E402
-from ship_planner.yaml_route_reader import load_route_yaml  # noqa: E402
+from ship_planner.fillets import suggest_fillet_radius
+from ship_planner.optimal_route import DEFAULT_ENERGY_WEIGHT, PlannerConfig, plan_route, route_yaml_text
+from ship_planner.yaml_route_reader import load_route_yaml
 
 
 def parse_args(argv):

@@ -30,21 +30,18 @@ import argparse
 import csv
 import json
 import math
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-for pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot'):
-    sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
-
-from ship_autopilot.platoon_simulation import (doc_eigenvalues, dominant_pair,  # noqa: E402
+from ship_autopilot.platoon_simulation import (doc_eigenvalues, dominant_pair,
                                                envelope_peaks, envelope_rate, make_loop,
                                                sampled_critical_lookahead,
                                                sampled_eigenvalues, simulate_platoon)
-from ship_guidance.follower import follower_gain, no_amplification_spacing  # noqa: E402
+from ship_guidance.follower import follower_gain, no_amplification_spacing
+
+ROOT = Path(__file__).resolve().parents[1]
 
 DEFAULT_OUT = ROOT / 'runs' / 'analysis' / 'platoon_time_domain'
 #: Deviation (m) at which a run without a stop counts as diverged.

@@ -12,12 +12,10 @@ import math
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from mission import metrics  # noqa: E402
-from mission.bag import BagError  # noqa: E402
-from mission.integrity import summary_line  # noqa: E402
-from mission.report import analyse_bag  # noqa: E402
+from mission import metrics
+from mission.bag import BagError
+from mission.integrity import summary_line
+from mission.report import analyse_bag
 
 
 def main(argv=None):

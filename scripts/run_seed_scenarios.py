@@ -49,7 +49,7 @@ import numpy as np
 import yaml
 
 from mission.domain import DomainLease
-from mission.launcher import MissionFailed, run_scenario, use_install_tree
+from mission.launcher import MissionFailed, run_scenario
 from mission.processes import REPO
 from mission.scenario import ScenarioError, load_scenario
 
@@ -444,7 +444,6 @@ def main(argv=None):
                     'batch from its bags (no runs)')
     args = ap.parse_args(argv)
     if args.reanalyse:
-        use_install_tree()
         batch = Path(args.reanalyse)
         results, old = reanalyse(batch)
         claims = claim_checks({r['scenario']: r for r in results})
@@ -463,7 +462,6 @@ def main(argv=None):
     except ScenarioError as exc:
         print(f'run_seed_scenarios: {exc}', file=sys.stderr)
         return 2
-    use_install_tree()
     stamp = datetime.now().strftime('%Y%m%d-%H%M%S')
     batch = Path(args.runs) / f'seeds{"-quick" if args.quick else ""}-{stamp}'
     batch.mkdir(parents=True)

@@ -26,16 +26,14 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-for pkg in ('ship_sim', 'ship_guidance'):
-    sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
+from ship_guidance import string_stability as ss
+from ship_guidance import string_stability_table1 as table1_scan
+from ship_guidance import sway_yaw_lookahead as sy
+from ship_guidance.heading_loop import pd_gains
+from ship_guidance.los import critical_lookahead_nondim
+from ship_sim.models.nps_auv2 import COEFFS
 
-from ship_guidance import string_stability as ss  # noqa: E402
-from ship_guidance import string_stability_table1 as table1_scan  # noqa: E402
-from ship_guidance import sway_yaw_lookahead as sy  # noqa: E402
-from ship_guidance.heading_loop import pd_gains  # noqa: E402
-from ship_guidance.los import critical_lookahead_nondim  # noqa: E402
-from ship_sim.models.nps_auv2 import COEFFS  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 DEFAULT_TABLE = ROOT.parent / 'shared' / 'reference' / 'string_stability_table1.csv'
 DEFAULT_OUT = ROOT / 'runs' / 'analysis' / 'string_stability'

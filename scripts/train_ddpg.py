@@ -46,19 +46,16 @@ import copy
 import csv
 import json
 import math
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
-for pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot', 'ship_planner'):
-    sys.path.insert(0, str(ROOT / 'ros_ws' / 'src' / pkg))
+from ship_autopilot.learning.env import EnvConfig, PathFollowingBatch
+from ship_autopilot.learning.policy import policy_path, save_policy
+from ship_guidance.path_state import CLIP, OBS_DIM
 
-from ship_autopilot.learning.env import EnvConfig, PathFollowingBatch  # noqa: E402
-from ship_autopilot.learning.features import CLIP, OBS_DIM  # noqa: E402
-from ship_autopilot.learning.policy import policy_path, save_policy  # noqa: E402
+ROOT = Path(__file__).resolve().parent.parent
 
 HIDDEN = (400, 300)
 SETTINGS = {'actor_lr': 1e-4, 'critic_lr': 1e-3, 'tau': 1e-3, 'gamma': 0.99, 'batch': 64,

@@ -8,9 +8,10 @@ Goal (issue 2): >= 1 000 000 vessel-steps/s at N = 10 000.
 """
 import numpy as np
 
+from ship_sim.integrators import rk4_step
+from ship_sim.models import make_model
+
 from . import common
-from ship_sim.integrators import rk4_step  # noqa: E402 (path set by common)
-from ship_sim.models import make_model  # noqa: E402
 
 H = 0.1
 MODELS = ('mariner', 'tanker', 'container')

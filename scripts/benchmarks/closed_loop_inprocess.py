@@ -29,8 +29,9 @@ import pstats
 import statistics
 import time
 
+from mission.scenario import load_scenario, start_pose
+
 from . import common
-from mission.scenario import load_scenario, start_pose  # noqa: E402 (path set by common)
 
 SCENARIO = common.REPO / 'scenarios' / 'flagship_mariner.yaml'
 SIM_TIME_S = 1000.0

@@ -1,4 +1,4 @@
-"""Shared helpers of the benchmark sections: source paths, timing, goals, tables, machine info.
+"""Shared helpers of the benchmark sections: repository root, timing, goals, tables, machine info.
 
 Timing follows the ``timeit`` advice: the loop count is grown until one repeat takes at least
 ``min_time`` seconds, the repeat is done several times, and the best and the median per-call
@@ -10,16 +10,10 @@ import datetime
 import os
 import platform
 import statistics
-import sys
 import timeit
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
-# The pure modules run straight from the source tree, as in the unit tests (pytest.ini).
-for _pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot', 'ship_planner'):
-    _src = str(REPO / 'ros_ws' / 'src' / _pkg)
-    if _src not in sys.path:
-        sys.path.insert(0, _src)
 
 
 def time_call(fn, quick=False, min_time=None, repeats=None):

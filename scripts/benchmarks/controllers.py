@@ -12,14 +12,9 @@ import os
 
 from . import common
 
-SCRIPTS = common.REPO / 'scripts'
-
 
 def run(quick=False):
-    import sys
-    if str(SCRIPTS) not in sys.path:
-        sys.path.insert(0, str(SCRIPTS))
-    import evaluate_controllers as ec
+    import evaluate_controllers as ec   # scripts/evaluate_controllers.py, beside bench.py
 
     models, controllers = ec.MODELS, ec.CONTROLLERS
     n_starts, duration = (1, 300.0) if quick else (5, 1000.0)

@@ -56,8 +56,9 @@ import sys
 import time
 from pathlib import Path
 
+from mission.processes import INSTALL, ProcessGroup, executable, install_env
+
 from . import common
-from mission.processes import INSTALL, ProcessGroup, executable, install_env  # noqa: E402
 
 SCENARIO = common.REPO / 'scenarios' / 'flagship_mariner.yaml'
 RELAY = Path(__file__).resolve().parent / 'relay_nodes.py'

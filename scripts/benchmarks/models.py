@@ -12,9 +12,10 @@ The state is a turning one (yaw rate, rudder off zero, command not yet reached) 
 saturation branches and trigonometry are exercised as in a manoeuvre. Step h = 0.1 s.
 Goal (issue 2): mariner RK4 step < 50 us on the fast path.
 """
+from ship_sim.integrators import rk4_step, rk4_step_floats
+from ship_sim.models import MODEL_NAMES, make_model
+
 from . import common
-from ship_sim.integrators import rk4_step, rk4_step_floats  # noqa: E402 (path set by common)
-from ship_sim.models import MODEL_NAMES, make_model  # noqa: E402
 
 H = 0.1
 GOAL_MARINER_STEP_US = 50.0

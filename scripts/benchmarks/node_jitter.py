@@ -32,8 +32,9 @@ import statistics
 import time
 from pathlib import Path
 
+from mission.processes import ProcessGroup, install_env, ros_args
+
 from . import common
-from mission.processes import ProcessGroup, install_env, ros_args  # noqa: E402
 
 RATES_HZ = (10.0, 50.0)
 DURATION_S = 20.0

@@ -30,10 +30,11 @@ import collections
 import os
 import time
 
+from mission.processes import INSTALL, ProcessGroup, executable, install_env
+
 from . import common
 from .lockstep import SCENARIO, _domain_id, proc_stat
 from .node_jitter import _percentile, node_pacing, stream_stats
-from mission.processes import INSTALL, ProcessGroup, executable, install_env  # noqa: E402
 
 DURATION_S = 600.0
 QUICK_DURATION_S = 30.0

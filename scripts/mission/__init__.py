@@ -13,14 +13,6 @@
 - ``report``: bag -> metrics.json + plots (used by run_mission.py and replay_bag.py).
 
 Submodules are imported on demand, so importing one does not pull in rclpy or matplotlib.
+The ship_* packages come from the interpreter's path: the source tree in the project's venv
+(its shipnav.pth, written by `make`), the install tree where `ros_ws/install/setup.bash` is sourced.
 """
-
-import sys as _sys
-from pathlib import Path as _Path
-
-# The pure ship_* modules (e.g. the Odometry byte layout the bag reader shares with the nodes)
-# from the source tree, appended: a sourced or use_install_tree() install still comes first.
-for _pkg in ('ship_sim', 'ship_guidance', 'ship_autopilot', 'ship_planner'):
-    _src = str(_Path(__file__).resolve().parents[2] / 'ros_ws' / 'src' / _pkg)
-    if _src not in _sys.path:
-        _sys.path.append(_src)

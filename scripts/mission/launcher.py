@@ -26,7 +26,7 @@ from pathlib import Path
 import yaml
 
 from mission.domain import NoFreeDomain, lease_domain_id
-from mission.processes import INSTALL, PY_SITE, REPO, ProcessGroup, install_env
+from mission.processes import INSTALL, REPO, ProcessGroup, install_env
 from mission.scenario import ScenarioError, start_pose
 
 RECORDER = Path(__file__).resolve().parent / 'recorder.py'
@@ -53,13 +53,6 @@ def record_ack_args(scenario):
 
 class MissionFailed(RuntimeError):
     """A node process died or the graph never came up; the message says which and why."""
-
-
-def use_install_tree():
-    """Make the installed packages importable in this process (as sourcing setup.bash would)."""
-    for pkg in sorted(INSTALL.glob('*/' + PY_SITE)):
-        if str(pkg) not in sys.path:
-            sys.path.insert(0, str(pkg))
 
 
 _stop_signals = []
@@ -128,7 +121,6 @@ def check_scenario(scenario):
     Raises ScenarioError (one line naming the file and the key) before anything starts."""
     import difflib
     from mission.scenario import MAX_STEPS
-    use_install_tree()
     from ship_planner.route_loader import RouteError
     from ship_sim.models import MODEL_NAMES
     platoon = scenario.platoon
@@ -371,7 +363,6 @@ def _tail(proc, n=8):
 def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None, progress=print,
                  progress_period_s=2.0, analyse=True, wall_timeout_s=None):
     """Run ``scenario``; returns (run_dir, metrics or None). Raises MissionFailed on failure."""
-    use_install_tree()
     record = scenario.record if record is None else record
     run = make_run_dir(scenario, runs_root)
     if domain_id is None:

@@ -16,13 +16,11 @@ import os
 import re
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
 INSTALL = REPO / 'ros_ws' / 'install'
-PY_SITE = f'lib/python{sys.version_info.major}.{sys.version_info.minor}/site-packages'
 
 
 def _package_prefixes(install=INSTALL):

@@ -3,8 +3,6 @@ recorder's BagWriter, read back with mission.bag and compared exactly; metadata.
 replay_bag.py end to end."""
 import json
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,7 +19,6 @@ from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension  # noqa
 from mission import bag as bagmod  # noqa: E402
 from mission.recorder import BagWriter, reliable_qos  # noqa: E402
 
-SCRIPTS = Path(__file__).resolve().parents[2] / 'scripts'
 NS = 1_000_000_000
 FINISH_INDEX = 150  # progress 'finished' flag set from this message on
 
@@ -189,8 +186,7 @@ def test_errors_name_the_problem(tmp_path):
 
 
 def test_replay_bag_writes_metrics_and_plots(synthetic, tmp_path):
-    sys.path.insert(0, str(SCRIPTS))
-    import replay_bag  # noqa: PLC0415
+    import replay_bag  # noqa: PLC0415   (scripts/replay_bag.py)
     path, truth, _ = synthetic
     out = tmp_path / 'out'
     assert replay_bag.main([str(path), '--out', str(out), '--settle', '5', '--rudder-limit-deg', '35']) == 0

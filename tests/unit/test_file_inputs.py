@@ -38,12 +38,6 @@ ROUTE = ROOT / 'scenarios' / 'routes' / 'flagship_mariner.yaml'
 HEAD = 'name: test\nsource: unit test\nframe: enu\n'
 
 
-@pytest.fixture(autouse=True)
-def _keep_sys_path(monkeypatch):
-    # check_scenario puts the colcon install tree on sys.path; keep the other tests' imports.
-    monkeypatch.setattr(sys, 'path', list(sys.path))
-
-
 def route_error(text, filename='bad.yaml'):
     with pytest.raises(RouteError) as exc:
         parse_route_yaml(text, filename)
@@ -61,12 +55,8 @@ def scenario_file(tmp_path, extra_vessel='', name='t', top=''):
 
 
 def run_mission(*args, timeout=60):
-    env = dict(os.environ)
-    src = [str(ROOT / 'ros_ws' / 'src' / p) for p in ('ship_sim', 'ship_guidance',
-                                                       'ship_autopilot', 'ship_planner')]
-    env['PYTHONPATH'] = os.pathsep.join(src + [str(ROOT / 'scripts')])
     out = subprocess.run([sys.executable, str(ROOT / 'scripts' / 'run_mission.py'),
-                          *map(str, args)], capture_output=True, text=True, env=env,
+                          *map(str, args)], capture_output=True, text=True,
                          timeout=timeout, stdin=subprocess.DEVNULL)
     lines = [ln for ln in out.stderr.splitlines() if ln.strip()]
     assert 'Traceback' not in out.stderr + out.stdout, out.stderr

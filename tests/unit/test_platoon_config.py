@@ -16,7 +16,6 @@ No ROS graph is started.
   own steps, every record ends at its vessel's completion, the gap at the predecessor's.
 """
 import math
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -40,13 +39,6 @@ ROUTE = ROOT / 'scenarios' / 'routes' / 'platoon_curve.yaml'
 GAINS = yaml.safe_load((ROOT / 'ros_ws/src/ship_autopilot/ship_autopilot/data/'
                         'autopilot_gains.yaml').read_text())['models']
 MARINER_U = 7.7175
-
-
-@pytest.fixture(autouse=True)
-def _keep_sys_path(monkeypatch):
-    # check_scenario puts the colcon install tree on sys.path; the other unit tests import the
-    # source tree, so the path is restored after each test.
-    monkeypatch.setattr(sys, 'path', list(sys.path))
 
 
 def write(tmp_path, platoon, name='platoon.yaml', **top):
@@ -347,13 +339,9 @@ def test_run_mission_exits_2_with_one_line(tmp_path, case):
         path, key = write(tmp_path, pl), 'vessel_0'
     else:
         path, key = _limit_case(tmp_path, 0.5 * LIMIT), 'vessel_1'
-    env = dict(os.environ)
-    src = [str(ROOT / 'ros_ws' / 'src' / p) for p in ('ship_sim', 'ship_guidance',
-                                                       'ship_autopilot', 'ship_planner')]
-    env['PYTHONPATH'] = os.pathsep.join(src + [str(ROOT / 'scripts')])
     out = subprocess.run([sys.executable, str(ROOT / 'scripts' / 'run_mission.py'), str(path),
                           '--runs', str(tmp_path / 'runs')], capture_output=True, text=True,
-                         env=env, timeout=120)
+                         timeout=120)
     lines = [ln for ln in out.stderr.splitlines() if ln.strip()]
     assert out.returncode == 2, out.stderr
     assert len(lines) == 1 and key in lines[0] and str(path) in lines[0], lines

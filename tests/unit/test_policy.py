@@ -13,11 +13,11 @@ import math
 import numpy as np
 import pytest
 
-from ship_autopilot.learning.features import CLIP, OBS_DIM, default_scales
 from ship_autopilot.learning.policy import (FORMAT, RECOVERY_LOOKAHEAD_SHIP_LENGTHS,
                                             LearnedSteering, PolicyError, Recovery,
                                             check_model_limits, load_policy, mlp_forward,
                                             policy_path, save_policy)
+from ship_guidance.path_state import CLIP, OBS_DIM, default_scales
 from ship_sim.models import make_model
 
 SHIPS = ('mariner', 'container', 'tanker')

@@ -1,9 +1,9 @@
 """Learning environment (Martinsen and Lekkas 2018): eq. 9 state, eq. 8 reward, episodes, batched stepping.
 
-Expected values are hand-derived from the definitions (ship_autopilot.learning.features / env
-docstrings): Gaussian a = 1, sigma = 10 m -> 1 at e = 0 and exp(-1/2) at e = sigma; the closest-
-point cross-track rate U sin(chi - gamma_p); on a circle of radius R a vessel on the path with
-r = U / R keeps a constant heading relative to the path.
+Expected values are hand-derived from the definitions (ship_guidance.path_state /
+ship_autopilot.learning.env docstrings): Gaussian a = 1, sigma = 10 m -> 1 at e = 0 and
+exp(-1/2) at e = sigma; the closest-point cross-track rate U sin(chi - gamma_p); on a circle of
+radius R a vessel on the path with r = U / R keeps a constant heading relative to the path.
 """
 import math
 
@@ -15,9 +15,9 @@ gymnasium = pytest.importorskip('gymnasium')
 from ship_autopilot.learning.env import (EnvConfig, PathFollowingBatch,  # noqa: E402
                                          PathFollowingEnv, gaussian_reward,
                                          rudder_change_penalty)
-from ship_autopilot.learning.features import (OBS_DIM, STATE_NAMES, PathFeatures,  # noqa: E402
-                                              default_scales, normalise)
 from ship_guidance.path import Arc, Line, Route  # noqa: E402
+from ship_guidance.path_state import (OBS_DIM, STATE_NAMES, PathFeatures,  # noqa: E402
+                                      default_scales, normalise)
 
 
 def start(cross=0.0, heading=0.0, current=0.0, direction=0.0, along=100.0):

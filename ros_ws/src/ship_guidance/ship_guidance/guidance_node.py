@@ -9,7 +9,7 @@ Publishes, exactly once per odom message (so lockstep consumers can pair by sequ
                      finished (0/1), path angle (ENU yaw, rad), curvature (1/m, + = port turn)]
 and `route_complete` (std_msgs/Bool, latched) once the end of the route is reached; with
 `publish_path_state`, also `path_state` (std_msgs/Float64MultiArray, one per odom): the
-path-relative state of the learned steering policy (ship_autopilot.learning.features,
+path-relative state of the learned steering policy (ship_guidance.path_state,
 STATE_NAMES order, SI, NED/FRD).
 
 The odom subscription is created only when the first valid route has arrived, so a lockstep
@@ -108,7 +108,7 @@ class GuidanceNode(Node):
         self.features = self.pub_state = None
         if self.want_path_state:
             # Imported only when asked for: the one implementation the policy was trained on.
-            from ship_autopilot.learning.features import STATE_NAMES, PathFeatures
+            from ship_guidance.path_state import STATE_NAMES, PathFeatures
             self.features = PathFeatures()
             self.pub_state = self.create_publisher(Float64MultiArray, 'path_state', STREAM)
             self.m_state = Float64MultiArray()

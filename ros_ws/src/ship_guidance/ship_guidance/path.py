@@ -47,6 +47,10 @@ HALF_PI = 0.5 * math.pi
 #: place but a fault (e.g. 1e308, whose differences overflow to inf and NaN). The nodes refuse
 #: routes and odometry beyond it (ship_guidance.ros.path_msgs, ship_guidance.ros.odom_gate).
 MAX_COORDINATE_M = 1e7
+#: Longest route (m) a route file may describe or a curve generate (ship_guidance.curves).
+MAX_ROUTE_LENGTH_M = 1e6
+#: Most legs a route may have (= samples of a generated curve).
+MAX_ROUTE_SAMPLES = 100_000
 
 #: Default half-width (m) of the arc-length search window when ``project`` gets an ``s_hint``
 #: but no ``window``. The guidance passes its own (2 look-ahead distances and more).

@@ -9,9 +9,10 @@ Bounds every route reader applies (one place; a route beyond them is refused wit
 - MAX_COORDINATE_M: |north| and |east| of every point, 1e7 m from the origin: the bound of
   ship_guidance.path.MAX_COORDINATE_M (which the nodes apply to incoming Path messages): beyond
   the scale of the Earth a number is not a place but a fault (1e308 overflows to inf);
-- MAX_ROUTE_LENGTH_M (1000 km) and MAX_ROUTE_SAMPLES (100,000 legs, i.e. curve samples): a
-  generated curve (ship_planner.curves) is refused before it is sampled, so a typo such as
-  ``sweep_deg: 1.0e+9`` or ``step_m: 1e-9`` cannot take the memory of the machine;
+- MAX_ROUTE_LENGTH_M (1000 km) and MAX_ROUTE_SAMPLES (100,000 legs, i.e. curve samples), also
+  from ship_guidance.path: a generated curve (ship_guidance.curves) is refused before it is
+  sampled, so a typo such as ``sweep_deg: 1.0e+9`` or ``step_m: 1e-9`` cannot take the memory of
+  the machine;
 - MAX_FILE_BYTES (10 MB): route files are read only if they are regular files (a FIFO, a
   directory or a device is refused before it is read, so nothing blocks) of at most that size,
   and only as UTF-8 text (read_text_file).
@@ -22,12 +23,10 @@ from dataclasses import dataclass, field
 from typing import Any, Optional
 
 import numpy as np
-from ship_guidance.path import MAX_COORDINATE_M  # one bound for route files and Path messages
 
-#: Longest route (m) a route file may describe or generate.
-MAX_ROUTE_LENGTH_M = 1e6
-#: Most legs a route may have (= samples of a generated curve).
-MAX_ROUTE_SAMPLES = 100_000
+# One set of bounds for route files, generated curves and Path messages.
+from ship_guidance.path import MAX_COORDINATE_M, MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES
+
 #: Largest input file (bytes) read as a route or scenario file.
 MAX_FILE_BYTES = 10_000_000
 
@@ -127,17 +126,6 @@ def check_route_size(route):
             bad = check_point(float(p[0]), float(p[1]), f'leg {i + 1}')
             if bad:
                 return bad
-    return None
-
-
-def check_curve_size(length_m, step_m, what='the curve'):
-    """None if a curve of about length_m sampled every step_m is within the bounds, else the
-    refusal text; called before any sample is made."""
-    if not length_m <= MAX_ROUTE_LENGTH_M:
-        return f'{what} is {length_m:.4g} m long; at most {MAX_ROUTE_LENGTH_M:.0e} m is accepted'
-    if step_m > 0.0 and not length_m / step_m <= MAX_ROUTE_SAMPLES:
-        return (f'{what} would have {length_m / step_m:.4g} samples ({length_m:.4g} m every '
-                f'{step_m:.4g} m); at most {MAX_ROUTE_SAMPLES} are accepted')
     return None
 
 

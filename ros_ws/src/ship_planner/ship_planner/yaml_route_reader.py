@@ -23,7 +23,7 @@ The schema (a commented example: ship_planner/config/routes/example_enu.yaml):
         direction: counterclockwise             # seen from above: clockwise (= starboard) | counterclockwise (= port)
         to: [2000, 1500]                        # end point on the circle, or instead:
         # sweep_deg: 90                         # angle turned (> 0, < 360)
-    curve:                            # a parametric curve, sampled densely (ship_planner.curves)
+    curve:                            # a parametric curve, sampled densely (ship_guidance.curves)
       type: sine                      # sine | circle | spline
       # sine:   start (point, default origin), course_deg (base line, default 0), length_m,
       #         amplitude_m (offset to starboard of the base line), wavelength_m, phase_deg (0), step_m (10)
@@ -58,7 +58,7 @@ import re
 import numpy as np
 import yaml
 
-from ship_planner import curves
+from ship_guidance import curves
 from ship_planner.fillets import ArcSpec, FilletError, LineSpec, fillet_segments, segments_to_route
 from ship_planner.geodetic import geodetic_to_ned
 from ship_planner.route_data import (RouteError, RoutePlan, TextFileError, check_point,

@@ -3,7 +3,7 @@
 Source: Martinsen and Lekkas 2018, "Curved path following with deep reinforcement learning:
 results from three vessel models", Sec. III: episodes of 1000 s, the
 vessel started at random within a bound of the path, unknown ocean current, state eq. 9
-(learning.features), action = commanded rudder, reward eq. 8.
+(ship_guidance.path_state), action = commanded rudder, reward eq. 8.
 
 Reward (eq. 8; the functions are learning.reward's, which the run metrics use too). The OCR
 reads "R(y_e, psi~, delta) = -c ... + {a exp(-y_e^2 / (2 sigma^2)) if |psi~| < ...; 0 otherwise}",
@@ -47,7 +47,7 @@ per environment with amplitude, wavelength and phase randomised around the ship'
 
 Classes: ``PathFollowingBatch`` steps N vessels of one model together (numpy batched RK4; the
 vectorised variant used for training); ``PathFollowingEnv`` is the gymnasium.Env of one vessel on
-the same core. Observations are float32 (9,) normalised states (features.normalise); actions
+the same core. Observations are float32 (9,) normalised states (path_state.normalise); actions
 float32 in [-1, 1], scaled to the model's rudder limit, unified sign (positive turns to port).
 """
 import math
@@ -57,11 +57,10 @@ import gymnasium
 import numpy as np
 
 from ship_guidance.path import Line, Route
+from ship_guidance.path_state import CLIP, OBS_DIM, PathFeatures, default_scales, normalise
 from ship_sim.models import make_model
 
 from .reward import gaussian_reward, rudder_change_penalty
-
-from .features import CLIP, OBS_DIM, PathFeatures, default_scales, normalise
 
 MODES = ('straight', 'curved')
 
@@ -104,7 +103,7 @@ class EnvConfig:
 
 def make_curve_pool(model_name, speed, config, rng):
     """``config.n_routes`` sine Routes (NED) for ``model_name`` (see the module docstring)."""
-    from ship_planner.curves import sine_route  # only curved mode needs the planner
+    from ship_guidance.curves import sine_route  # only curved mode samples a curve
     amp0, wave0 = NOMINAL_CURVES.get(model_name, (500.0, 4000.0))
     r_min0 = wave0 ** 2 / (4 * math.pi ** 2 * amp0)
     length = speed * config.episode_s + config.route_margin + config.start_along_max

@@ -18,9 +18,9 @@ shapes or a changed weight hash raises PolicyError, a one-line message naming th
 what was expected.
 
 Use:  policy = load_policy('mariner')          # or load_policy(model=..., path=...)
-      rudder = policy.rudder(raw_state)        # raw eq. 9 state(s), SI (learning.features)
+      rudder = policy.rudder(raw_state)        # raw eq. 9 state(s), SI (ship_guidance.path_state)
 Raw states are normalised with the file's offsets/scales and clipped to the training range;
-non-finite entries never reach the network (see features.normalise; ``LearnedSteering`` holds
+non-finite entries never reach the network (see path_state.normalise; ``LearnedSteering`` holds
 its previous command instead).
 """
 import hashlib
@@ -30,12 +30,11 @@ from pathlib import Path
 import numpy as np
 
 from ship_guidance.los import ilos_heading, ilos_integral_rate
+from ship_guidance.path_state import OBS_DIM, STATE_NAMES, normalise
 from ship_sim.frames import wrap_angle
 
 from ..pd import PDAutopilot
 from ..rudder import RudderLimiter
-
-from .features import OBS_DIM, STATE_NAMES, normalise
 
 FORMAT = 'ship_autopilot.policy.v1'
 WEIGHT_NAMES = ('W0', 'b0', 'W1', 'b1', 'W2', 'b2')

@@ -1,4 +1,4 @@
-"""Parametric curves (ship_planner.curves): the sampled Route stays within 1 mm of the analytic
+"""Parametric curves (ship_guidance.curves): the sampled Route stays within 1 mm of the analytic
 curve (sine, spline), circles are exact, and the YAML `curve` form builds the same routes."""
 import math
 
@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.interpolate import CubicSpline
 
-from ship_planner import curves
+from ship_guidance import curves
 from ship_planner.yaml_route_reader import parse_route_yaml
 
 TOL_M = 1e-3          # stated tolerance of a sampled curve route: 1 mm (step 10 m, ship-sized curves)

@@ -1,14 +1,17 @@
-"""The path-relative state of seed 000 eq. 9, computed from a path projection and odometry.
+"""The path-relative state of a vessel (Martinsen and Lekkas 2018, eq. 9), computed from a path
+projection and odometry: what the learned steering policy sees.
 
-Source: Martinsen & Lekkas, "Curved path following with deep reinforcement learning: results
-from three vessel models" (seeds/000_9df48a050e3ea7fc.txt), eq. 9:
+Source: Martinsen and Lekkas 2018, "Curved path following with deep reinforcement learning:
+results from three vessel models", eq. 9:
 
     x = [y_e, y_e', chi - gamma_p, (chi - gamma_p)', psi - gamma_p, (psi - gamma_p)', u, v, r]
 
 with y_e the cross-track error of the closest path point (eqs. 1-3, ship_guidance.path), chi
 the course, psi the heading, gamma_p the path angle there. This module is the ONE
-implementation used by the training environment (learning.env) and by the nodes at runtime,
-so a policy sees exactly the numbers it was trained on.
+implementation used by the training environment (ship_autopilot.learning.env) and by the nodes
+at runtime (guidance_node's ``path_state`` topic, ship_autopilot.learning.policy), so a policy
+sees exactly the numbers it was trained on. It lives with the path (ship_guidance) because it
+is a function of the path projection, which both the guidance and the autopilot use.
 
 Inputs (NED / FRD, SI units, rad), one vessel (floats) or a batch (arrays):
 - from the projection (``Route.project`` or ``GuidanceOutput``): cross_track e (m, positive to
@@ -38,7 +41,7 @@ import numpy as np
 
 from ship_sim.frames import wrap_angle
 
-#: Field order of the state (seed 000 eq. 9). Units: m, m/s, rad, rad/s, rad, rad/s, m/s, m/s,
+#: Field order of the state (Martinsen and Lekkas 2018, eq. 9). Units: m, m/s, rad, rad/s, rad, rad/s, m/s, m/s,
 #: rad/s.
 STATE_NAMES = ('cross_track', 'cross_track_rate', 'course_rel', 'course_rel_rate',
                'heading_rel', 'heading_rel_rate', 'u', 'v', 'r')
@@ -61,8 +64,8 @@ def default_scales(speed, length):
     """(offset, scale) arrays of the normalisation for nominal speed U0 (m/s), length L (m).
 
     cross track / 50 m; its rate / (U0 / 2) (1 at a 30 deg intercept); angles / 0.5 rad;
-    angular rates / (0.2 U0 / L) (0.0096 rad/s for the Mariner, about its steady turn rate at
-    full rudder); u - U0 and v / 1 m/s.
+    angular rates / (0.2 U0 / L) (about a ship's steady turn rate at full rudder); u - U0 and
+    v / 1 m/s.
     """
     speed, length = float(speed), float(length)
     if not (np.isfinite(speed) and speed > 0 and np.isfinite(length) and length > 0):

@@ -1,23 +1,24 @@
-"""Parametric reference curves for curved-path following: sine, circle, spline through points.
+"""Parametric reference curves made into routes: sine, circle, spline through points.
 
-Source: seeds/000_9df48a050e3ea7fc.txt sec. II.A: a curved path is a parameterised curve
+Source: Martinsen and Lekkas 2018, sec. II.A: a curved path is a parameterised curve
 P_d(w) = [x_d(w), y_d(w)] in NED with path angle gamma_p = atan2(y_d'(w), x_d'(w)) (eq. 1);
-the paper does not give its curves' formulas, so these are the usual test shapes.
+the paper does not give its curves' formulas, so these are the usual test shapes. They serve
+both the route files (ship_planner.route_yaml) and the learning environment
+(ship_autopilot.learning.env), so they live here with the path they produce.
 
 Sine and spline curves are sampled at (nearly) equal arc-length steps with their analytic
 tangents and turned into a ship_guidance.path.Route of tangent arcs through the path's pose
 encoding (Route.from_curve -> Route.from_poses). A circle is exact: it is built from Arc legs.
 NED frame (x north, y east), metres, radians; psi = course of the tangent, clockwise from north.
 
-Every curve is bounded before it is sampled (ship_planner.route_plan: MAX_ROUTE_LENGTH_M,
-MAX_ROUTE_SAMPLES); a larger one raises ValueError saying which bound and by how much.
+Every curve is bounded before it is sampled (check_curve_size: ship_guidance.path
+MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES); a larger one raises ValueError saying which bound and
+by how much.
 """
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from ship_guidance.path import Route
-from ship_planner.fillets import ArcSpec, segments_to_route
-from ship_planner.route_data import check_curve_size
+from ship_guidance.path import MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES, Arc, Route
 
 _DENSE = 16     # dense evaluations per output step when measuring arc length
 
@@ -48,6 +49,17 @@ def _resample_by_arc_length(points_fn, tangent_fn, w0, w1, step_m):
     north, east = points_fn(w_out)
     tn, te = tangent_fn(w_out)
     return np.asarray(north, float), np.asarray(east, float), np.arctan2(te, tn)
+
+
+def check_curve_size(length_m, step_m, what='the curve'):
+    """None if a curve of about length_m sampled every step_m is within the bounds, else the
+    refusal text; called before any sample is made."""
+    if not length_m <= MAX_ROUTE_LENGTH_M:
+        return f'{what} is {length_m:.4g} m long; at most {MAX_ROUTE_LENGTH_M:.0e} m is accepted'
+    if step_m > 0.0 and not length_m / step_m <= MAX_ROUTE_SAMPLES:
+        return (f'{what} would have {length_m / step_m:.4g} samples ({length_m:.4g} m every '
+                f'{step_m:.4g} m); at most {MAX_ROUTE_SAMPLES} are accepted')
+    return None
 
 
 def _bounded(length_m, step_m, what='the curve'):
@@ -117,7 +129,7 @@ def spline_samples(points, step_m=10.0, bc_type='natural'):
 
 
 def circle_segments(center, radius_m, start_bearing, sweep, clockwise, max_piece=0.5 * np.pi):
-    """An exact circular route as ArcSpec pieces of at most max_piece (rad) each.
+    """An exact circular route as ship_guidance.path.Arc legs of at most max_piece (rad) each.
 
     center (north, east); the start point lies at bearing start_bearing (rad, clockwise from
     north) from the centre; the route sweeps `sweep` rad (> 0, may exceed 2 pi) clockwise
@@ -133,7 +145,7 @@ def circle_segments(center, radius_m, start_bearing, sweep, clockwise, max_piece
     bearings = start_bearing + sign * np.linspace(0.0, sweep, n_piece + 1)
     c = (float(center[0]), float(center[1]))
     pts = [(c[0] + radius_m * np.cos(b), c[1] + radius_m * np.sin(b)) for b in bearings]
-    return [ArcSpec(pts[i], pts[i + 1], c, bool(clockwise), f'circle piece {i + 1}') for i in range(n_piece)]
+    return [Arc(pts[i], pts[i + 1], c, bool(clockwise)) for i in range(n_piece)]
 
 
 def samples_to_route(north, east, psi):
@@ -141,8 +153,8 @@ def samples_to_route(north, east, psi):
 
     Route.from_curve decodes them like the nav_msgs/Path pose encoding (Route.from_poses): leg i
     leaves sample i along psi_i and passes through sample i + 1. Its deviation from a smooth
-    curve is O(|dkappa/ds| h^3) for sample spacing h (path.py): 0.04 mm measured on a sine of
-    500 m amplitude and 4 km wavelength at h = 10 m (tests/unit/test_route_curves.py bounds it by 1 mm).
+    curve is O(|dkappa/ds| h^3) for sample spacing h (path.py; tests/unit/test_curves.py bounds
+    it for ship-sized curves).
     """
     return Route.from_curve(np.asarray(north, float), np.asarray(east, float), np.asarray(psi, float))
 
@@ -159,4 +171,4 @@ def spline_route(points, step_m=10.0, bc_type='natural'):
 
 def circle_route(center, radius_m, start_bearing, sweep, clockwise):
     """An exact circle or circular arc (see circle_segments) as a Route of Arc legs."""
-    return segments_to_route(circle_segments(center, radius_m, start_bearing, sweep, clockwise))
+    return Route(circle_segments(center, radius_m, start_bearing, sweep, clockwise))

@@ -11,7 +11,7 @@ first odometry past the route's end, ``vessel_completion``): the launcher stops 
 after it has heard every route_complete, so a bag runs on for a few sim seconds (longer for a
 platoon's early finishers) on the last leg's extension, and how long depends on process
 timing. Metrics and plots cover start to completion, so identical lockstep runs give identical
-numbers; ``bag_end_s`` and ``tail_after_finish_s`` say what was cut.
+numbers; the record's ``bag_end_s`` and ``tail_after_finish_s`` say what was cut.
 
 Platoons (``platoon`` = {namespace: predecessor namespace or None}, from the launcher):
 - times: only the clock master publishes /clock and the followers run behind it in sim time, so
@@ -83,8 +83,12 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
         m['computed_over_gaps'] = sorted(k for k, s in record['vessels'][ns].items()
                                          if isinstance(s, dict) and s.get('missing'))
         m['completion_cut'] = ends[ns][1]
-        m['bag_end_s'] = metrics._f(bag_end[ns] - v.t[0])
-        m['tail_after_finish_s'] = metrics._f(bag_end[ns] - v.t[-1]) if ends[ns][0] is not None else 0.0
+        # How long the graph ran on after the completion (the launcher's reaction time, a
+        # wall-clock matter) describes the recording, not the vessel: it goes with the record,
+        # so the vessel's metrics repeat bit for bit.
+        rec = record['vessels'].setdefault(ns, {})
+        rec['bag_end_s'] = metrics._f(bag_end[ns] - v.t[0])
+        rec['tail_after_finish_s'] = metrics._f(bag_end[ns] - v.t[-1]) if ends[ns][0] is not None else 0.0
         result['vessels'][ns] = m
     if platoon:
         result['platoon'] = platoon_metrics(result['vessels'], gaps, platoon, settle_s, ends)

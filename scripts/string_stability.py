@@ -2,7 +2,7 @@
 """String stability: Table 1 of Angelopoulos 2011 and the exact look-ahead limit of Simakis 1992.
 
     scripts/string_stability.py [--out runs/analysis/string_stability]
-        [--table ../shared/reference/string_stability_table1.csv]
+        [--table tests/data/string_stability_table1.csv]
         [--brute-force {none,explained,all}] [--no-plots]
 
 Writes to --out:
@@ -35,7 +35,7 @@ from ship_sim.models.nps_auv2 import COEFFS
 
 ROOT = Path(__file__).resolve().parents[1]
 
-DEFAULT_TABLE = ROOT.parent / 'shared' / 'reference' / 'string_stability_table1.csv'
+DEFAULT_TABLE = ROOT / 'tests' / 'data' / 'string_stability_table1.csv'  # Angelopoulos 2011 Table 1
 DEFAULT_OUT = ROOT / 'runs' / 'analysis' / 'string_stability'
 #: Simakis 1992 Figures 5-8 as printed (OCR lost the dots; see the summary for the attribution).
 DOC_SENSITIVITY = {'Yvdot': 0.40, 'Yv': 0.37, 'Nrdot': 0.14, 'Nr': 0.102}

@@ -13,7 +13,7 @@ SCENARIO ?= scenarios/flagship_mariner.yaml
 PATH_DIRS := $(abspath $(sort $(dir $(wildcard $(WS)/src/*/package.xml))) scripts)
 PYTEST_ARGS ?=
 
-.PHONY: all venv paths build demo test bench clean distclean
+.PHONY: all venv paths build demo lint test bench clean distclean
 
 all: build
 
@@ -46,7 +46,11 @@ $(WS)/install/.built: $(VENV)/.installed $(SRC_FILES)
 demo: build
 	$(PY) scripts/run_mission.py $(SCENARIO)
 
-test: build
+# The rules are in ruff.toml.
+lint: $(VENV)/.installed
+	$(VENV)/bin/ruff check .
+
+test: build lint
 	$(PY) -m pytest $(PYTEST_ARGS)
 
 bench: build

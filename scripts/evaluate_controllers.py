@@ -164,7 +164,7 @@ def _task(args):
     t0 = time.perf_counter()
     try:
         r = run(model, route, ctrl, starts, current, duration, policy_file)
-    except Exception as exc:  # report a missing policy etc. in the table
+    except Exception as exc:  # noqa: BLE001 (report a missing policy etc. in the table)
         print(f'{model:9s} {current:.1f} m/s {ctrl:10s} ERROR {exc}', flush=True)
         return {'error': str(exc)}
     summary = {k: float(np.mean(v)) for k, v in r.items()}

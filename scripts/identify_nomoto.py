@@ -85,7 +85,7 @@ def main(argv=None):
             e = identify(name, rudder, switch, args.h)
             g = design.design_gains(e['K'], e['T'], e['speed_mps'], e['length_m'],
                                     omega_n_nd=design.OMEGA_N_ND.get(name, 1.0))
-        except Exception as exc:  # report and go on with the other models
+        except Exception as exc:  # noqa: BLE001 (report and go on with the other models)
             print(f'{name:10s} FAILED: {exc}')
             failed.append(name)
             continue

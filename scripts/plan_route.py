@@ -51,8 +51,10 @@ def parse_args(argv):
     pts.add_argument('--goal', nargs=2, type=float, required=True, metavar=('A', 'B'), help='goal, like --start')
     pts.add_argument('--clearance', type=float, default=200.0, help='distance to keep from land (m)')
     pts.add_argument('--turning-diameter', type=float, default=None,
-                     help='vessel turning diameter (m); fillet radius = suggest_fillet_radius(D) (= D at half rudder)')
-    pts.add_argument('--fillet-radius', type=float, default=None, help='fillet radius (m), overrides --turning-diameter')
+                     help='vessel turning diameter (m); fillet radius = suggest_fillet_radius(D) '
+                          '(= D at half rudder)')
+    pts.add_argument('--fillet-radius', type=float, default=None,
+                     help='fillet radius (m), overrides --turning-diameter')
     pts.add_argument('--min-fillet-radius', type=float, default=None,
                      help='smallest radius a tight corner may fall back to (m; default half the fillet radius)')
     pts.add_argument('--energy-weight', type=float, default=DEFAULT_ENERGY_WEIGHT,
@@ -119,7 +121,8 @@ def plot(plan, chart, path, title):
         ax.plot(cand[:, 1] / 1e3, cand[:, 0] / 1e3, ':', color=colours[i % len(colours)], lw=1.2,
                 label=f'candidate {i + 1}: {plan.origins[i]}' + (' (chosen)' if i == plan.chosen else ''))
     sp = plan.shortest.points / 1e3
-    ax.plot(sp[:, 1], sp[:, 0], '--', color='#1f4e9c', lw=1.2, label=f'shortest path {plan.shortest.length / 1e3:.2f} km')
+    ax.plot(sp[:, 1], sp[:, 0], '--', color='#1f4e9c', lw=1.2,
+            label=f'shortest path {plan.shortest.length / 1e3:.2f} km')
     route = plan.route()
     s = np.linspace(0.0, route.length, max(200, int(route.length / 20.0)))
     pts = np.array([route_point(route, si) for si in s]) / 1e3
@@ -210,7 +213,8 @@ def main(argv=None):
             'adjacent convex polygons -> crossing lines, real-coded GA -> waypoints; fillets for the vessel).',
             f'Command: {cmd}',
             f'Chart: {chart.source}; clearance {args.clearance:g} m (+ {chart.grid_margin:.0f} m grid margin).',
-            f'Route {plan.length / 1e3:.3f} km with fillets; exact-grid shortest path {plan.shortest.length / 1e3:.3f} km '
+            f'Route {plan.length / 1e3:.3f} km with fillets; '
+            f'exact-grid shortest path {plan.shortest.length / 1e3:.3f} km '
             f'(ratio {plan.length_ratio:.4f}); course change {math.degrees(plan.heading_change):.0f} deg vs '
             f'{math.degrees(plan.shortest.heading_change):.0f} deg on the shortest path.',
             f'Planning time {plan.timings["total"]:.1f} s (chart {t_chart:.1f} s, includes loading the shoreline '

@@ -8,7 +8,6 @@ the run folder could not be written (one line naming the path and the OS error),
 invalid scenario or option (checked before anything starts), 130 on Ctrl-C or SIGTERM.
 """
 import argparse
-import json
 import sys
 
 from mission.launcher import MissionFailed, check_scenario, install_stop_handlers, run_scenario

@@ -12,7 +12,6 @@ topics, types, QoS, type hashes and log times) in place of the broken file, whic
 beside it as ``<name>.mcap.partial``. The recorder's custom data (time source, rudder limits)
 comes from ``recording.yaml``, which the recorder writes when it opens a bag.
 """
-import io
 import struct
 import tempfile
 from pathlib import Path
@@ -104,7 +103,7 @@ def needs_recovery(bag_dir):
 
 def recover_bag(bag_dir):
     """Rewrite the broken bag in ``bag_dir`` as a complete one; returns a one-line summary."""
-    from mission.recorder import RECORDING_FILE, BagWriter  # noqa: PLC0415
+    from mission.recorder import RECORDING_FILE, BagWriter
     bag_dir = Path(bag_dir)
     broken = next(bag_dir.glob('*.mcap'))
     schemas, channels, messages = scan(broken)

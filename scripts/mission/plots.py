@@ -14,10 +14,10 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use('Agg')
-import matplotlib.pyplot as plt  # noqa: E402 (after selecting the backend)
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt  # after selecting the backend
+import numpy as np
 
-from ship_sim.frames import wrap_angle  # noqa: E402
+from ship_sim.frames import wrap_angle
 
 DPI = 110
 

@@ -291,9 +291,9 @@ class Recorder:
     def __init__(self, bag_path, topics=None, exclude=DEFAULT_EXCLUDE, time_source='sim',
                  depth=1000, discovery_period_s=0.2, node_name='mission_recorder', on_subscribe=None,
                  context=None, custom_data=None, acks=None):
-        import rclpy.node  # noqa: PLC0415 (rclpy only for the node layer)
-        from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: PLC0415
-        from std_msgs.msg import UInt64  # noqa: PLC0415
+        import rclpy.node  # rclpy only for the node layer
+        from rclpy.qos import QoSProfile, ReliabilityPolicy
+        from std_msgs.msg import UInt64
         if time_source not in ('sim', 'wall'):
             raise ValueError(f"time_source must be 'sim' or 'wall', got {time_source!r}")
         if depth < 1:
@@ -383,7 +383,7 @@ class Recorder:
         return callback
 
     def _subscribe(self, topic, msgtype, pubs):
-        from rclpy.qos import DurabilityPolicy, HistoryPolicy, ReliabilityPolicy  # noqa: PLC0415
+        from rclpy.qos import DurabilityPolicy, HistoryPolicy, ReliabilityPolicy
         profiles = [p.qos_profile for p in pubs]
         reliable = all(p.reliability == ReliabilityPolicy.RELIABLE for p in profiles)
         latched = all(p.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in profiles)
@@ -438,9 +438,9 @@ def _type_hash_string(endpoint):
 
 def _make_executor(kind):
     if kind == 'events':
-        from rclpy.experimental import EventsExecutor  # noqa: PLC0415
+        from rclpy.experimental import EventsExecutor
         return EventsExecutor()
-    from rclpy.executors import SingleThreadedExecutor  # noqa: PLC0415
+    from rclpy.executors import SingleThreadedExecutor
     return SingleThreadedExecutor()
 
 
@@ -469,8 +469,8 @@ def main(argv=None):
     meta = dict(m.split('=', 1) for m in args.meta)
     acks = {a: [t for t in ts.split(',') if t] for a, ts in (m.split('=', 1) for m in args.ack)}
 
-    import rclpy  # noqa: PLC0415
-    from rclpy.executors import ExternalShutdownException  # noqa: PLC0415
+    import rclpy
+    from rclpy.executors import ExternalShutdownException
 
     rclpy.init(args=[sys.argv[0], *ros_argv])
     recorder = None

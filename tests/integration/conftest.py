@@ -4,6 +4,7 @@ import pytest
 from harness import RosGraph
 from mission.domain import DomainLease
 from mission.processes import install_env
+from test_launcher import Launch
 
 
 def pytest_collection_modifyitems(items):
@@ -31,3 +32,20 @@ def ros_graph(tmp_path, monkeypatch):
             graph.close()
     finally:
         lease.close()
+
+
+@pytest.fixture
+def launch(ros_graph, tmp_path):
+    """launch(scenario, *args) -> Launch; every launch is ended at teardown."""
+    launches = []
+
+    def start(scenario, *args):
+        folder = tmp_path / f'launch{len(launches)}'
+        folder.mkdir()
+        launches.append(Launch(ros_graph, folder, scenario, args))
+        return launches[-1]
+
+    yield start
+    for run in launches:
+        run.close()
+        print(run.report())

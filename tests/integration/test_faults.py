@@ -17,7 +17,7 @@ import pytest
 from mission.bag import read_bag
 from mission.bag_recovery import scan
 
-from test_launcher import NS, SCENARIO, launch, run_processes  # noqa: F401 (launch: fixture)
+from test_launcher import NS, SCENARIO, run_processes
 
 
 def wait_gone(marker, timeout):

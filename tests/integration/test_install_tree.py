@@ -65,7 +65,7 @@ def installed_data(pkg):
     data_files, package_data = [], []
     for node in ast.walk(tree):
         if isinstance(node, ast.keyword) and node.arg == 'data_files':
-            for dest, files in eval(ast.unparse(node.value), env):   # noqa: S307 (names only)
+            for dest, files in eval(ast.unparse(node.value), env):   # only package_name and glob, no builtins
                 data_files += [(dest, files)] if isinstance(files, tuple) else \
                               [(dest, f) for f in files]
         if isinstance(node, ast.keyword) and node.arg == 'package_data':

@@ -123,23 +123,6 @@ class Launch:
                 f'stdout:\n{self.stdout()[-3000:]}\nstderr:\n{self.stderr()[-3000:]}')
 
 
-@pytest.fixture
-def launch(ros_graph, tmp_path):
-    """launch(scenario, *args) -> Launch; every launch is ended at teardown."""
-    launches = []
-
-    def start(scenario, *args):
-        folder = tmp_path / f'launch{len(launches)}'
-        folder.mkdir()
-        launches.append(Launch(ros_graph, folder, scenario, args))
-        return launches[-1]
-
-    yield start
-    for run in launches:
-        run.close()
-        print(run.report())
-
-
 POLICY_SCENARIO = REPO_ROOT / 'scenarios' / 'curved_path_mariner_current09_policy_000.yaml'
 
 

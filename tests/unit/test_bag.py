@@ -9,15 +9,15 @@ import pytest
 import yaml
 
 pytest.importorskip('rclpy')
-from geometry_msgs.msg import PoseStamped  # noqa: E402
-from nav_msgs.msg import Odometry, Path as PathMsg  # noqa: E402
-from rclpy.serialization import serialize_message  # noqa: E402
-from rosbags.typesys import Stores, get_typestore  # noqa: E402
-from rosgraph_msgs.msg import Clock  # noqa: E402
-from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension  # noqa: E402
+from geometry_msgs.msg import PoseStamped
+from nav_msgs.msg import Odometry, Path as PathMsg
+from rclpy.serialization import serialize_message
+from rosbags.typesys import Stores, get_typestore
+from rosgraph_msgs.msg import Clock
+from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension
 
-from mission import bag as bagmod  # noqa: E402
-from mission.recorder import BagWriter, reliable_qos  # noqa: E402
+from mission import bag as bagmod
+from mission.recorder import BagWriter, reliable_qos
 
 NS = 1_000_000_000
 FINISH_INDEX = 150  # progress 'finished' flag set from this message on
@@ -186,7 +186,7 @@ def test_errors_name_the_problem(tmp_path):
 
 
 def test_replay_bag_writes_metrics_and_plots(synthetic, tmp_path):
-    import replay_bag  # noqa: PLC0415   (scripts/replay_bag.py)
+    import replay_bag  # scripts/replay_bag.py
     path, truth, _ = synthetic
     out = tmp_path / 'out'
     assert replay_bag.main([str(path), '--out', str(out), '--settle', '5', '--rudder-limit-deg', '35']) == 0

@@ -21,7 +21,8 @@ def killed_bag(tmp_path, n=5000, flush_every=1000):
     """A bag as a SIGKILLed recorder leaves it: flushed chunks, no summary, no metadata.yaml."""
     bag = tmp_path / 'bag'
     w = BagWriter(bag, custom_data={'mission.time_source': 'wall'})
-    a, b = w.add_topic('/a', FLOAT64), w.add_topic('/b', 'nav_msgs/msg/Odometry')
+    a = w.add_topic('/a', FLOAT64)
+    w.add_topic('/b', 'nav_msgs/msg/Odometry')   # declared, never written
     sizes = []
     for i in range(n):
         w.write(a, i * 1000, float64(float(i)))

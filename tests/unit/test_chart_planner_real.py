@@ -8,8 +8,8 @@ import pytest
 
 pytest.importorskip('roaring_landmask')
 
-from ship_planner.chart import shoreline_chart  # noqa: E402
-from ship_planner.optimal_route import PlannerConfig, plan_route  # noqa: E402
+from ship_planner.chart import shoreline_chart
+from ship_planner.optimal_route import PlannerConfig, plan_route
 
 BOX = (35.03, 35.11, 129.01, 129.11)          # Busan south port, Yeongdo, the approaches
 START = (35.060, 129.040)                      # south of Songdo, west of Yeongdo

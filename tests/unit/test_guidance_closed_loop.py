@@ -97,8 +97,12 @@ def test_arc_steady_state_both_directions(clockwise):
     route = tangent_arc_route(clockwise, radius)
     outside = -1.0 if clockwise else 1.0  # port of a cw arc / starboard of a ccw arc
     expected = pd_arc_offset(d, radius, U, ZETA, WN)
-    late = lambda log: log[(log[:, S_] > 2000.0 + 0.6 * route.legs[1].length)
-                           & (log[:, S_] < route.length - 50.0)]
+
+    def late(log):
+        """The rows past the arc's first 60 %, before the last 50 m of the route."""
+        return log[(log[:, S_] > 2000.0 + 0.6 * route.legs[1].length)
+                   & (log[:, S_] < route.length - 50.0)]
+
     los = late(simulate(Guidance(route, 'los', d), 0.0, 0.0, 0.0, route.length / U))
     assert np.all(np.abs(los[:, EG_] - outside * expected) < 0.01 * expected)
     ilos = late(simulate(Guidance(route, 'ilos', d, integral_gain=U / 4), 0.0, 0.0, 0.0,

@@ -11,9 +11,9 @@ def test_linear_system_gives_the_fourth_order_taylor_polynomial():
     B = np.array([[0.0], [1.5]])
     x, u, h = np.array([1.0, -0.5]), np.array([0.7]), 0.2
     M = h * A
-    I = np.eye(2)
-    P = I + M + M @ M / 2 + M @ M @ M / 6 + M @ M @ M @ M / 24
-    Q = I + M / 2 + M @ M / 6 + M @ M @ M / 24
+    identity = np.eye(2)
+    P = identity + M + M @ M / 2 + M @ M @ M / 6 + M @ M @ M @ M / 24
+    Q = identity + M / 2 + M @ M / 6 + M @ M @ M / 24
     expected = P @ x + h * Q @ B @ u
     got = rk4_step(lambda x, u: x @ A.T + u @ B.T, x, u, h)
     np.testing.assert_allclose(got, expected, rtol=1e-14)

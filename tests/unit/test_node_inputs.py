@@ -17,7 +17,6 @@ import time
 import numpy as np
 import pytest
 from builtin_interfaces.msg import Time
-from nav_msgs.msg import Path
 from rclpy.serialization import serialize_message
 
 from ship_guidance.path import MAX_COORDINATE_M, Line, Route

@@ -104,7 +104,8 @@ def test_zero_radius_keeps_a_corner():
 
 def test_junctions_next_to_an_arc_are_left_alone():
     from ship_planner.fillets import ArcSpec
-    segs = [LineSpec((0, 0), (1000, 0)), ArcSpec((1000, 0), (1500, 500), (1000, 500), True), LineSpec((1500, 500), (1500, 2000))]
+    segs = [LineSpec((0, 0), (1000, 0)), ArcSpec((1000, 0), (1500, 500), (1000, 500), True),
+            LineSpec((1500, 500), (1500, 2000))]
     assert fillet_segments(segs, [400.0, 400.0]) == segs
 
 

@@ -31,8 +31,9 @@ def test_the_expected_files_are_shipped():
     names = {f.name for f in FILES}
     for expected in ('figure_eight_003.wpt', 'quarter_circle_arc_003.wpt', 'quarter_circle_13pts_003.wpt',
                      'route_following_mariner_004.yaml', 'route_following_tanker_004.yaml',
-                     'curved_path_mariner_000.yaml', 'curved_path_container_000.yaml', 'curved_path_tanker_000.yaml',
-                     'curved_spline_mariner_000.yaml', 'flagship_mariner.yaml', 'example_enu.yaml', 'example_wgs84.yaml'):
+                     'curved_path_mariner_000.yaml', 'curved_path_container_000.yaml',
+                     'curved_path_tanker_000.yaml', 'curved_spline_mariner_000.yaml', 'flagship_mariner.yaml',
+                     'example_enu.yaml', 'example_wgs84.yaml'):
         assert expected in names
 
 

@@ -18,7 +18,8 @@ setup(
     zip_safe=True,
     maintainer='Ship Navigation Maintainers',
     maintainer_email='maintainers@shipnav.org',
-    description='Guidance laws (LOS, integral LOS, circular arcs, curved paths, platoon pursuit) and the guidance node.',
+    description=('Guidance laws (LOS, integral LOS, circular arcs, curved paths, platoon pursuit) '
+                 'and the guidance node.'),
     license='MIT',
     entry_points={
         'console_scripts': [

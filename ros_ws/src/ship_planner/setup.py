@@ -19,7 +19,8 @@ setup(
     zip_safe=True,
     maintainer='Ship Navigation Maintainers',
     maintainer_email='maintainers@shipnav.org',
-    description='Route construction (waypoints, arcs, fillets, parametric curves), chart-based optimal routes, and the route node.',
+    description=('Route construction (waypoints, arcs, fillets, parametric curves), chart-based optimal routes, '
+                 'and the route node.'),
     license='MIT',
     entry_points={
         'console_scripts': [

@@ -193,7 +193,7 @@ class FollowerNode(Node):
         self.route = None
         try:
             self.create_subscription(Odometry, self.pred_topic, self._on_pred, STREAM)
-        except Exception as exc:  # rclpy's InvalidTopicNameException and friends
+        except Exception as exc:  # noqa: BLE001 (rclpy's InvalidTopicNameException and friends)
             raise ParameterError('predecessor_odom_topic', self.pred_topic,
                                  f'a valid topic name ({exc})') from None
         self.odom_sub = None

@@ -189,9 +189,9 @@ class Guidance:
         # Per stretch, as Python floats for the per-step work: (start s, end s) and
         # (last leg, its end north, its end east).
         c = route.cumulative.tolist()
-        self._stretch_s = [(c[f], c[l + 1]) for f, l in zip(self._first.tolist(),
-                                                            self._last.tolist())]
-        self._stretch_end = [(l, *route.legs[l].end.tolist()) for l in self._last.tolist()]
+        self._stretch_s = [(c[first], c[last + 1]) for first, last in zip(self._first.tolist(),
+                                                                        self._last.tolist())]
+        self._stretch_end = [(last, *route.legs[last].end.tolist()) for last in self._last.tolist()]
         self.reset()
 
     def reset(self, s=None):

@@ -1,1 +1,2 @@
-"""Vessel plant models (Mariner, Esso tanker, container ship, Nomoto, NPS AUV II), ocean current, and the vessel simulator node."""
+"""Vessel plant models (Mariner, Esso tanker, container ship, Nomoto, NPS AUV II), ocean current,
+and the vessel simulator node."""

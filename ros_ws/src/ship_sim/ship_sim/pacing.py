@@ -168,11 +168,11 @@ class RealtimePacer:
         self.last_publish = t
 
     def summary(self):
-        L, I = self.lateness, self.interval
-        return (f'realtime x{self.speedup:g} pacing over {L.n} steps: lateness mean '
-                f'{L.mean * 1e3:.3f} ms, sd {L.std * 1e3:.3f} ms, max {L.max * 1e3:.3f} ms; '
-                f'interval mean {I.mean * 1e3:.3f} ms (nominal {self.wall_period * 1e3:.3f}), '
-                f'sd {I.std * 1e3:.3f} ms')
+        late, gap = self.lateness, self.interval
+        return (f'realtime x{self.speedup:g} pacing over {late.n} steps: lateness mean '
+                f'{late.mean * 1e3:.3f} ms, sd {late.std * 1e3:.3f} ms, max {late.max * 1e3:.3f} ms; '
+                f'interval mean {gap.mean * 1e3:.3f} ms (nominal {self.wall_period * 1e3:.3f}), '
+                f'sd {gap.std * 1e3:.3f} ms')
 
 
 class StepGate:

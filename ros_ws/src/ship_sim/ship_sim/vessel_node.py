@@ -310,7 +310,7 @@ class VesselNode(Node):
             if not self._ready_msg.data:
                 self._ready_msg.data = True
                 self._ready_pub.publish(self._ready_msg)
-        except Exception:  # noqa: BLE001 - re-raised unless we are shutting down
+        except Exception:  # re-raised unless we are shutting down
             if self.context.ok():
                 raise
             self._running = False   # a signal shut the context down mid-step: just stop

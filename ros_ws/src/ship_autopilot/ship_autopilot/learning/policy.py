@@ -119,7 +119,7 @@ def load_policy(model=None, path=None):
     try:
         with np.load(path, allow_pickle=False) as data:
             arrays = {k: data[k] for k in data.files}
-    except Exception as exc:  # zip/npy errors of many kinds: all mean "not a policy file"
+    except Exception as exc:  # noqa: BLE001 (zip/npy errors of many kinds: all mean "not a policy file")
         _fail(path, f'not a readable .npz policy file ({type(exc).__name__}: '
                     f'{str(exc).splitlines()[0] if str(exc) else ""})')
     missing = [k for k in WEIGHT_NAMES + ('meta',) if k not in arrays]

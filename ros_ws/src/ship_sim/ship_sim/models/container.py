@@ -17,8 +17,8 @@ Limits: |delta_c| <= 10 deg, |delta_dot| <= 5 deg/s, |n_c| <= 160 rpm; shaft tim
 5.65/n s (n in rps) above 0.3 rps, else 18.83 s. The shaft command is taken in [1, 160] rpm
 (``shaft_min`` = 1 rpm; the simulator saturates commands below it): container.m errors for
 n <= 0 and describes forward motion only, so -160 rpm left its domain within 5 s, and a 0 rpm
-command lets n decay towards 0, where it does too; 1 rpm keeps n > 0 and the ship coasting. Positive rudder turns to starboard, so the
-unified command (positive = port) maps with sign -1.
+command lets n decay towards 0, where it does too; 1 rpm keeps n > 0 and the ship coasting.
+Positive rudder turns to starboard, so the unified command (positive = port) maps with sign -1.
 """
 import math
 

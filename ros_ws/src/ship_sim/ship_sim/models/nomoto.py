@@ -15,7 +15,7 @@ corrected), and the servo: ros_ws/src/ship_sim/doc/nomoto.md.
 """
 import numpy as np
 
-from .constant_speed import ConstantSpeedModel, check_param  # noqa: F401 (re-export)
+from .constant_speed import ConstantSpeedModel, check_param
 
 # Preset values: Table 2.2 of Lee 2004 in the unified rudder sign (doc/nomoto.md).
 # Rudder limits are our choice (the table has none): the mariner gets those of the MSS mariner

@@ -18,11 +18,8 @@ Limits: |delta_c| <= 10 deg, |delta_dot| <= 2.33 deg/s, |n_c| <= 80 rpm, shaft t
 constant 50 s. The shaft command is taken in [0, 80] rpm (``shaft_min`` = 0; the simulator
 saturates commands below it): tanker.m accepts astern commands, but the model describes forward
 motion only (it errors for u <= 0, and c = sqrt(cun u n + cnn n^2) is imaginary for small
-negative n), so -80 rpm left its domain after ~35 s. At 0 rpm the tanker coasts: u decays and
-stays > 0. The shaft command is taken in [0, 80] rpm (``shaft_min`` 0: the simulator
-saturates below it): tanker.m accepts astern commands, but the model describes forward motion
-only (it errors for u <= 0, and c = sqrt(cun u n + cnn n^2) is imaginary for small negative
-n), so -80 rpm left its domain after ~35 s; at 0 rpm the tanker coasts (u decays, stays > 0).
+negative n), so an astern command leaves its domain. At 0 rpm the tanker coasts: u decays and
+stays > 0.
 Shallow-water terms scale with z = T/(h - T), never exactly zero
 (z = 0.0188 at h = 1000 m); Yuvz switches on for z >= 0.8 (h <= 41.5 m).
 Positive rudder turns to port, so the unified command maps with sign +1.

@@ -99,7 +99,7 @@ def test_lookahead_is_above_the_stability_limit_of_the_paired_autopilot(path):
     assert d > critical_lookahead(g['autopilot_zeta'], g['autopilot_omega_n'], g['speed'], sigma)
 
 
-# Not the fixed-length experiments: 300 s course changes (004), 1000 s episodes (000).
+# Not the fixed-length experiments: 300 s course changes (Lee 2004), 1000 s episodes (Martinsen and Lekkas 2018).
 ROUTE_RUNS = [f for f in SEED_FILES if not f.stem.startswith(('course_change_', 'curved_path_'))]
 
 

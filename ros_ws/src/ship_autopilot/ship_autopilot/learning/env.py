@@ -25,8 +25,8 @@ the critic cannot predict because eq. 9 does not contain the previous command.)
 
 Time steps (our choice, justified): the plant is integrated with MSS's RK4 at sim_dt = 0.1 s
 (MSS's sample time h = 0.1 s); the policy acts every control_dt = 1 s (rudder held), so the
-discount gamma = 0.99 of the seed spans ~100 s, the time scale of a ship's heading response,
-and a 1000 s episode is 1000 transitions. Seed 000 does not print its step; its Table I
+discount gamma = 0.99 of Martinsen and Lekkas 2018 spans ~100 s, the time scale of a ship's heading response,
+and a 1000 s episode is 1000 transitions. The paper does not print its step; its Table I
 (up to 3264 for a 1000 s episode with a per-sample reward <= 1) implies at least 3.3 samples
 per second, consistent with the MSS step of 0.1 s: evaluation (scripts/evaluate_controllers.py)
 therefore accumulates the Gaussian at every 0.1 s sample for every controller.

@@ -1,0 +1,43 @@
+"""Closest point of approach between ships holding course and speed (pure, vectorised).
+
+With the target's position and velocity relative to the own ship, p = p_t - p_o and
+v = v_t - v_o (NED, m and m/s), the range |p + v t| is smallest at
+
+    TCPA = -(p . v) / |v|^2,        DCPA = |p + v TCPA|
+
+(the standard straight-line prediction, e.g. Lenart 1983). TCPA < 0 means
+the ships are opening: the closest point lies in the past and the range only grows. When the
+relative velocity vanishes the range never changes: TCPA = 0 and DCPA = |p|.
+
+Every function broadcasts over leading axes, so one call evaluates many targets (or many
+predicted scenarios x targets); vectors are (..., 2) arrays of (north, east).
+"""
+import numpy as np
+
+#: Relative speeds below this (m/s) count as none: TCPA = 0, DCPA = the current range.
+STILL_MPS = 1e-9
+
+
+def velocity(course, speed):
+    """(..., 2) NED velocity (m/s) of ships with course (rad, clockwise from north) and speed."""
+    course, speed = np.asarray(course, dtype=float), np.asarray(speed, dtype=float)
+    return np.stack(np.broadcast_arrays(speed * np.cos(course), speed * np.sin(course)), axis=-1)
+
+
+def cpa(p_own, v_own, p_target, v_target):
+    """(TCPA s, DCPA m) of targets relative to the own ship; arrays of the broadcast shape.
+
+    ``p_*``: (..., 2) NED positions (m); ``v_*``: (..., 2) NED velocities (m/s)."""
+    p = np.asarray(p_target, dtype=float) - np.asarray(p_own, dtype=float)
+    v = np.asarray(v_target, dtype=float) - np.asarray(v_own, dtype=float)
+    vv = np.einsum('...i,...i->...', v, v)
+    moving = vv > STILL_MPS ** 2
+    tcpa = np.where(moving, -np.einsum('...i,...i->...', p, v) / np.where(moving, vv, 1.0), 0.0)
+    closest = p + v * tcpa[..., None]
+    return tcpa, np.hypot(closest[..., 0], closest[..., 1])
+
+
+def range_and_bearing(p_own, p_target):
+    """(range m, true bearing rad in [0, 2 pi), clockwise from north) of targets."""
+    d = np.asarray(p_target, dtype=float) - np.asarray(p_own, dtype=float)
+    return np.hypot(d[..., 0], d[..., 1]), np.mod(np.arctan2(d[..., 1], d[..., 0]), 2.0 * np.pi)

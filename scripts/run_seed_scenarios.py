@@ -69,6 +69,9 @@ REFERENCE_ROUTES = {f'quarter_circle_{n}_003': 'routes/quarter_circle_arc_003.wp
 RUDDER_FROM_LEG = {'figure_eight_003': 2}
 #: scenarios whose rudder is also reported leg by leg (rudder_legs)
 RUDDER_PER_LEG = {'figure_eight_003'}
+#: sub-arc length (m) of the route Path (ship_guidance.ros.path_msgs.route_to_path_msg's
+#: default); the decoded legs do not depend on it (sub-arcs are merged back)
+GUIDED_ARC_STEP_M = 25.0
 #: figure eight: mean |rudder| on an arc within this fraction of its steady-turn rudder. Entering
 #: an arc the heading loop needs ~1/omega_n (~0.8 s, ~0.8 m at U = 1 m/s) to pick up the turn,
 #: under 15 % of a quarter circle of radius 5 L (17.5 m), and over- and undershoot of that
@@ -253,10 +256,16 @@ def analyse_run(scenario, run, make_pngs=True):
     ref = REFERENCE_ROUTES.get(scenario.name)
     per_leg = None
     if scenario.name in RUDDER_PER_LEG:
+        from ship_guidance.path import Route
         from ship_planner.route_loader import load_route
         from ship_sim.models import make_model
         spec = scenario.vessels[0]
-        per_leg = (load_route(spec.route_file).route, make_model(spec.model))
+        # The legs as the guidance numbers them: the route goes out as a nav_msgs/Path (arcs
+        # cut into sub-arcs) and is decoded with consecutive arcs of one circle merged, so the
+        # progress topic's leg index counts the decoded route's legs, not the file's rows.
+        route = load_route(spec.route_file).route
+        per_leg = (Route.from_poses(*route.to_poses(max_arc_step=GUIDED_ARC_STEP_M)),
+                   make_model(spec.model))
     return metrics_to_finish(run / 'bag', f'/{scenario.vessels[0].namespace}', scenario.settle_s,
                              limit, ref_route=SCENARIO_DIR / ref if ref else None,
                              rudder_from_leg=RUDDER_FROM_LEG.get(scenario.name),

@@ -4,7 +4,8 @@ Source: Simakis 1992, Chapter III/IV text around Figs. 14-23 and 26: "the refere
 a circle while the two points have coordinates (0,0) and (10,10)"; Figs. 16-23 follow straight
 segments through 3, 5, 7 and 13 points "dividing the reference path in equally spaced arcs";
 Figs. 14-15, the baseline, fly it as one straight chord between the two points (the rudder
-saturates at the start, where the chord turns 45 deg off the initial heading); Fig. 26 follows the same quarter circle as one circular leg defined by 2 points.
+saturates at the start, where the chord turns 45 deg off the initial heading); Fig. 26
+follows the same quarter circle as one circular leg defined by 2 points.
 
 Simakis does not print the centre. Two quarter circles join (0,0) and (10,10): centre
 (10, 0) or centre (0, 10). NOMO.FOR starts every run at (0,0) with heading PSI = 0 (along +x),

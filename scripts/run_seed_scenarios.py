@@ -382,7 +382,8 @@ def claim_checks(rows):
         limit = _m(rows, chord, 'rudder_limit_rad') or 0.4
         out.append(('Simakis 1992 Figs. 14-15: the 2-point chord saturates the rudder (about '
                     '-23 deg, the 0.4 rad limit, turning to starboard onto the chord)',
-                    None if lo is None or sat is None else bool(sat > 0.0),
+                    None if lo is None or sat is None
+                    else bool(sat > 0.0 and lo <= -limit * (1 - 1e-3)),
                     f'rudder {_fmt(_deg(lo), 1)} ... {_fmt(_deg(hi), 1)} deg (limit '
                     f'{_fmt(_deg(limit), 1)}), at the limit {_fmt(None if sat is None else 100 * sat, 1)}'
                     ' % of the run'))
@@ -459,9 +460,9 @@ def figure_eight_arc_claim(legs):
     curvature needs (the rudder does what the curve needs, no more), and the largest |rudder|
     on any arc stays below the largest at the straight-leg corner before them (the advantage
     "over the use of line segments only")."""
-    claim = ('Simakis 1992 Fig. 29: the rudder on the figure eight\'s arcs is small: mean |rudder| '
-             'per arc within 25 % of the steady-turn rudder of its curvature, max below the '
-             'straight-leg corner\'s')
+    claim = ('Simakis 1992 Fig. 29: the rudder on the figure eight\'s arcs is small: mean abs '
+             'rudder per arc within 25 % of the steady-turn rudder of its curvature, max below '
+             'the straight-leg corner\'s')
     if not legs:
         return claim, None, 'no per-leg rudder'
     arcs = [g for g in legs if g['kind'] == 'arc' and g['rudder_mean_abs_rad'] is not None]

@@ -67,13 +67,14 @@ def run(sim, guidance, autopilot, dt, t_end):
 def test_chord_route_is_one_straight_leg_45_deg_off_the_start_heading():
     sim, guidance, _, gains, limit, _, route = loop_from('quarter_circle_chord_003')
     assert len(route.legs) == 1 and route.legs[0].kind == 'line'
-    step = route.legs[0].start_angle if hasattr(route.legs[0], 'start_angle') else None
     n0, e0 = route.legs[0].start
     n1, e1 = route.legs[0].end
     chord = math.atan2(e1 - e0, n1 - n0)
     psi0 = sim.nav_state()[3]
     assert chord - psi0 == pytest.approx(math.pi / 4, abs=1e-9)    # to starboard
-    assert step is None or step == pytest.approx(chord)
+    assert route.legs[0].start_angle == pytest.approx(chord)
+    # On the chord LOS commands its direction: the whole 45 deg is heading error at the start.
+    assert guidance.update(n0, e0, psi0, 0.0).heading_cmd == pytest.approx(chord, abs=1e-9)
     # The PD's demand at the start exceeds the limit: k1 |dpsi| > delta_max.
     k1 = (gains['pd'] if 'pd' in gains else gains)['k1']   # gain-table entry or k1, k2
     assert k1 * (chord - psi0) > limit

@@ -25,6 +25,19 @@ closed loop (sampled).
 
 Writes to --out: summary.json, rates.csv, and PNGs <model>_cross_track.png (cross-track
 deviation of each vessel vs time above/below, linear and log envelope with the fits).
+
+    scripts/platoon_time_domain.py --thesis-ic [--models nomoto1] [--ic-ratios 1.5 0.8]
+
+Angelopoulos 2011 Figs. 17-21 instead: two vessels started off the path with the thesis's
+initial conditions ((y1, y2) = (1, 1.5), (-1, 0), (0, 1) ship lengths; (psi1, psi2) = (0.5,
+0.3) rad; r1 = 1 U/L), at look-aheads d_i = ratio x d_i* (the OCR states no values; the text
+says only d1 > d1*, d2 > d2*), each run twice: the thesis's linear model (eq. 36,
+platoon_simulation.linear_string_response, non-dimensional) and the ship model with its PD
+(rudder limit, atan LOS; simulate_platoon with the same initial deviations in metres and
+rad/s). Design: the model's gain-table zeta and omega_n (nomoto1: 0.8 and 1 U/L). Writes
+thesis_ic.csv (per case and vessel: fitted envelope rate of the linear run and the real part
+of its dominant eigenvalue, peak and final |y|) and thesis_ic_<model>.png (the five figures
+side by side, above and below the limit).
 """
 import argparse
 import csv
@@ -35,11 +48,15 @@ from pathlib import Path
 
 import numpy as np
 
+from ship_autopilot.gains import autopilot_gains
 from ship_autopilot.platoon_simulation import (doc_eigenvalues, dominant_pair,
-                                               envelope_peaks, envelope_rate, make_loop,
+                                               envelope_peaks, envelope_rate,
+                                               linear_string_response, make_loop,
                                                sampled_critical_lookahead,
                                                sampled_eigenvalues, simulate_platoon)
 from ship_guidance.follower import follower_gain, no_amplification_spacing
+from ship_guidance.los import critical_lookahead_nondim
+from ship_guidance.string_stability import string_eigenvalues
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -151,6 +168,128 @@ def plot(loop, runs, path, ceiling):
     plt.close(fig)
 
 
+# ---------------------------------------------------------------- Angelopoulos 2011 Figs. 17-21
+
+#: (figure, label, initial deviations {(vessel, 'y'|'psi'|'r'): value}) in the thesis's
+#: non-dimensional units (y in ship lengths, psi in rad, r in U/L).
+THESIS_ICS = (
+    (17, 'y1 = 1, y2 = 1.5', {(0, 'y'): 1.0, (1, 'y'): 1.5}),
+    (18, 'y1 = -1, y2 = 0', {(0, 'y'): -1.0}),
+    (19, 'y1 = 0, y2 = 1', {(1, 'y'): 1.0}),
+    (20, 'psi1 = 0.5, psi2 = 0.3', {(0, 'psi'): 0.5, (1, 'psi'): 0.3}),
+    (21, 'r1 = 1', {(0, 'r'): 1.0}),
+)
+#: Length of the thesis-IC runs, in periods 2 pi / omega_n, and the step (fraction of a period).
+IC_PERIODS, IC_STEPS_PER_PERIOD = 8.0, 200
+
+
+def thesis_ic_runs(loop, ratios):
+    """Run THESIS_ICS at d_i = ratio d_i* for each ratio, linear model and ship model.
+    Returns rows (one per ratio, figure, vessel) and the curves for the plot."""
+    w_nd = float(autopilot_gains(loop.name)['omega_n_nd'])
+    length = loop.speed * w_nd / loop.omega_n          # omega_n' = omega_n L / U
+    zeta, d_nd = loop.zeta, float(critical_lookahead_nondim(loop.zeta, w_nd))
+    period = 2.0 * math.pi / w_nd
+    t_end, dt = IC_PERIODS * period, period / IC_STEPS_PER_PERIOD
+    rows, curves = [], {}
+    for ratio in ratios:
+        d = ratio * d_nd
+        lam = string_eigenvalues([zeta, zeta], [w_nd, w_nd], [d, d])
+        re_lam = [float(dominant_pair(row).real) for row in lam]
+        dev = np.zeros((len(THESIS_ICS), 2, 3))        # (y, psi, r) per vessel, non-dimensional
+        for c, (_, _, ic) in enumerate(THESIS_ICS):
+            for (i, what), v in ic.items():
+                dev[c, i, ('y', 'psi', 'r').index(what)] = v
+        scale = np.array([length, 1.0, loop.speed / length])
+        ship = simulate_platoon(loop, np.full((len(THESIS_ICS), 2), ratio * loop.d_crit),
+                                t_end * length / loop.speed, dt * length / loop.speed, 0.0,
+                                stop_amplitude=1e3 * length, x_dev=dev * scale)
+        for c, (fig_no, label, _) in enumerate(THESIS_ICS):
+            x0 = np.concatenate([[dev[c, i, 1], dev[c, i, 2], dev[c, i, 0]] for i in range(2)])
+            t, x = linear_string_response(zeta, w_nd, [d, d], x0, t_end, dt)
+            y = x[:, [2, 5]]
+            ys = ship['dy'][:, c, :] / length
+            curves[(ratio, fig_no)] = {'t': t, 'y': y, 't_ship': ship['t'] * loop.speed / length,
+                                       'y_ship': ys, 'label': label}
+            # A follower driven by an excited leader is a Jordan chain (t^1 factor), alone not.
+            driven = bool(np.any(x0[:3] != 0.0))
+            for i in range(2):
+                _, amp = envelope_peaks(t, y[:, i])
+                sig, npk = envelope_rate(t, y[:, i], t_skip=2.0 * period, power=i * driven,
+                                         floor=1e-9 * (amp.max() if amp.size else 0.0))
+                fin = ys[np.isfinite(ys[:, i]), i]
+                rows.append({'model': loop.name, 'd_over_dstar': ratio, 'figure': fig_no,
+                             'initial': label, 'vessel': i + 1, 'zeta': zeta, 'omega_n_nd': w_nd,
+                             'd_nd': d, 'sigma_fit_linear': sig, 'peaks': npk,
+                             're_lambda': re_lam[i],
+                             'max_abs_y_linear': float(np.max(np.abs(y[:, i]))),
+                             'final_abs_y_linear': float(np.max(np.abs(y[-IC_STEPS_PER_PERIOD:, i]))),
+                             'max_abs_y_ship': float(np.max(np.abs(fin))) if fin.size else math.nan,
+                             'final_abs_y_ship': float(np.max(np.abs(fin[-IC_STEPS_PER_PERIOD:])))
+                             if fin.size else math.nan})
+    return rows, curves
+
+
+def plot_thesis_ic(loop, curves, ratios, path):
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(len(ratios), len(THESIS_ICS), figsize=(4.2 * len(THESIS_ICS),
+                                                                     3.6 * len(ratios)),
+                             sharex=True, squeeze=False)
+    for r, ratio in enumerate(ratios):
+        for c, (fig_no, label, _) in enumerate(THESIS_ICS):
+            ax, cv = axes[r, c], curves[(ratio, fig_no)]
+            for i, col in enumerate(('C0', 'C3')):
+                ax.plot(cv['t'], cv['y'][:, i], color=col, lw=1.4, label=f'y{i + 1} (eq. 36)')
+                ax.plot(cv['t_ship'], cv['y_ship'][:, i], color=col, ls='--', lw=1.0,
+                        label=f'y{i + 1} ({loop.name} + PD, rudder limit)')
+            ax.axhline(0.0, color='0.6', lw=0.6)
+            ax.set_title(f'Fig. {fig_no}: {label}\nd = {ratio:g} d*', fontsize=10)
+            ax.grid(alpha=0.3)
+            if r == len(ratios) - 1:
+                ax.set_xlabel('t (L/U)')
+            if c == 0:
+                ax.set_ylabel('deviation y (ship lengths)')
+            if ratio < 1.0:
+                ax.set_yscale('symlog', linthresh=1.0)
+    axes[0, -1].legend(fontsize=7)
+    fig.suptitle('Angelopoulos 2011 Figs. 17-21 with our curves: two vessels from the thesis\'s '
+                 'initial conditions, above and below the look-ahead limit')
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def main_thesis_ic(a):
+    ok = True
+    rows = []
+    for name in a.models:
+        loop = make_loop(name)
+        r, curves = thesis_ic_runs(loop, a.ic_ratios)
+        rows += r
+        print(f"\n{name}: zeta {loop.zeta}, omega_n' {r[0]['omega_n_nd']:g} U/L; two vessels, "
+              f"d_i = ratio x d* = ratio x {critical_lookahead_nondim(loop.zeta, r[0]['omega_n_nd']):.4f} L")
+        print(f"{'d/d*':>5}{'fig':>5}  {'initial':24}{'vessel':>7}{'sigma fit':>11}{'Re lam':>10}"
+              f"{'max|y| lin':>11}{'end|y| lin':>11}{'max|y| ship':>12}{'end|y| ship':>12}")
+        for x in r:
+            print(f"{x['d_over_dstar']:5.2f}{x['figure']:5d}  {x['initial']:24}{x['vessel']:7d}"
+                  f"{x['sigma_fit_linear']:11.4f}{x['re_lambda']:10.4f}{x['max_abs_y_linear']:11.3g}"
+                  f"{x['final_abs_y_linear']:11.3g}{x['max_abs_y_ship']:12.3g}"
+                  f"{x['final_abs_y_ship']:12.3g}")
+            if np.isfinite(x['sigma_fit_linear']) and \
+                    np.sign(x['sigma_fit_linear']) != np.sign(x['re_lambda']):
+                ok = False
+        if not a.no_plots:
+            plot_thesis_ic(loop, curves, a.ic_ratios, a.out / f'thesis_ic_{name}.png')
+    with open(a.out / 'thesis_ic.csv', 'w', newline='') as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f'\nwritten to {a.out}; every fitted rate has the sign of its eigenvalue: {ok}')
+    return 0 if ok else 1
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--models', nargs='+', default=['nomoto1', 'mariner'])
@@ -163,8 +302,16 @@ def main(argv=None):
                     help='largest envelope amplitude used in the fits (m); a case stops at 10x')
     ap.add_argument('--out', type=Path, default=DEFAULT_OUT)
     ap.add_argument('--no-plots', action='store_true')
+    ap.add_argument('--thesis-ic', action='store_true', help='Angelopoulos 2011 Figs. 17-21: two '
+                    'vessels from the thesis\'s initial conditions (default models: nomoto1)')
+    ap.add_argument('--ic-ratios', type=float, nargs='+', default=[1.5, 0.8],
+                    help='--thesis-ic look-aheads as multiples of d* (default 1.5 0.8)')
     a = ap.parse_args(argv)
     a.out.mkdir(parents=True, exist_ok=True)
+    if a.thesis_ic:
+        if a.models == ap.get_default('models'):
+            a.models = ['nomoto1']
+        return main_thesis_ic(a)
     all_rows, infos = [], []
     ok = True
     for name in a.models:

@@ -21,18 +21,22 @@ The table's metrics are mission.metrics.vessel_metrics over [start + settle_s, t
 guidance declared the route finished] (or the end of the run): the launcher stops the nodes a
 few sim seconds after route_complete, and that tail is cut (``metrics_to_finish``). Extras:
 - ``ref_xte_*``: the cross-track error against a REFERENCE path other than the route followed.
-  Seed 003 approximates a quarter circle by straight legs; the figure of merit is the distance
-  from the circle itself, not from the legs (REFERENCE_ROUTES below; the scenario schema has no
-  key for it), from the odometry.
+  Simakis 1992 approximates a quarter circle by a chord or by straight legs; the figure of merit
+  is the distance from the circle itself, not from the legs (REFERENCE_ROUTES below; the
+  scenario schema has no key for it), from the odometry.
 - ``rudder_max_abs_from_leg_rad``: the largest rudder angle from a given leg on
   (RUDDER_FROM_LEG; the figure eight's arcs after its one sharp corner).
+- ``rudder_min_rad``, ``rudder_max_rad``: the signed extremes of the actual rudder.
+- ``rudder_legs`` (RUDDER_PER_LEG): per leg of the route its kind, curvature, max and mean
+  |rudder|, and for an arc the steady-turn rudder its curvature needs, from the vehicle model
+  (``steady_turn_rudder``: the manoeuvre module's turning circle, solved for the radius).
 - ``guidance_finished_s``, ``bag_end_s``, ``tail_after_finish_s``: when the guidance declared
   the route finished, where the bag ends, and the cut tail (s after the first odometry).
 The seeds' claims become checks on the rows (``claim_checks``): reproduced yes / NO, or n/a
 when a run it needs is missing or failed.
 
 Units in the table: metres, degrees, seconds; reward = mission.metrics cumulative Gaussian reward
-(seed 000 eq. 8, sigma 10 m, sampled every 0.1 s, whole run).
+(Martinsen and Lekkas 2018 eq. 8, sigma 10 m, sampled every 0.1 s, whole run).
 """
 import argparse
 import fnmatch
@@ -59,19 +63,32 @@ QUICK_FACTOR = 0.25          # --quick: duration and settle_s times this
 QUICK_MIN_DURATION_S = 20.0
 #: scenario name -> reference route (relative to scenarios/) for the ref_xte_* extras
 REFERENCE_ROUTES = {f'quarter_circle_{n}_003': 'routes/quarter_circle_arc_003.wpt'
-                    for n in ('03pts', '05pts', '07pts', '13pts', 'arc')}
+                    for n in ('chord', '03pts', '05pts', '07pts', '13pts', 'arc')}
 #: scenario name -> first leg index from which the rudder maximum is also reported
 #: (figure eight: leg 2, the arcs after the 90 deg corner at (15, 0) L)
 RUDDER_FROM_LEG = {'figure_eight_003': 2}
-#: seed 000 Table I, LOS row: cumulative Gaussian reward per ship and current (m/s)
+#: scenarios whose rudder is also reported leg by leg (rudder_legs)
+RUDDER_PER_LEG = {'figure_eight_003'}
+#: sub-arc length (m) of the route Path (ship_guidance.ros.path_msgs.route_to_path_msg's
+#: default); the decoded legs do not depend on it (sub-arcs are merged back)
+GUIDED_ARC_STEP_M = 25.0
+#: figure eight: mean |rudder| on an arc within this fraction of its steady-turn rudder. Entering
+#: an arc the heading loop needs ~1/omega_n (~0.8 s, ~0.8 m at U = 1 m/s) to pick up the turn,
+#: under 15 % of a quarter circle of radius 5 L (17.5 m), and over- and undershoot of that
+#: transient (zeta = 0.8) largely cancel in the mean: 25 % bounds what a loop that only
+#: turns as the curve needs can show.
+ARC_RUDDER_RTOL = 0.25
+#: Martinsen and Lekkas 2018 Table I, LOS row: cumulative Gaussian reward per ship and current (m/s)
 TABLE_I_LOS = {'mariner': {0.0: 161, 0.9: 499}, 'container': {0.0: 807, 0.9: 829},
                'tanker': {0.0: 65, 0.9: 62}}
 GROUPS = (  # (name prefix, heading in the table)
-    ('quarter_circle_', 'Seed 003: quarter circle, arc guidance vs straight legs (NPS AUV II)'),
-    ('figure_eight_', 'Seed 003: figure eight with arc guidance (NPS AUV II)'),
-    ('course_change_', 'Seed 004: course changes, PD vs fuzzy PID (Mariner)'),
-    ('route_following_', 'Seed 004: waypoint route following, LOS + PD vs fuzzy PID'),
-    ('curved_path_', 'Seed 000: curved path following, LOS vs ILOS, currents 0 and 0.9 m/s'),
+    ('quarter_circle_', 'Simakis 1992: quarter circle, arc guidance vs chord and straight legs '
+     '(NPS AUV II)'),
+    ('figure_eight_', 'Simakis 1992: figure eight with arc guidance (NPS AUV II)'),
+    ('course_change_', 'Lee 2004: course changes, PD vs fuzzy PID (Mariner)'),
+    ('route_following_', 'Lee 2004: waypoint route following, LOS + PD vs fuzzy PID'),
+    ('curved_path_', 'Martinsen and Lekkas 2018: curved path following, LOS vs ILOS, currents 0 '
+     'and 0.9 m/s'),
 )
 
 
@@ -125,10 +142,56 @@ def rudder_limit(spec):
     return math.radians(override) if override else float(make_model(spec.model).rudder_max)
 
 
+def steady_turn_rudder(model, radius_m, clockwise, rudder_max, t_end=300.0):
+    """The rudder (rad, unified sign: + to port) at which ``model`` turns steadily on a circle
+    of ``radius_m``, clockwise (starboard) or not: the steady radius of the manoeuvre module's
+    turning circle (ship_sim.maneuvers, V / |r| after t_end s), solved for the radius
+    by bisection on |rudder| in (0, rudder_max]. None if even rudder_max turns wider."""
+    from scipy.optimize import brentq
+
+    from ship_sim.maneuvers import integrate, turning_metrics
+    sign = -1.0 if clockwise else 1.0
+    x0 = np.asarray(model.initial_state(), dtype=float)[None]   # the batched path: every model
+
+    def excess(mag):
+        u = np.asarray(model.inputs(np.array([sign * mag])), dtype=float)
+        t, st = integrate(model, x0, u, 0.1, t_end)
+        st = st[:, 0]
+        tc = turning_metrics(t, st[:, model.IX], st[:, model.IY],
+                             st[:, model.IPSI], np.hypot(model.surge_speed(st), st[:, model.IV]),
+                             st[:, model.IR])
+        return tc.steady_radius_m - radius_m
+    if excess(rudder_max) > 0.0:
+        return None
+    return sign * brentq(excess, 1e-6 * rudder_max, rudder_max, xtol=1e-9)
+
+
+def rudder_per_leg(route, rudder, leg, model, rudder_max):
+    """[{leg, kind, curvature_1pm, rudder_max_abs_rad, rudder_mean_abs_rad,
+    steady_turn_rudder_rad}] per leg of ``route`` (ship_guidance.path.Route) from the rudder
+    samples and the guidance's leg index at each sample."""
+    out, steady = [], {}
+    for i, g in enumerate(route.legs):
+        sel = np.abs(leg - i) < 0.5
+        kappa = float(getattr(g, 'curvature', 0.0))
+        row = {'leg': i, 'kind': g.kind, 'curvature_1pm': kappa,
+               'rudder_max_abs_rad': float(np.max(np.abs(rudder[sel]))) if sel.any() else None,
+               'rudder_mean_abs_rad': float(np.mean(np.abs(rudder[sel]))) if sel.any() else None,
+               'steady_turn_rudder_rad': 0.0}
+        if g.kind == 'arc':
+            k = (round(g.radius, 9), g.clockwise)
+            if k not in steady:
+                steady[k] = steady_turn_rudder(model, g.radius, g.clockwise, rudder_max)
+            row['steady_turn_rudder_rad'] = steady[k]
+        out.append(row)
+    return out
+
+
 def metrics_to_finish(bag_dir, namespace, settle_s, rudder_limit_rad, ref_route=None,
-                      rudder_from_leg=None):
+                      rudder_from_leg=None, per_leg=None):
     """mission.metrics.vessel_metrics over [start, route finished] (or the whole run if it never
-    finishes; mission.report's cut), plus the ref_* and rudder-after-leg extras."""
+    finishes; mission.report's cut), plus the ref_* and rudder-after-leg extras; ``per_leg``
+    (route, model) adds rudder_legs."""
     from mission import bag as bagmod
     from mission.metrics import cross_track_stats, project_on_route, vessel_metrics
     from mission.report import vessel_completion, vessel_until
@@ -157,12 +220,20 @@ def metrics_to_finish(bag_dir, namespace, settle_s, rudder_limit_rad, ref_route=
         m.update({'ref_route': str(ref_route), 'ref_xte_rms_m': st['xte_rms_m'],
                   'ref_xte_max_abs_m': st['xte_max_abs_m'], 'ref_xte_mean_m': st['xte_mean_m']})
     rudder = cut['rudder']
+    if rudder is not None and len(rudder.t):
+        m['rudder_min_rad'] = float(np.min(rudder.v))
+        m['rudder_max_rad'] = float(np.max(rudder.v))
     if rudder_from_leg is not None and len(v.progress.t) and rudder is not None:
         leg = np.interp(rudder.t, v.progress.t, v.progress.v[:, v.progress_labels.index('leg')])
         sel = leg >= rudder_from_leg - 1e-9
         m['rudder_from_leg'] = rudder_from_leg
         m['rudder_max_abs_from_leg_rad'] = (float(np.max(np.abs(rudder.v[sel])))
                                             if np.any(sel) else None)
+    if per_leg is not None and len(v.progress.t) and rudder is not None:
+        # The leg of each rudder sample: the latest progress message (a step function).
+        k = np.clip(np.searchsorted(v.progress.t, rudder.t, side='right') - 1, 0, None)
+        leg = v.progress.v[k, v.progress_labels.index('leg')]
+        m['rudder_legs'] = rudder_per_leg(per_leg[0], rudder.v, leg, per_leg[1], rudder_limit_rad)
     return m
 
 
@@ -183,9 +254,22 @@ def analyse_run(scenario, run, make_pngs=True):
     analyse_bag(run / 'bag', run, settle_s=scenario.settle_s, rudder_limit_rad=limit,
                 make_pngs=make_pngs)
     ref = REFERENCE_ROUTES.get(scenario.name)
+    per_leg = None
+    if scenario.name in RUDDER_PER_LEG:
+        from ship_guidance.path import Route
+        from ship_planner.route_loader import load_route
+        from ship_sim.models import make_model
+        spec = scenario.vessels[0]
+        # The legs as the guidance numbers them: the route goes out as a nav_msgs/Path (arcs
+        # cut into sub-arcs) and is decoded with consecutive arcs of one circle merged, so the
+        # progress topic's leg index counts the decoded route's legs, not the file's rows.
+        route = load_route(spec.route_file).route
+        per_leg = (Route.from_poses(*route.to_poses(max_arc_step=GUIDED_ARC_STEP_M)),
+                   make_model(spec.model))
     return metrics_to_finish(run / 'bag', f'/{scenario.vessels[0].namespace}', scenario.settle_s,
                              limit, ref_route=SCENARIO_DIR / ref if ref else None,
-                             rudder_from_leg=RUDDER_FROM_LEG.get(scenario.name))
+                             rudder_from_leg=RUDDER_FROM_LEG.get(scenario.name),
+                             per_leg=per_leg)
 
 
 def reanalyse(batch):
@@ -291,32 +375,48 @@ def claim_checks(rows):
     """[(claim, verdict True/False/None, evidence text)] for the seed claims the batch can test."""
     out = []
     pts = ('03pts', '05pts', '07pts', '13pts')
-    arc = 'quarter_circle_arc_003'
+    arc, chord = 'quarter_circle_arc_003', 'quarter_circle_chord_003'
+    if chord in rows:
+        lo, hi = _m(rows, chord, 'rudder_min_rad'), _m(rows, chord, 'rudder_max_rad')
+        sat = _m(rows, chord, 'rudder_saturated_fraction')
+        limit = _m(rows, chord, 'rudder_limit_rad') or 0.4
+        out.append(('Simakis 1992 Figs. 14-15: the 2-point chord saturates the rudder (about '
+                    '-23 deg, the 0.4 rad limit, turning to starboard onto the chord)',
+                    None if lo is None or sat is None
+                    else bool(sat > 0.0 and lo <= -limit * (1 - 1e-3)),
+                    f'rudder {_fmt(_deg(lo), 1)} ... {_fmt(_deg(hi), 1)} deg (limit '
+                    f'{_fmt(_deg(limit), 1)}), at the limit {_fmt(None if sat is None else 100 * sat, 1)}'
+                    ' % of the run'))
     if arc in rows:
         for key, what in (('ref_xte_rms_m', 'tracks the circle closer (RMS distance)'),
                           ('rudder_total_variation_rad_per_s', 'with less rudder activity '
                            '(total variation)')):
-            pairs = [(p, _m(rows, f'quarter_circle_{p}_003', key)) for p in pts]
+            names = ('chord',) + pts
+            pairs = [(p, _m(rows, f'quarter_circle_{p}_003', key)) for p in names]
+            pairs = [(p, v) for p, v in pairs if p != 'chord' or chord in rows]
             a = _m(rows, arc, key)
             verdict = _all([_lt(a, v) for _, v in pairs])
             unit = (lambda x: x, 'm') if key.endswith('_m') else (_deg, 'deg/s')
             ev = f'arc {_fmt(unit[0](a), 3)}; ' + ', '.join(f'{p} {_fmt(unit[0](v), 3)}'
                                                            for p, v in pairs) + f' {unit[1]}'
-            out.append((f'003 Figs. 14-27: the 2-point arc {what} than 3/5/7/13-point legs',
-                        verdict, ev))
-        refs = [_m(rows, f'quarter_circle_{p}_003', 'ref_xte_rms_m') for p in pts]
+            out.append((f'Simakis 1992 Figs. 14-27: the arc {what} than the 2-point chord and '
+                        '3/5/7/13-point legs', verdict, ev))
+        names = (('chord',) if chord in rows else ()) + pts
+        refs = [_m(rows, f'quarter_circle_{p}_003', 'ref_xte_rms_m') for p in names]
         mono = _all([_lt(b, a) for a, b in zip(refs, refs[1:])]) if None not in refs else None
-        out.append(('003 Ch. IV.A: more points track the circle more closely (RMS distance '
-                    'falls 3 -> 13)', mono, ', '.join(f'{p} {_fmt(v)}' for p, v in zip(pts, refs))))
+        out.append(('Simakis 1992 Ch. IV.A: more points track the circle more closely (RMS '
+                    'distance falls, 2-point chord -> 13 points)', mono,
+                    ', '.join(f'{p} {_fmt(v)}' for p, v in zip(names, refs))))
     if 'figure_eight_003' in rows:
         mx = _m(rows, 'figure_eight_003', 'rudder_max_abs_from_leg_rad')
         mx_all = _m(rows, 'figure_eight_003', 'rudder_max_abs_rad')
         done = _m(rows, 'figure_eight_003', 'guidance_finished_s')
-        out.append(('003 Figs. 28-29: the figure eight is completed and the rudder stays off its '
-                    '0.4 rad limit on the arcs (legs after the 90 deg corner)',
+        out.append(('Simakis 1992 Figs. 28-29: the figure eight is completed and the rudder stays '
+                    'off its 0.4 rad limit on the arcs (legs after the 90 deg corner)',
                     None if mx is None else done is not None and mx < 0.4 * (1 - 1e-3),
                     f'max abs rudder after the corner {_fmt(mx, 3)} rad, over the run '
                     f'{_fmt(mx_all, 3)} rad (the 90 deg corner), finished at {_fmt(done, 0)} s'))
+        out.append(figure_eight_arc_claim(_m(rows, 'figure_eight_003', 'rudder_legs')))
     for ang in (30, 45, 60, 90):
         pd = _m(rows, f'course_change_{ang}_pd_004', 'heading_error_mean_rad')
         fz = _m(rows, f'course_change_{ang}_fuzzy_004', 'heading_error_mean_rad')
@@ -352,6 +452,32 @@ def claim_checks(rows):
                     ', '.join(f'{ship} {_fmt(ours[ship], 0)} (paper {seed[ship]})'
                               for ship in TABLE_I_LOS)))
     return out
+
+
+def figure_eight_arc_claim(legs):
+    """Simakis 1992 Fig. 29: "the small values of the rudder angle" on the arcs, as a check: on
+    every arc the mean |rudder| is within ARC_RUDDER_RTOL of the steady-turn rudder its
+    curvature needs (the rudder does what the curve needs, no more), and the largest |rudder|
+    on any arc stays below the largest at the straight-leg corner before them (the advantage
+    "over the use of line segments only")."""
+    claim = ('Simakis 1992 Fig. 29: the rudder on the figure eight\'s arcs is small: mean abs '
+             'rudder per arc within 25 % of the steady-turn rudder of its curvature, max below '
+             'the straight-leg corner\'s')
+    if not legs:
+        return claim, None, 'no per-leg rudder'
+    arcs = [g for g in legs if g['kind'] == 'arc' and g['rudder_mean_abs_rad'] is not None]
+    lines = [g for g in legs if g['kind'] == 'line' and g['rudder_max_abs_rad'] is not None]
+    if not arcs or not lines or any(g['steady_turn_rudder_rad'] is None for g in arcs):
+        return claim, None, 'arcs, lines or steady-turn rudder missing'
+    ratio = [g['rudder_mean_abs_rad'] / abs(g['steady_turn_rudder_rad']) for g in arcs]
+    arc_max = max(g['rudder_max_abs_rad'] for g in arcs)
+    corner = max(g['rudder_max_abs_rad'] for g in lines)
+    ok = all(abs(q - 1.0) <= ARC_RUDDER_RTOL for q in ratio) and arc_max < corner
+    ev = (f'steady-turn rudder {_fmt(_deg(abs(arcs[0]["steady_turn_rudder_rad"])), 2)} deg; '
+          'mean / steady per arc ' + ', '.join(f'{q:.2f}' for q in ratio)
+          + f'; max on the arcs {_fmt(_deg(arc_max), 1)} deg vs {_fmt(_deg(corner), 1)} deg on '
+          'the straight legs')
+    return claim, ok, ev
 
 
 # -- table ---------------------------------------------------------------------------------------
@@ -399,9 +525,9 @@ def _get(r, key):
 def markdown(results, claims, header):
     lines = [header, '']
     lines.append('Statistics from settle_s (scenario file) to the route\'s end (guidance '
-                 'finished) or the end of the run; reward from the start (seed 000 eq. 8, '
+                 'finished) or the end of the run; reward from the start (Martinsen and Lekkas 2018 eq. 8, '
                  'sigma 10 m, 0.1 s grid). xte = the guidance\'s cross-track error; ref. = '
-                 'distance from the reference circle (003); rudder = actual rudder angle; TV = '
+                 'distance from the reference circle (Simakis 1992); rudder = actual rudder angle; TV = '
                  'total variation per second; sat. = share of samples at the limit; heading err. '
                  '= yaw - command (ENU: negative = to starboard of the command).')
     lines.append('')
@@ -414,6 +540,18 @@ def markdown(results, claims, header):
                   '|' + '---|' * len(COLUMNS)]
         lines += ['| ' + ' | '.join(f(r) for _, f in COLUMNS) + ' |' for r in rows]
         lines.append('')
+    for r in results:
+        legs = _get(r, 'rudder_legs')
+        if legs:
+            lines += [f"### {r['scenario']}: rudder per leg", '',
+                      '| leg | kind | radius m | max abs rudder deg | mean abs rudder deg | '
+                      'steady-turn rudder deg (model) |', '|---|---|---|---|---|---|']
+            lines += [f"| {g['leg']} | {g['kind']} | "
+                      f"{_fmt(1.0 / abs(g['curvature_1pm']) if g['curvature_1pm'] else None, 2)} | "
+                      f"{_fmt(_deg(g['rudder_max_abs_rad']), 2)} | "
+                      f"{_fmt(_deg(g['rudder_mean_abs_rad']), 2)} | "
+                      f"{_fmt(_deg(g['steady_turn_rudder_rad']), 2)} |" for g in legs]
+            lines.append('')
     if claims:
         lines += ['### Seed claims', '', '| claim | reproduced | evidence |', '|---|---|---|']
         verdict = {True: 'yes', False: 'NO', None: 'n/a'}

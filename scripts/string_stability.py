@@ -12,9 +12,18 @@ Writes to --out:
 - nps_auv2_critical.csv: exact (sway/yaw, Simakis 1992 Sec. III.B) vs approximate 1/(2 zeta omega_n)
   critical look-ahead of the NPS AUV II over omega_n and zeta.
 - nps_auv2_sensitivity.csv: Simakis 1992 Sec. III.C, d_n = d/d_nom for +-50 % of each coefficient.
+- nps_auv2_sensitivity_map.csv: Simakis 1992 Figs. 9-12, d_n at +-50 % of Yvdot and Yv over
+  the (zeta, omega_n) grid (gains fixed at each point's nominal design), and the largest
+  deviation |d_n - 1| per point; nps_auv2_gains.csv: Simakis 1992 Fig. 4, k1, k2 vs omega_n.
+- eigenvalue_path.csv: Angelopoulos 2011 Fig. 16, the eigenvalues of one vessel's matrix
+  (eq. 30) as d1 runs from 4 d1* down to d1*/2, through d1*.
 - summary.md and summary.json: timing, the rows that differ and why, the NPS AUV II numbers.
-- PNGs: Angelopoulos 2011 Figures 9-11 (stability regions d2 vs d1) and 12-15 (limits vs
-  omega_n), Simakis 1992 Figures 2, 3 (exact vs approximate limit) and 5-8 (sensitivity).
+- PNGs: Angelopoulos 2011 Figures 9-11 (stability regions d2 vs d1), 12-15 (limits vs
+  omega_n) and 16 (eigenvalue path), Simakis 1992 Figures 2, 3 (exact vs approximate limit),
+  4 (gains vs omega_n), 5-8 (sensitivity) and 9-12 (sensitivity over zeta and omega_n, as
+  curves and as maps).
+``--map-zetas`` / ``--map-omegas`` set the sensitivity grid, ``--path-design`` the (zeta,
+omega_n) pairs of the eigenvalue path.
 Exit code 0; 1 if a printed Table 1 value contradicts the method (an unexplained row).
 """
 import argparse
@@ -160,6 +169,43 @@ def nps_auv2(omegas, zetas):
     return exact, approx, checks, (a, b)
 
 
+#: Simakis 1992 Figs. 9-12 vary the two coefficients that matter most (Figs. 5-6).
+MAP_COEFFS = ('Yvdot', 'Yv')
+#: Simakis 1992 Figs. 9-12, as the text reads: "the maximum deviation in the critical value of
+#: d for stability is 40% of its nominal value, while for most of the cases this deviation is
+#: well below 20%".
+DOC_MAP_MAX, DOC_MAP_MOST = 0.40, 0.20
+
+
+def sensitivity_map(zetas, omegas, factors):
+    """Simakis 1992 Figs. 9-12: d_n(factor) of MAP_COEFFS at every (zeta, omega_n), the gains
+    designed on the nominal vehicle at that point (as NOMOV.FOR). Returns {name: array (Z, W, F)}
+    and the nominal exact limit (Z, W)."""
+    nominal = sy.nps_auv2_critical_lookahead(np.asarray(zetas)[:, None],
+                                             np.asarray(omegas)[None])
+    out = {}
+    for name in MAP_COEFFS:
+        out[name] = np.array([[sy.nps_auv2_sensitivity(name, factors, zeta=z, omega_n=w)
+                               for w in omegas] for z in zetas])
+    return out, nominal
+
+
+def gain_curves(omegas, zetas):
+    """Simakis 1992 Fig. 4: PD gains k1, k2 (non-dimensional) of the nominal NPS AUV II over
+    omega_n, one curve per zeta; shape (Z, W) each."""
+    a, b = sy.nps_auv2_nomoto()
+    return np.broadcast_arrays(*pd_gains(a, b, zeta=np.asarray(zetas)[:, None],
+                                         omega_n=np.asarray(omegas)[None]))
+
+
+def eigenvalue_path(zeta, omega_n, ratios):
+    """Angelopoulos 2011 Fig. 16: eigenvalues (len(ratios), 3) of one vessel's matrix (eq. 30,
+    non-dimensional) at d1 = ratio * d1*, d1* = 1 / (2 zeta omega_n)."""
+    d_star = float(critical_lookahead_nondim(zeta, omega_n))
+    lam = ss.string_eigenvalues(zeta, omega_n, np.asarray(ratios) * d_star)
+    return np.sort_complex(lam), d_star
+
+
 def sensitivity(factors):
     out = {}
     for name in SENS_COEFFS:
@@ -303,6 +349,97 @@ def plots(out, table, omegas, zetas, exact, approx, checks, sens, factors):
     return files
 
 
+def plots_maps_and_path(out, maps, nominal, map_zetas, map_omegas, factors, gains, gain_omegas,
+                        gain_zetas, paths, ratios):
+    """Simakis 1992 Figs. 4 and 9-12 (and the maps behind them), Angelopoulos 2011 Fig. 16."""
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    files = []
+    # Fig. 4: gains vs omega_n.
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    k1, k2 = gains
+    for k, zeta in enumerate(gain_zetas):
+        c = plt.get_cmap('coolwarm')(k / max(1, len(gain_zetas) - 1))
+        ax.plot(gain_omegas, k2[k], color=c, ls='--', lw=1.8 if abs(zeta - 0.8) < 1e-9 else 0.9,
+                label=f'$k_2$, $\\zeta$={zeta:.1f}')
+    ax.plot(gain_omegas, k1[0], 'k-', lw=2, label='$k_1$ (any $\\zeta$)')
+    ax.plot([3.0, 3.0], [3.2, 1.2], 'rs', mfc='none', ms=9, label='document at $\\omega_n$=3: '
+            'about 3.2 and 1.2')
+    ax.set(xlabel=r'$\omega_n$ (U/L)', ylabel='gain (rad/rad; rad/(rad L/U))',
+           title='NPS AUV II PD gains vs $\\omega_n$ (Simakis 1992 Figure 4 analogue)')
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, ncol=2)
+    files.append(_save(fig, out / 'nps_fig04_gains.png'))
+
+    # Figs. 9-12: d_n curves, zeta family at omega_n = 3 and omega_n family at zeta = 0.8.
+    iw = int(np.argmin(np.abs(np.asarray(map_omegas) - 3.0)))
+    iz = int(np.argmin(np.abs(np.asarray(map_zetas) - 0.8)))
+    fig, axes = plt.subplots(2, 2, figsize=(12, 9), sharex=True, sharey=True)
+    for col, name in enumerate(MAP_COEFFS):
+        ax = axes[0, col]
+        for k, zeta in enumerate(map_zetas):
+            ax.plot(factors, maps[name][k, iw], color=plt.get_cmap('coolwarm')(
+                k / max(1, len(map_zetas) - 1)), label=f'$\\zeta$={zeta:.1f}')
+        ax.set(title=f'Figure {9 + col}: {LATEX[name]}, $\\omega_n$ = {map_omegas[iw]:g}, '
+                     'zeta varied')
+        ax = axes[1, col]
+        for k, w in enumerate(map_omegas):
+            ax.plot(factors, maps[name][iz, k], color=plt.get_cmap('viridis')(
+                k / max(1, len(map_omegas) - 1)), label=f'$\\omega_n$={w:g}')
+        ax.set(title=f'Figure {11 + col}: {LATEX[name]}, $\\zeta$ = {map_zetas[iz]:g}, '
+                     'omega_n varied', xlabel='coefficient / nominal')
+    for ax in axes.ravel():
+        ax.axhline(1.0, color='0.6', lw=0.8)
+        for lim in (1 - DOC_MAP_MAX, 1 + DOC_MAP_MAX):
+            ax.axhline(lim, color='r', ls=':', lw=0.8)
+        ax.grid(alpha=0.3)
+        ax.set_ylabel('$d_n = d/d_{nom}$')
+    axes[0, 1].legend(fontsize=7, ncol=2)
+    axes[1, 1].legend(fontsize=7, ncol=2)
+    fig.suptitle('NPS AUV II critical look-ahead sensitivity (Simakis 1992 Figures 9-12 '
+                 'analogue); red dotted: the document\'s largest deviation, 40 %')
+    files.append(_save(fig, out / 'nps_fig09-12_sensitivity_zeta_omega.png'))
+
+    # The maps: largest |d_n - 1| over +-50 % at every grid point.
+    fig, axes = plt.subplots(1, len(MAP_COEFFS), figsize=(13, 5.2), sharey=True)
+    for ax, name in zip(axes, MAP_COEFFS):
+        dev = np.nanmax(np.abs(maps[name] - 1.0), axis=2)
+        im = ax.pcolormesh(map_omegas, map_zetas, 100 * dev, shading='nearest', cmap='magma_r',
+                           vmin=0, vmax=max(60.0, 100 * float(np.nanmax(dev))))
+        cs = ax.contour(map_omegas, map_zetas, 100 * dev, levels=[20, 40], colors=['w', 'c'])
+        ax.clabel(cs, fmt='%d %%', fontsize=8)
+        ax.set(xlabel=r'$\omega_n$ (U/L)', title=f'{LATEX[name]}: max $|d_n - 1|$ (%) over '
+               '0.5-1.5 x nominal')
+        fig.colorbar(im, ax=ax)
+    axes[0].set_ylabel(r'$\zeta$')
+    fig.suptitle('Where the critical look-ahead is sensitive (Simakis 1992 Figs. 9-12 as maps)')
+    files.append(_save(fig, out / 'nps_sensitivity_map.png'))
+
+    # Angelopoulos 2011 Fig. 16.
+    fig, ax = plt.subplots(figsize=(8.5, 6.5))
+    for k, ((zeta, w), (lam, d_star)) in enumerate(paths.items()):
+        c = f'C{k}'
+        osc = np.where(np.abs(lam.imag) > 1e-12, lam, np.nan)
+        ax.plot(osc.real, osc.imag, '.', color=c, ms=2.5)
+        at = int(np.argmin(np.abs(np.asarray(ratios) - 1.0)))
+        ax.plot(lam[at].real, lam[at].imag, 'o', color=c, ms=7, mfc='none',
+                label=f'$\\zeta$={zeta:g}, $\\omega_n$={w:g}: $d_1^*$={d_star:.3f}, '
+                      f'$\\pm i\\omega_n$ at $d_1^*$')
+        for end, mk in ((0, '>'), (-1, 'x')):
+            ax.plot(lam[end].real, lam[end].imag, mk, color=c, ms=6)
+    ax.axvline(0.0, color='k', lw=0.8)
+    ax.set(xlabel='Re $\\lambda$ (U/L)', ylabel='Im $\\lambda$ (U/L)',
+           title='Eigenvalues of one vessel (eq. 30) as $d_1$ falls from '
+                 f'{ratios[0]:g} $d_1^*$ (>) to {ratios[-1]:g} $d_1^*$ (x)\n'
+                 '(Angelopoulos 2011 Figure 16 analogue; the real eigenvalue is off the plot '
+                 'where it is far left)')
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    files.append(_save(fig, out / 'fig16_eigenvalue_path.png'))
+    return files
+
+
 def _save(fig, path):
     import matplotlib.pyplot as plt
     fig.tight_layout()
@@ -396,6 +533,46 @@ def summary_md(t1, omegas, zetas, exact, approx, checks, sens, nomoto, files):
     return '\n'.join(lines) + '\n'
 
 
+def map_summary(maps, nominal, map_zetas, map_omegas, factors):
+    """Simakis 1992 Figs. 9-12 in numbers: the largest |d_n - 1| over 0.5-1.5 x nominal at
+    each grid point, per coefficient, and the share of points under 20 % / 40 %."""
+    lines = ['## Simakis 1992 Figs. 9-12: sensitivity over zeta and omega_n', '',
+             f'd_n = d_crit(coefficient x f) / d_crit(nominal), f = {factors[0]:g} ... '
+             f'{factors[-1]:g}, gains designed on the nominal vehicle at each (zeta, omega_n). '
+             f'Document: largest deviation 40 %, most cases well below 20 %.', '']
+    stats = {}
+    for name in MAP_COEFFS:
+        dev = np.nanmax(np.abs(maps[name] - 1.0), axis=2)
+        ok = np.isfinite(dev)
+        every = np.abs(maps[name] - 1.0)
+        every = every[np.isfinite(every)]
+        stats[name] = {'max': float(np.nanmax(dev)),
+                       'share_below_20': float(np.mean(dev[ok] < DOC_MAP_MOST)),
+                       'share_below_40': float(np.mean(dev[ok] <= DOC_MAP_MAX)),
+                       # every (variation, grid point) pair: what a reader of the curves sees
+                       'share_values_below_20': float(np.mean(every < DOC_MAP_MOST))}
+        lines += [f'### {name}: largest |d_n - 1| (%)', '',
+                  '| zeta \\ omega_n | ' + ' | '.join(f'{w:g}' for w in map_omegas) + ' |',
+                  '|---' * (1 + len(map_omegas)) + '|']
+        lines += [f'| {z:.1f} | ' + ' | '.join(f'{100 * v:.0f}' for v in dev[i]) + ' |'
+                  for i, z in enumerate(map_zetas)]
+        lines += ['', f"max {100 * stats[name]['max']:.0f} %; grid points whose largest "
+                      f"deviation is below 20 %: {100 * stats[name]['share_below_20']:.0f} %, "
+                      f"at most 40 %: {100 * stats[name]['share_below_40']:.0f} %; all "
+                      f"(variation, grid point) values below 20 %: "
+                      f"{100 * stats[name]['share_values_below_20']:.0f} %", '']
+    for name in MAP_COEFFS:   # the document's two slices: Figs. 9-10 and 11-12
+        iw = int(np.argmin(np.abs(np.asarray(map_omegas) - 3.0)))
+        iz = int(np.argmin(np.abs(np.asarray(map_zetas) - 0.8)))
+        dev = np.nanmax(np.abs(maps[name] - 1.0), axis=2)
+        lines.append(f"- {name}: omega_n = {map_omegas[iw]:g}, zeta {map_zetas[0]:g}-"
+                     f"{map_zetas[-1]:g}: {', '.join(f'{100 * v:.0f}' for v in dev[:, iw])} %; "
+                     f"zeta = {map_zetas[iz]:g}, omega_n {map_omegas[0]:g}-{map_omegas[-1]:g}: "
+                     f"{', '.join(f'{100 * v:.0f}' for v in dev[iz])} %")
+    lines.append('')
+    return lines, stats
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--out', type=Path, default=DEFAULT_OUT)
@@ -404,7 +581,18 @@ def main(argv=None):
                     help='run the literal 6x6 Appendix A scan on no rows, on the rows that '
                          'differ from the exact boundary (default, ~10 s), or on all (~3 min)')
     ap.add_argument('--no-plots', action='store_true')
+    ap.add_argument('--map-zetas', type=float, nargs='+',
+                    default=[round(z, 1) for z in np.arange(0.4, 1.2001, 0.1)],
+                    help='zeta grid of the sensitivity maps (default 0.4 ... 1.2 step 0.1, the '
+                    'range of Simakis 1992 Fig. 3)')
+    ap.add_argument('--map-omegas', type=float, nargs='+',
+                    default=[round(w, 1) for w in np.arange(1.0, 6.0001, 0.5)],
+                    help='omega_n grid (U/L) of the sensitivity maps (default 1 ... 6 step 0.5)')
+    ap.add_argument('--path-design', type=float, nargs=2, action='append', metavar=('ZETA', 'WN'),
+                    help='(zeta, omega_n) of an eigenvalue path (repeatable; default 0.8 1, '
+                    '0.8 2, 0.4 1)')
     args = ap.parse_args(argv)
+    args.path_design = args.path_design or [(0.8, 1.0), (0.8, 2.0), (0.4, 1.0)]
     args.out.mkdir(parents=True, exist_ok=True)
 
     table = load_table(args.table)
@@ -427,10 +615,58 @@ def main(argv=None):
          **{f'{n}_redesign': round(float(sens[n]['redesign'][i]), 6) for n in SENS_COEFFS}}
         for i, f in enumerate(factors)])
 
+    # Simakis 1992 Figs. 9-12 (sensitivity over zeta, omega_n) and Fig. 4 (gains).
+    map_factors = np.round(np.linspace(0.5, 1.5, 21), 2)
+    maps, map_nominal = sensitivity_map(args.map_zetas, args.map_omegas, map_factors)
+    write_csv(args.out / 'nps_auv2_sensitivity_map.csv', [
+        {'coefficient': name, 'zeta': z, 'omega_n': w,
+         'd_nominal': round(float(map_nominal[i, j]), 6),
+         **{f'dn_{f:g}': round(float(maps[name][i, j, k]), 6) for k, f in enumerate(map_factors)},
+         'max_abs_dev': round(float(np.nanmax(np.abs(maps[name][i, j] - 1.0))), 6)}
+        for name in MAP_COEFFS for i, z in enumerate(args.map_zetas)
+        for j, w in enumerate(args.map_omegas)])
+    gain_omegas = np.round(np.arange(0.5, 6.0001, 0.1), 2)
+    gains = gain_curves(gain_omegas, zetas)
+    write_csv(args.out / 'nps_auv2_gains.csv', [
+        {'zeta': z, 'omega_n': w, 'k1': round(float(gains[0][i, j]), 6),
+         'k2': round(float(gains[1][i, j]), 6)}
+        for i, z in enumerate(zetas) for j, w in enumerate(gain_omegas)])
+    # Angelopoulos 2011 Fig. 16: d1 from 4 d1* down to d1*/2 (ratio 1 exactly on the grid).
+    ratios = np.concatenate([np.geomspace(4.0, 1.0, 301), np.geomspace(1.0, 0.5, 151)[1:]])
+    paths = {tuple(zw): eigenvalue_path(zw[0], zw[1], ratios) for zw in args.path_design}
+    write_csv(args.out / 'eigenvalue_path.csv', [
+        {'zeta': z, 'omega_n': w, 'd1_over_d1star': round(float(q), 6),
+         'd1': round(float(q * d_star), 6),
+         **{f'lambda{k + 1}_{part}': round(float(getattr(lam[i, k], part)), 9)
+            for k in range(3) for part in ('real', 'imag')}}
+        for (z, w), (lam, d_star) in paths.items() for i, q in enumerate(ratios)])
+
     files = [] if args.no_plots else plots(args.out, table, omegas, zetas, exact, approx,
                                            checks, sens, factors)
+    if not args.no_plots:
+        files += plots_maps_and_path(args.out, maps, map_nominal, args.map_zetas,
+                                     args.map_omegas, map_factors, gains, gain_omegas, zetas,
+                                     paths, ratios)
+    map_lines, map_stats = map_summary(maps, map_nominal, args.map_zetas, args.map_omegas,
+                                       map_factors)
+    i3 = int(np.argmin(np.abs(gain_omegas - 3.0)))
+    iz8 = int(np.argmin(np.abs(zetas - 0.8)))
+    path_lines = ['## Angelopoulos 2011 Fig. 16: eigenvalues as d1 -> d1*', '',
+                  '| zeta | omega_n | d1* | at 2 d1* | at d1* | at d1*/2 |', '|---|---|---|---|---|---|']
+    for (z, w), (lam, d_star) in paths.items():
+        cells = []
+        for q in (2.0, 1.0, 0.5):
+            i = int(np.argmin(np.abs(ratios - q)))
+            pair = lam[i][np.argmax(lam[i].imag)]
+            real = lam[i][np.argmin(np.abs(lam[i].imag))]
+            cells.append(f'{pair.real:+.4f} +- {pair.imag:.4f} i, {real.real:.4f}')
+        path_lines.append(f'| {z:g} | {w:g} | {d_star:.4f} | ' + ' | '.join(cells) + ' |')
+    extra = (['', '## Simakis 1992 Fig. 4: PD gains at omega_n = 3', '',
+              f'k1 = {gains[0][iz8, i3]:.3f}, k2 = {gains[1][iz8, i3]:.3f} at zeta 0.8 '
+              '(document: about 3.2 and 1.2)', ''] + map_lines + path_lines)
     (args.out / 'summary.md').write_text(
-        summary_md(t1, omegas, zetas, exact, approx, checks, sens, nomoto, files))
+        summary_md(t1, omegas, zetas, exact, approx, checks, sens, nomoto, files)
+        + '\n'.join(extra) + '\n')
     (args.out / 'summary.json').write_text(json.dumps({
         'table1': {k: t1[k] for k in ('timing', 'eig_equals_routh', 'missing', 'brute',
                                       'd_star_max_err')},
@@ -438,6 +674,7 @@ def main(argv=None):
         'nps_auv2_checks': checks, 'nomoto_ab_nondim': nomoto,
         'sensitivity_totals': {n: {'fixed': sens[n]['total_fixed'],
                                    'redesign': sens[n]['total_redesign']} for n in SENS_COEFFS},
+        'sensitivity_map': map_stats,
     }, indent=1, default=float))
 
     bad = [r for r in t1['rows'] if not r['consistent_with_method']]
@@ -450,6 +687,10 @@ def main(argv=None):
           f"{c['eigen_bisection']:.5f}, approx {c['approx']:.5f}")
     print('sensitivity totals (gains fixed): ' + ', '.join(
         f"{n} {sens[n]['total_fixed']:+.3f}" for n in DOC_SENSITIVITY))
+    print('sensitivity over zeta, omega_n (Simakis 1992 Figs. 9-12; document: max 40 %, mostly '
+          '< 20 %): ' + ', '.join(f"{n} max {100 * v['max']:.0f} %, "
+                                   f"{100 * v['share_values_below_20']:.0f} % of the values "
+                                   '< 20 %' for n, v in map_stats.items()))
     print(f'wrote {args.out}')
     return 1 if bad else 0
 

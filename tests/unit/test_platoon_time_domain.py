@@ -70,3 +70,50 @@ def test_envelope_rate_of_a_known_signal():
     y = 1e-3 * t ** 2 * np.exp(-8e-4 * t) * np.cos(0.05 * t + 0.3) + 0.01 * t / 5000.0
     sigma, _ = ptd.envelope_rate(t, y, t_skip=500.0, power=2)
     assert sigma == pytest.approx(-8e-4, rel=1e-3)
+
+
+# ---------------------------------------------------------------- Angelopoulos 2011 Figs. 17-21
+
+def _thesis_x0(y=(0.0, 0.0), psi=(0.0, 0.0), r=(0.0, 0.0)):
+    return np.array([psi[0], r[0], y[0], psi[1], r[1], y[1]])
+
+
+@pytest.mark.parametrize('ratio', [1.5, 0.8])
+def test_thesis_initial_conditions_decay_above_the_limit_and_grow_below_at_the_eigenvalue_rate(
+        ratio):
+    """Two vessels of the thesis's model (eq. 36, zeta 0.8, omega_n 1) from Fig. 17's start
+    (y1, y2) = (1, 1.5): the leader's envelope changes at Re of its dominant eigenvalue (eq. 30),
+    negative above d*, positive below; a follower started alone (Fig. 19) likewise."""
+    from ship_guidance.string_stability import string_eigenvalues
+    zeta, w = 0.8, 1.0
+    d = ratio / (2 * zeta * w)
+    period = 2 * math.pi / w
+    lam = ptd.dominant_pair(string_eigenvalues([zeta], [w], [d])[0]).real
+    assert np.sign(lam) == (1.0 if ratio < 1.0 else -1.0)
+    for x0, vessel in ((_thesis_x0(y=(1.0, 1.5)), 0), (_thesis_x0(y=(0.0, 1.0)), 1)):
+        t, x = ptd.linear_string_response(zeta, w, [d, d], x0, 10 * period, period / 200)
+        y = x[:, 2 + 3 * vessel]
+        sigma, peaks = ptd.envelope_rate(t, y, t_skip=2 * period)
+        assert peaks >= 10
+        assert sigma == pytest.approx(lam, rel=0.02)
+        if vessel == 1:   # the leader stays on the path when it starts there
+            assert np.all(x[:, 2] == 0.0)
+
+
+def test_ship_platoon_starts_from_the_given_deviations_and_recovers_above_the_limit():
+    """simulate_platoon's x_dev puts each vessel off its equilibrium by (y, psi, r); above the
+    limit the Nomoto ship with its rudder limit returns to the path (Fig. 20's start)."""
+    loop = ptd.make_loop('nomoto1')
+    length = 161.0          # the nomoto1 mariner preset (Lee 2004 Table 2.2)
+    dev = np.array([[[0.0, 0.5, 0.0], [0.0, 0.3, 0.0]], [[0.3 * length, 0.0, 0.0],
+                                                         [0.0, 0.0, 0.01]]])
+    period = 2 * math.pi / loop.omega_n
+    run = ptd.simulate_platoon(loop, np.full((2, 2), 1.5 * loop.d_crit), 8 * period, 1.0, 0.0,
+                               x_dev=dev)
+    np.testing.assert_allclose(run['dy'][0], dev[..., 0], atol=1e-12)
+    lam = ptd.dominant_pair(ptd.doc_eigenvalues(loop, 1.5 * loop.d_crit)).real
+    last = np.max(np.abs(run['dy'][-int(period):, :, 0]), axis=0)
+    peak = np.max(np.abs(run['dy'][:, :, 0]), axis=0)
+    # linear decay over the last 6 periods would leave exp(6 period Re lambda) ~ 4e-3 of the
+    # peak; saturation slows only the first swing: a factor 10 of margin
+    assert np.all(last < 10 * math.exp(6 * period * lam) * peak)

@@ -295,3 +295,50 @@ def test_sensitivity_zero_coefficients_and_relative_size():
     total = {n: abs(np.ptp(sy.nps_auv2_sensitivity(n, f))) for n in ('Yv', 'Yvdot', 'Nr', 'Nrdot')}
     assert min(total['Yv'], total['Yvdot']) > 2.5 * max(total['Nr'], total['Nrdot'])
     assert sy.nps_auv2_sensitivity('Yv', [1.0])[0] == pytest.approx(1.0)
+
+
+# ---------------------------------------------------------------- Angelopoulos 2011 Fig. 16
+
+@pytest.mark.parametrize('zeta, omega_n', [(0.8, 1.0), (0.4, 2.5), (1.2, 4.0)])
+def test_eigenvalue_path_crosses_the_imaginary_axis_once_and_only_at_the_limit(zeta, omega_n):
+    """As d1 falls from 4 d1* to d1*/2 the oscillatory pair's real part rises monotonically
+    (d/dd of the cubic's last coefficient U w^2 / d is negative) and changes sign once, between
+    the grid points around d1* (the value AT d1* is test_eigenvalues_at_the_limit's); the real
+    eigenvalue stays negative all along."""
+    import string_stability as cli   # scripts/string_stability.py
+    ratios = np.geomspace(4.0, 0.5, 400)
+    lam, d_star = cli.eigenvalue_path(zeta, omega_n, ratios)
+    assert d_star == pytest.approx(1.0 / (2 * zeta * omega_n))
+    pair = np.array([row[np.argmax(row.imag)] for row in lam])
+    real = np.array([row[np.argmin(np.abs(row.imag))] for row in lam])
+    assert np.all(pair.imag > 0.0) and np.all(real.real < 0.0)
+    assert np.all(np.diff(pair.real) > 0.0)
+    # (at d1* itself the real part is 0 up to rounding, either sign)
+    crossing = np.flatnonzero(np.diff(pair.real > 0.0))
+    assert crossing.size == 1
+    assert ratios[crossing[0]] >= 1.0 - 1e-9 and ratios[crossing[0] + 1] <= 1.0 + 1e-9
+
+
+def test_sensitivity_map_at_the_thesis_design_is_figures_5_and_6():
+    """The map's (zeta 0.8, omega_n 3) point equals the Figs. 5-6 curves of the same module,
+    and a coefficient at its nominal value changes nothing (d_n = 1)."""
+    import string_stability as cli
+    factors = np.array([0.5, 1.0, 1.5])
+    maps, nominal = cli.sensitivity_map([0.6, 0.8], [2.0, 3.0], factors)
+    for name in cli.MAP_COEFFS:
+        np.testing.assert_allclose(maps[name][1, 1], sy.nps_auv2_sensitivity(name, factors),
+                                   rtol=1e-12)
+        np.testing.assert_allclose(maps[name][..., 1], 1.0, rtol=1e-12)
+    assert nominal[1, 1] == pytest.approx(sy.nps_auv2_critical_lookahead(0.8, 3.0))
+
+
+def test_gain_curves_grow_as_the_pole_placement_says():
+    """Simakis 1992 Fig. 4: k1 = -omega_n^2 / b does not depend on zeta and quadruples when
+    omega_n doubles; k2 = -(a + 2 zeta omega_n) / b is linear in omega_n with slope -2 zeta / b."""
+    import string_stability as cli
+    a, b = sy.nps_auv2_nomoto()
+    k1, k2 = cli.gain_curves(np.array([1.5, 3.0]), np.array([0.6, 0.8]))
+    assert k1.shape == k2.shape == (2, 2)
+    np.testing.assert_allclose(k1[0], k1[1])
+    assert k1[0, 1] == pytest.approx(4 * k1[0, 0])
+    np.testing.assert_allclose(k2[:, 1] - k2[:, 0], -2 * np.array([0.6, 0.8]) * 1.5 / b)

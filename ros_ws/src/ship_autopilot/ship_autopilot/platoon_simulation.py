@@ -33,7 +33,7 @@ from scipy.optimize import least_squares
 
 from ship_guidance.follower import follower_heading_straight
 from ship_guidance.los import critical_lookahead
-from ship_guidance.string_stability import single_vessel_matrix
+from ship_guidance.string_stability import single_vessel_matrix, string_matrix
 from ship_sim.models import make_model
 
 from .gains import autopilot_gains
@@ -168,13 +168,15 @@ def sampled_critical_lookahead(loop, dt, lo=0.5, hi=2.0, rtol=1e-6):
 
 # ---------------------------------------------------------------- the platoon
 
-def simulate_platoon(loop, lookaheads, t_end, dt, y0, stop_amplitude=np.inf):
+def simulate_platoon(loop, lookaheads, t_end, dt, y0, stop_amplitude=np.inf, x_dev=None):
     """Simulate platoons of identical vessels on a path due north, all cases in one batch.
 
     lookaheads: (C, N) array, one row per case: d1 of the leader, then the initial gaps (the
     followers' look-aheads). The leader starts y0 (m) east of its equilibrium, the others at
-    theirs. A case whose deviation exceeds stop_amplitude (m; scalar or one per case) is
-    stopped: from then on it is
+    theirs. x_dev (C, N, 3), optional: further deviations (cross-track m, heading rad, yaw rate
+    rad/s) of every vessel from its equilibrium at the start (Angelopoulos 2011 Figs. 17-21
+    start both vessels off the path). A case whose deviation exceeds stop_amplitude (m; scalar
+    or one per case) is stopped: from then on it is
     held at its initial state and recorded as NaN. The follower law's look-ahead is the measured
     gap, floored at half the initial gap (as FollowerGuidance's min_lookahead; it acts only far
     outside the linear regime).
@@ -196,6 +198,11 @@ def simulate_platoon(loop, lookaheads, t_end, dt, y0, stop_amplitude=np.inf):
             if i + 1 < n:
                 ahead += d[ci, i + 1]
     x[:, 0, m.IY] += y0
+    if x_dev is not None:
+        dev = np.broadcast_to(np.asarray(x_dev, dtype=float), (c, n, 3))
+        x[..., m.IY] += dev[..., 0]
+        x[..., m.IPSI] += dev[..., 1]
+        x[..., m.IR] += dev[..., 2]
     x0 = x.copy()
     d_min = 0.5 * d[:, 1:]
     stop = np.broadcast_to(np.asarray(stop_amplitude, dtype=float), (c,))
@@ -226,6 +233,22 @@ def simulate_platoon(loop, lookaheads, t_end, dt, y0, stop_amplitude=np.inf):
         x = m.step(x, m.inputs(rudder), dt)
         x[~live] = x0[~live]
     return {'t': dt * np.arange(len(dys)), 'dy': dys, 'y_eq': y_eq, 'stopped_at': stopped_at}
+
+
+def linear_string_response(zeta, omega_n, lookaheads, x0, t_end, dt, speed=1.0):
+    """The document's own platoon (Angelopoulos 2011 eq. 36 for N vessels:
+    ship_guidance.string_stability.string_matrix) from the initial state x0 (psi_i, r_i, y_i per
+    vessel, as the thesis's Simulink runs of Figs. 17-21), exactly: x_{k+1} = expm(A dt) x_k.
+    Non-dimensional with speed = 1 (lengths in L, time in L/U). Returns t (T,) and x (T, 3N)."""
+    from scipy.linalg import expm
+    a = string_matrix(zeta, omega_n, lookaheads, speed)
+    step = expm(a * dt)
+    steps = int(round(t_end / dt))
+    x = np.empty((steps + 1, a.shape[0]))
+    x[0] = np.asarray(x0, dtype=float)
+    for k in range(steps):
+        x[k + 1] = step @ x[k]
+    return dt * np.arange(steps + 1), x
 
 
 def envelope_peaks(t, y):

@@ -107,6 +107,36 @@ def test_stand_on_acts_to_starboard_when_the_give_way_ship_does_not(method):
     assert d.mode == 'avoid' and d.course_offset > 0.0              # no turn to port (17(c))
 
 
+def test_vo_widens_the_cone_of_a_give_way_target_to_port():
+    # crossing give-way (Imazu case 2 at 300 s): a 45 deg port alteration would cross ahead of the
+    # target clear of d_safe within the horizon, outside its collision cone, yet Kuwata et al.'s
+    # port widening makes it inadmissible; a 45 deg starboard one (passing astern) stays admissible
+    target = _target_on_collision_course(270.0, 300.0)
+    col = make_colav('vo', ship=SHIP)
+    sc = col.scenarios(OWN, [target], 0.0, 1.0)
+    ok, _ = col.admissible(sc)
+    for deg, admissible in ((-45.0, False), (45.0, True)):
+        k = int(np.flatnonzero(np.isclose(sc.offsets, math.radians(deg)) & (sc.multipliers == 1.0))[0])
+        v = velocity(sc.chi_c[k], sc.u_c[k])
+        tcpa, dcpa = cpa([0.0, 0.0], v, [target.north, target.east], velocity(target.course, U))
+        assert 0.0 < tcpa < P.horizon_s and dcpa > P.d_safe_m
+        assert ok[k] == admissible, deg
+
+
+@pytest.mark.parametrize('method', METHODS)
+def test_situation_is_kept_while_the_own_ship_manoeuvres(method):
+    # head-on; after a 30 deg starboard alteration the target bears on the port bow, which read
+    # afresh is a crossing the own ship stands on for: the encounter stays head-on
+    target = _target_on_collision_course(180.0, 480.0)
+    col = make_colav(method, ship=SHIP)
+    assert col.decide(0.0, OWN, [target], 0.0, 1.0).targets[0].situation == 'head-on'
+    turned = ShipState(0.0, 0.0, math.radians(30.0), U)
+    d = col.decide(10.0, turned, [target], 0.0, 1.0)
+    assert d.targets[0].situation == 'head-on' and d.mode == 'avoid' and d.course_offset > 0.0
+    fresh = make_colav(method, ship=SHIP).decide(10.0, turned, [target], 0.0, 1.0)
+    assert fresh.targets[0].situation == 'crossing-stand-on'
+
+
 def test_last_resort_is_hard_starboard_and_stop_where_a_shaft_exists():
     # a target 150 m ahead closing at 2U: inside the collision radius whatever the own ship does
     target = Target(150.0, 0.0, math.pi, U, name='close')
@@ -183,6 +213,12 @@ def test_closed_loop_imazu_single_target_keeps_the_safe_distance(method, enc):
     modes = [d.mode for d in run['decisions']]
     assert 'last-resort' not in modes and 'avoid' in modes
     situation = enc['expected']['colregs']
+    if method == 'sbmpc' and situation != 'crossing-stand-on':
+        # every departure from the nominal is readily apparent (Rule 8(b)): a course change of at
+        # least apparent_course_change or a speed reduction to half or less
+        acted = [d for d in run['decisions'] if (d.course_offset, d.speed_multiplier) != (0.0, 1.0)]
+        assert acted and all(abs(d.course_offset) >= col.params.apparent_course_change - 1e-9
+                             or d.speed_multiplier <= 0.5 for d in acted)
     if situation == 'head-on':
         assert run['target_to_starboard_at_cpa'] is False            # port to port (Rule 14)
     if situation == 'crossing-give-way':

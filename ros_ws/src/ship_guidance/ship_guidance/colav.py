@@ -138,7 +138,7 @@ class CollisionAvoidance:
         depends only on the states)."""
         del t
         targets = tuple(targets)
-        sc = self._scenarios(own_state, targets, nominal_course, nominal_speed_factor)
+        sc = self.scenarios(own_state, targets, nominal_course, nominal_speed_factor)
         assessments = self._assess(own_state, targets, sc)
         if sc is None or not sc.threat.any():
             self.reset()
@@ -163,7 +163,9 @@ class CollisionAvoidance:
 
     # --- shared pieces -------------------------------------------------------------------
 
-    def _scenarios(self, own, targets, nominal_course, nominal_speed_factor):
+    def scenarios(self, own, targets, nominal_course, nominal_speed_factor):
+        """The predicted ``Scenarios`` for these inputs (None without targets); it latches the
+        situations of new threats, as ``decide`` does."""
         if not targets:
             return None
         p = self.params

@@ -101,13 +101,24 @@ def segment_min_distance(p_own, p_targets):
     ``p_own`` (S, N+1, 2), ``p_targets`` (M, N+1, 2) -> (distance (S, M, N) m, fraction (S, M, N)
     of the step at which it occurs, in [0, 1], relative displacement over the step (S, M, N) m).
     Sampling alone would miss the closest point of a fast pass between two samples."""
-    rx = p_targets[None, :, :, 0] - p_own[:, None, :, 0]      # (S, M, N+1) target from own
-    ry = p_targets[None, :, :, 1] - p_own[:, None, :, 1]
-    x0, y0 = rx[..., :-1], ry[..., :-1]
-    dx, dy = rx[..., 1:] - x0, ry[..., 1:] - y0
-    dd = dx * dx + dy * dy
-    s = -(x0 * dx + y0 * dy)
+    ox, oy = np.ascontiguousarray(p_own[..., 0]), np.ascontiguousarray(p_own[..., 1])
+    tx, ty = np.ascontiguousarray(p_targets[..., 0]), np.ascontiguousarray(p_targets[..., 1])
+    x0 = tx[None, :, :-1] - ox[:, None, :-1]                  # (S, M, N) target from own
+    y0 = ty[None, :, :-1] - oy[:, None, :-1]
+    dx = np.diff(tx, axis=-1)[None] - np.diff(ox, axis=-1)[:, None]
+    dy = np.diff(ty, axis=-1)[None] - np.diff(oy, axis=-1)[:, None]
+    dd = dx * dx
+    dd += dy * dy
+    s = x0 * dx
+    s += y0 * dy
+    np.negative(s, out=s)
     np.divide(s, dd, out=s, where=dd > 0.0)
     np.clip(s, 0.0, 1.0, out=s)                               # 0 where the ships keep station
-    cx, cy = x0 + s * dx, y0 + s * dy
-    return np.sqrt(cx * cx + cy * cy), s, np.sqrt(dd)
+    dx *= s
+    dx += x0
+    dy *= s
+    dy += y0
+    dx *= dx
+    dy *= dy
+    dx += dy
+    return np.sqrt(dx, out=dx), s, np.sqrt(dd, out=dd)

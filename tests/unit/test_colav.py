@@ -285,4 +285,10 @@ def test_parameters_validate_and_the_config_lists_every_field():
     ship_keys = {f.name for f in dataclasses.fields(OwnShipModel)}
     listed = {k.removesuffix('_deg') if k.endswith('_deg') else k for k in keys} - {'method'}
     assert listed == {f.name for f in dataclasses.fields(ColavParams)} | ship_keys
-    assert keys['max_turn_rate'] == pytest.approx(OwnShipModel().max_turn_rate, abs=1e-5)
+    ship = OwnShipModel.from_dict(keys)
+    assert ship.speed_at_factor_one_mps is None and ship.has_shaft
+    for name in ('course_time_constant_s', 'max_turn_rate', 'speed_time_constant_s'):
+        assert getattr(ship, name) == pytest.approx(getattr(OwnShipModel(), name), rel=1e-5)
+    # the Nomoto constants: T, and the steady turn rate K delta_max of the full rudder
+    nomoto = OwnShipModel.from_nomoto(0.0587, 28.0, math.radians(40.0))
+    assert nomoto == OwnShipModel()

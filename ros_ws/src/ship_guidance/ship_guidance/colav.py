@@ -48,6 +48,8 @@ class ShipState:
 
 @dataclass(frozen=True)
 class Target(ShipState):
+    """A target's state; ``name`` (unique, e.g. the odometry's child_frame_id) keys its latched
+    situation; without one the target's index in the list is the key."""
     name: str = ''
 
 

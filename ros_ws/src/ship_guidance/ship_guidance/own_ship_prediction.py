@@ -16,7 +16,7 @@ Targets move in straight lines at their current velocity. Every constant is a fi
 ship_autopilot/data/nomoto_gains.yaml; the launcher passes them, this package cannot import
 ship_autopilot). Shapes: S scenarios, M targets, N + 1 samples at t = 0, dt, ..., N dt.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -44,6 +44,15 @@ class OwnShipModel:
         for name in ('course_time_constant_s', 'max_turn_rate', 'speed_time_constant_s'):
             if not getattr(self, name) > 0.0:
                 raise ValueError(f'{name} = {getattr(self, name)!r} must be > 0')
+
+    @classmethod
+    def from_dict(cls, values):
+        """From a flat mapping holding some of the fields (e.g. the node's parameters; other keys
+        are ignored); ``speed_at_factor_one_mps`` <= 0 means None."""
+        out = {f.name: values[f.name] for f in fields(cls) if f.name in values}
+        if out.get('speed_at_factor_one_mps') is not None and out['speed_at_factor_one_mps'] <= 0.0:
+            out['speed_at_factor_one_mps'] = None
+        return cls(**out)
 
     @classmethod
     def from_nomoto(cls, K, T, rudder_max, **kwargs):

@@ -84,10 +84,16 @@ def test_crossing_give_way_alters_to_starboard_and_passes_astern(method):
     assert track['ahead_of_target_at_cpa'] is False
 
 
+def _time_to_lose(distance, tcpa_s):
+    # Imazu case 4's courses (0 and 45 deg, both at U) on a collision course: the range closes at
+    # the relative speed 2 U sin(22.5 deg) and falls below ``distance`` that long before the CPA
+    return tcpa_s - distance / (2.0 * U * math.sin(math.radians(22.5)))
+
+
 @pytest.mark.parametrize('method', METHODS)
 def test_stand_on_holds_course_and_speed(method):
     # Imazu case 4's geometry (target on the port bow), closest point 550 s ahead: within the
-    # horizon, so a threat, but not yet close enough for Rule 17(b)
+    # horizon, so a threat, but stand_on_dcpa_m is lost only after stand_on_act_time_s (Rule 17(a))
     target = _target_on_collision_course(45.0, 550.0)
     assert _bearing_deg(target) == pytest.approx(292.5)
     course, factor = 0.0 + 1e-14, 1.0 - 1e-16
@@ -95,15 +101,16 @@ def test_stand_on_holds_course_and_speed(method):
     assert d.targets[0].situation == 'crossing-stand-on' and d.targets[0].role == 'stand-on'
     assert d.threat and d.mode == 'stand-on'
     assert d.course is course and d.speed_factor is factor
-    assert 550.0 > P.stand_on_act_time_s
+    assert _time_to_lose(P.stand_on_dcpa_m, 550.0) > P.stand_on_act_time_s
 
 
 @pytest.mark.parametrize('method', METHODS)
 def test_stand_on_acts_to_starboard_when_the_give_way_ship_does_not(method):
-    # the same encounter at 300 s to the closest point, DCPA 0 < stand_on_dcpa_m (Rule 17(b))
+    # the same encounter at 300 s to the closest point: stand_on_dcpa_m is lost within
+    # stand_on_act_time_s (Rule 17(b))
     target = _target_on_collision_course(45.0, 300.0)
     d = make_colav(method, ship=SHIP).decide(0.0, OWN, [target], 0.0, 1.0)
-    assert 300.0 <= P.stand_on_act_time_s and d.targets[0].dcpa_m < P.stand_on_dcpa_m
+    assert _time_to_lose(P.stand_on_dcpa_m, 300.0) <= P.stand_on_act_time_s
     assert d.mode == 'avoid' and d.course_offset > 0.0              # no turn to port (17(c))
 
 

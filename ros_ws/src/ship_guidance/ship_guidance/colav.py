@@ -14,9 +14,11 @@ and role (ship_guidance.colregs). The steps:
    stays one: the own ship's manoeuvre changes the bearings (a head-on target ends up on the
    port bow) but not the encounter's rules.
 3. Stand-on (Rule 17(a)): when every threat is one the own ship stands on for, the nominal is kept,
-   unless the nominal prediction passes a stand-on threat closer than ``stand_on_dcpa_m`` within
-   ``stand_on_act_time_s`` (Rule 17(b): the give-way ship is not acting and it is getting close);
-   then the own ship acts like a give-way ship (no turn to port, Rule 17(c)).
+   unless the nominal prediction brings a stand-on threat closer than ``stand_on_dcpa_m`` within
+   ``stand_on_act_time_s`` (Rule 17(b): the give-way ship is not acting and it is getting close;
+   the time until the distance is lost, not until the closest point, so that a slowly closing
+   target is met as early in distance as a fast one); then the own ship acts like a give-way
+   ship (no turn to port, Rule 17(c)).
 4. Otherwise the method (ship_guidance.sbmpc or ship_guidance.velocity_obstacles) picks a
    scenario; ties go to the first in a fixed order: the larger speed multiplier first, then
    offsets 0, +15, -15, +30, ... deg (smaller first, starboard before port).
@@ -188,10 +190,10 @@ class CollisionAvoidance:
         d_nom = dist[0].min(axis=1)
         threat = d_nom < p.threat_m
         codes = self._latch(targets, codes, threat)
-        n_nom = dist[0].argmin(axis=1)
-        t_nom = self._t[n_nom] + frac[0, np.arange(len(targets)), n_nom] * p.dt_s
+        lost = dist[0] < p.stand_on_dcpa_m                                     # (M, N)
+        t_lost = np.where(lost.any(axis=1), self._t[lost.argmax(axis=1)], np.inf)   # step start
         stand_on = threat & np.isin(codes, STAND_ON_CODES)
-        acting = bool((stand_on & (d_nom < p.stand_on_dcpa_m) & (t_nom <= p.stand_on_act_time_s)).any())
+        acting = bool((stand_on & (t_lost <= p.stand_on_act_time_s)).any())
         return Scenarios(self._offsets, self._multipliers, chi_c, u_c, max(float(u_nom), 0.1),
                          self._t, p_own, chi, p_own0, p_tgt, p_tgt0, v_tgt, dist, frac, step,
                          codes, threat, acting)

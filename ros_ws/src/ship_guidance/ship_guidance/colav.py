@@ -1,0 +1,239 @@
+"""Collision-avoidance decision (pure): the logic both methods share, and ``make_colav``.
+
+A ``CollisionAvoidance`` object sits between guidance and autopilot. Each ``decide`` call takes
+the own ship's state, the targets (position, course and speed over ground) and guidance's nominal
+course and speed factor, and returns a ``Decision``: the command to follow, the chosen scenario
+(course offset, speed multiplier) and per target CPA/TCPA (ship_guidance.cpa), COLREGs situation
+and role (ship_guidance.colregs). The steps:
+
+1. Every scenario (nominal course + offset, nominal speed factor x multiplier) is predicted with
+   the own-ship model (ship_guidance.own_ship_prediction), targets in straight lines.
+2. A target is a threat when the nominal scenario's prediction comes within ``threat_m`` of it.
+   No threat: the nominal command is returned as given (the same objects, no arithmetic).
+   A threat's COLREGs situation is latched when it becomes one (by target name) and kept while it
+   stays one: the own ship's manoeuvre changes the bearings (a head-on target ends up on the
+   port bow) but not the encounter's rules.
+3. Stand-on (Rule 17(a)): when every threat is one the own ship stands on for, the nominal is kept,
+   unless the nominal prediction brings a stand-on threat closer than ``stand_on_dcpa_m`` within
+   ``stand_on_act_time_s`` (Rule 17(b): the give-way ship is not acting and it is getting close;
+   the time until the distance is lost, not until the closest point, so that a slowly closing
+   target is met as early in distance as a fast one); then the own ship acts like a give-way
+   ship (no turn to port, Rule 17(c)).
+4. Otherwise the method (ship_guidance.sbmpc or ship_guidance.velocity_obstacles) picks a
+   scenario; ties go to the first in a fixed order: the larger speed multiplier first, then
+   offsets 0, +15, -15, +30, ... deg (smaller first, starboard before port).
+5. Last resort: when no scenario keeps every target beyond ``collision_m``, hard starboard (the
+   largest offset) and, where a shaft exists, stop (the smallest multiplier). Never a freeze.
+
+Courses are NED (rad, clockwise from north); a positive offset turns to starboard.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from ship_guidance import colregs
+from ship_guidance.colav_params import ColavParams
+from ship_guidance.cpa import cpa, velocity
+from ship_guidance.own_ship_prediction import (OwnShipModel, predict_own, predict_targets,
+                                               segment_min_distance, time_grid)
+
+
+@dataclass(frozen=True)
+class ShipState:
+    """Position (m, NED), course and speed over ground (rad, m/s); heading (rad) defaults to course."""
+    north: float
+    east: float
+    course: float
+    speed: float
+    heading: float | None = None
+
+
+@dataclass(frozen=True)
+class Target(ShipState):
+    """A target's state; ``name`` (unique, e.g. the odometry's child_frame_id) keys its latched
+    situation; without one the target's index in the list is the key."""
+    name: str = ''
+
+
+@dataclass(frozen=True)
+class TargetAssessment:
+    name: str
+    tcpa_s: float            # straight-line, current velocities
+    dcpa_m: float
+    situation: str           # colregs.SITUATIONS
+    role: str                # 'give-way', 'stand-on' or 'none'
+    threat: bool
+    nominal_min_distance_m: float   # over the horizon, own ship under the nominal command
+
+
+@dataclass(frozen=True)
+class Decision:
+    course: float            # commanded course (rad, NED)
+    speed_factor: float
+    mode: str                # 'nominal' (no threat), 'stand-on', 'avoid' or 'last-resort'
+    course_offset: float     # of the chosen scenario (rad, + starboard)
+    speed_multiplier: float  # of the chosen scenario (x nominal speed factor)
+    threat: bool             # whether any target was a threat
+    targets: tuple           # TargetAssessment per target, in input order
+    cost: float | None = None
+
+
+GIVE_WAY_CODES = (colregs.OVERTAKING, colregs.HEAD_ON, colregs.CROSSING_GIVE_WAY)
+STAND_ON_CODES = (colregs.BEING_OVERTAKEN, colregs.CROSSING_STAND_ON)
+NO_PORT_TURN_CODES = (colregs.HEAD_ON, colregs.CROSSING_GIVE_WAY, colregs.CROSSING_STAND_ON)
+
+
+@dataclass
+class Scenarios:
+    """Everything a method needs for one decision (arrays over S scenarios, M targets, N steps)."""
+    offsets: np.ndarray      # (S,) rad
+    multipliers: np.ndarray  # (S,)
+    chi_c: np.ndarray        # (S,) commanded course, rad
+    u_c: np.ndarray          # (S,) commanded speed, m/s
+    u_ref: float             # nominal speed, m/s (> 0)
+    t: np.ndarray            # (N+1,) s
+    p_own: np.ndarray        # (S, N+1, 2)
+    chi: np.ndarray          # (S, N+1)
+    p_own0: np.ndarray       # (2,)
+    p_tgt: np.ndarray        # (M, N+1, 2)
+    p_tgt0: np.ndarray       # (M, 2)
+    v_tgt: np.ndarray        # (M, 2)
+    dist: np.ndarray         # (S, M, N) closest approach on each step
+    frac: np.ndarray         # (S, M, N)
+    step: np.ndarray         # (S, M, N) relative displacement over each step, m
+    codes: np.ndarray        # (M,) situation codes now
+    threat: np.ndarray       # (M,) bool
+    acting_stand_on: bool    # Rule 17(b) in force
+
+
+class CollisionAvoidance:
+    """Stateful decision maker; subclasses implement ``_choose(sc) -> (index, cost)``."""
+
+    method = ''
+
+    def __init__(self, params=None, ship=None):
+        self.params = params or ColavParams()
+        self.ship = ship or OwnShipModel()
+        p = self.params
+        mults = sorted(set(p.speed_factors) if self.ship.has_shaft else {1.0}, reverse=True)
+        offs = sorted(set(p.course_offsets), key=lambda o: (abs(o), o < 0))
+        self._offsets = np.array([o for _ in mults for o in offs])
+        self._multipliers = np.array([m for m in mults for _ in offs])
+        self._t = time_grid(p.horizon_s, p.dt_s)
+        self._latched = {}
+        self.reset()
+
+    def reset(self):
+        """Forget the previous decision (the change penalty's reference)."""
+        self.last_offset, self.last_multiplier = 0.0, 1.0
+
+    def _latch(self, targets, codes, threat):
+        """Situation codes with each threat's code as it was when it became one."""
+        keys = [tg.name or i for i, tg in enumerate(targets)]
+        for i, key in enumerate(keys):
+            if threat[i]:
+                codes[i] = self._latched.setdefault(key, int(codes[i]))
+        self._latched = {k: c for k, c in self._latched.items() if k in
+                         {key for key, th in zip(keys, threat) if th}}
+        return codes
+
+    def decide(self, t, own_state, targets, nominal_course, nominal_speed_factor):
+        """The ``Decision`` at time ``t`` (s; kept for the node's bookkeeping, the decision
+        depends only on the states)."""
+        del t
+        targets = tuple(targets)
+        sc = self.scenarios(own_state, targets, nominal_course, nominal_speed_factor)
+        assessments = self._assess(own_state, targets, sc)
+        if sc is None or not sc.threat.any():
+            self.reset()
+            return Decision(nominal_course, nominal_speed_factor, 'nominal', 0.0, 1.0, False,
+                            assessments)
+        if self._hold_as_stand_on(sc):
+            self.reset()
+            return Decision(nominal_course, nominal_speed_factor, 'stand-on', 0.0, 1.0, True,
+                            assessments)
+        k, cost = self._choose(sc)
+        mode = 'avoid'
+        if sc.dist.min(axis=(1, 2)).max() < self.params.collision_m:
+            k = self._last_resort_index()
+            mode, cost = 'last-resort', None
+        off, mult = float(sc.offsets[k]), float(sc.multipliers[k])
+        self.last_offset, self.last_multiplier = off, mult
+        if off == 0.0 and mult == 1.0:
+            return Decision(nominal_course, nominal_speed_factor, mode, 0.0, 1.0, True, assessments,
+                            cost)
+        return Decision(float(sc.chi_c[k]), mult * nominal_speed_factor, mode, off, mult, True,
+                        assessments, cost)
+
+    # --- shared pieces -------------------------------------------------------------------
+
+    def scenarios(self, own, targets, nominal_course, nominal_speed_factor):
+        """The predicted ``Scenarios`` for these inputs (None without targets); it latches the
+        situations of new threats, as ``decide`` does."""
+        if not targets:
+            return None
+        p = self.params
+        u_one = self.ship.speed_at_factor_one_mps
+        u_nom = own.speed if u_one is None else nominal_speed_factor * u_one
+        chi_c = nominal_course + self._offsets
+        u_c = self._multipliers * u_nom
+        p_own0 = np.array([own.north, own.east], dtype=float)
+        p_own, chi = predict_own(own.north, own.east, own.course, own.speed, chi_c, u_c, self._t,
+                                 self.ship)
+        p_tgt0 = np.array([[tg.north, tg.east] for tg in targets], dtype=float)
+        v_tgt = velocity(np.array([tg.course for tg in targets]), np.array([tg.speed for tg in targets]))
+        p_tgt = predict_targets(p_tgt0, v_tgt, self._t)
+        dist, frac, step = segment_min_distance(p_own, p_tgt)
+        heading = own.course if own.heading is None else own.heading
+        t_heads = np.array([tg.course if tg.heading is None else tg.heading for tg in targets])
+        codes = colregs.classify(p_own0, heading, velocity(own.course, own.speed), p_tgt0, t_heads, v_tgt)
+        d_nom = dist[0].min(axis=1)
+        threat = d_nom < p.threat_m
+        codes = self._latch(targets, codes, threat)
+        lost = dist[0] < p.stand_on_dcpa_m                                     # (M, N)
+        t_lost = np.where(lost.any(axis=1), self._t[lost.argmax(axis=1)], np.inf)   # step start
+        stand_on = threat & np.isin(codes, STAND_ON_CODES)
+        acting = bool((stand_on & (t_lost <= p.stand_on_act_time_s)).any())
+        return Scenarios(self._offsets, self._multipliers, chi_c, u_c, max(float(u_nom), 0.1),
+                         self._t, p_own, chi, p_own0, p_tgt, p_tgt0, v_tgt, dist, frac, step,
+                         codes, threat, acting)
+
+    def _assess(self, own, targets, sc):
+        if sc is None:
+            return ()
+        tcpa, dcpa = cpa(sc.p_own0, velocity(own.course, own.speed), sc.p_tgt0, sc.v_tgt)
+        d_nom = sc.dist[0].min(axis=1)
+        return tuple(TargetAssessment(tg.name, float(tcpa[i]), float(dcpa[i]),
+                                      colregs.SITUATIONS[sc.codes[i]], colregs.role(sc.codes[i]),
+                                      bool(sc.threat[i]), float(d_nom[i]))
+                     for i, tg in enumerate(targets))
+
+    @staticmethod
+    def _hold_as_stand_on(sc):
+        return bool(np.isin(sc.codes[sc.threat], STAND_ON_CODES).all()) and not sc.acting_stand_on
+
+    def _last_resort_index(self):
+        hard = (self._offsets == self._offsets.max()) & (self._multipliers == self._multipliers.min())
+        return int(np.flatnonzero(hard)[0])
+
+    def deviation_cost(self, sc):
+        """(S,) deviation from the nominal plus change from the previous decision (Johansen
+        et al. 2016's f and its change terms; port weighted more than starboard)."""
+        p = self.params
+        off = sc.offsets
+        dev = np.where(off >= 0.0, p.w_course_starboard, p.w_course_port) * off ** 2
+        dev = dev + p.w_speed * (1.0 - sc.multipliers)
+        d_off = off - self.last_offset
+        change = np.where(d_off >= 0.0, p.w_change_course_starboard, p.w_change_course_port) * d_off ** 2
+        return dev + change + p.w_change_speed * np.abs(sc.multipliers - self.last_multiplier)
+
+    def port_turn_penalty(self, sc):
+        """(S,) ``w_port_turn`` for port offsets while a threat is head-on or crossing (Rules 14,
+        15; 17(c) for a stand-on ship that acts)."""
+        if not np.isin(sc.codes[sc.threat], NO_PORT_TURN_CODES).any():
+            return np.zeros_like(sc.offsets)
+        return np.where(sc.offsets < 0.0, self.params.w_port_turn, 0.0)
+
+    def _choose(self, sc):
+        raise NotImplementedError
+

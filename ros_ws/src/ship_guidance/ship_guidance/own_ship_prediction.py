@@ -1,0 +1,133 @@
+"""Simple identified prediction model of the own ship for collision avoidance (pure, vectorised).
+
+Scenario-based MPC (Johansen, Perez and Cristofaro 2016) predicts every candidate command with a
+cheap model of the ship under its own autopilot rather than the full plant:
+
+- course: a first-order response to the commanded course, chi_dot = (chi_c - chi) / T, with the
+  turn rate capped at r_max (the ship cannot turn faster than its full-rudder steady turn, the
+  Nomoto steady state r = K delta_max; Nomoto et al. 1957, Fossen 2011 Ch. 7). The error decays
+  linearly at r_max until it is T r_max, then exponentially; the closed form is used;
+- speed: a first-order response towards the commanded speed, u_dot = (u_c - u) / T_u;
+- position: the NED velocity (u cos chi, u sin chi) integrated by the trapezoidal rule on the
+  prediction grid, so a prediction restarted on the grid reproduces the samples of a longer one.
+
+Targets move in straight lines at their current velocity. Every constant is a field of
+``OwnShipModel`` (``from_nomoto`` derives the course constants of an identified Nomoto model, e.g.
+ship_autopilot/data/nomoto_gains.yaml; the launcher passes them, this package cannot import
+ship_autopilot). Shapes: S scenarios, M targets, N + 1 samples at t = 0, dt, ..., N dt.
+"""
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from ship_sim.frames import wrap_angle
+
+
+@dataclass(frozen=True)
+class OwnShipModel:
+    """Constants of the prediction model (SI units, rad).
+
+    Defaults: the mariner. ``course_time_constant_s`` is its identified Nomoto T and
+    ``max_turn_rate`` its K times the 40 deg rudder limit (ship_autopilot/data/nomoto_gains.yaml,
+    rounded); ``speed_time_constant_s`` is the linear surge time constant of the MSS mariner,
+    (m' - X_udot') / |X_u'| L / U (coefficients in ship_sim/models/mariner.py)."""
+    course_time_constant_s: float = 28.0
+    max_turn_rate: float = 0.0587 * np.deg2rad(40.0)
+    speed_time_constant_s: float = 95.0
+    #: Speed through the water at speed factor 1 (m/s); None: the current speed is taken as the
+    #: speed of the nominal command.
+    speed_at_factor_one_mps: float | None = None
+    #: False for ships without a shaft (speed) command: only speed factor 1 is considered.
+    has_shaft: bool = True
+
+    def __post_init__(self):
+        for name in ('course_time_constant_s', 'max_turn_rate', 'speed_time_constant_s'):
+            if not getattr(self, name) > 0.0:
+                raise ValueError(f'{name} = {getattr(self, name)!r} must be > 0')
+
+    @classmethod
+    def from_dict(cls, values):
+        """From a flat mapping holding some of the fields (e.g. the node's parameters; other keys
+        are ignored); ``speed_at_factor_one_mps`` <= 0 means None."""
+        out = {f.name: values[f.name] for f in fields(cls) if f.name in values}
+        if out.get('speed_at_factor_one_mps') is not None and out['speed_at_factor_one_mps'] <= 0.0:
+            out['speed_at_factor_one_mps'] = None
+        return cls(**out)
+
+    @classmethod
+    def from_nomoto(cls, K, T, rudder_max, **kwargs):
+        """The model of a ship with first-order Nomoto gains K (1/s), T (s) and rudder limit (rad)."""
+        return cls(course_time_constant_s=float(T), max_turn_rate=float(abs(K) * rudder_max), **kwargs)
+
+
+def time_grid(horizon_s, dt_s):
+    """Sample times 0, dt, ..., N dt with N = round(horizon / dt)."""
+    n = int(round(horizon_s / dt_s))
+    if n < 1:
+        raise ValueError(f'horizon_s = {horizon_s} must hold at least one step of dt_s = {dt_s}')
+    return np.arange(n + 1) * float(dt_s)
+
+
+def course_response(chi0, chi_c, t, model):
+    """(S, N+1) predicted courses (rad, not wrapped) for commanded courses ``chi_c`` (S,)."""
+    chi_c = np.asarray(chi_c, dtype=float)[:, None]
+    e0 = wrap_angle(chi_c - chi0)            # the shorter way round, as the autopilot turns
+    T, r = model.course_time_constant_s, model.max_turn_rate
+    knee = T * r                             # |error| below which the exponential is slower than r
+    mag = np.abs(e0)
+    t1 = np.maximum(mag - knee, 0.0) / r     # end of the rate-limited phase
+    linear = mag - r * t
+    exponential = np.minimum(mag, knee) * np.exp(-np.maximum(t - t1, 0.0) / T)
+    err = np.sign(e0) * np.where(t < t1, linear, exponential)
+    return chi0 + e0 - err
+
+
+def speed_response(u0, u_c, t, model):
+    """(S, N+1) predicted speeds (m/s) for commanded speeds ``u_c`` (S,)."""
+    u_c = np.asarray(u_c, dtype=float)[:, None]
+    return u_c + (u0 - u_c) * np.exp(-t / model.speed_time_constant_s)
+
+
+def predict_own(north, east, chi0, u0, chi_c, u_c, t, model):
+    """(S, N+1, 2) NED positions and (S, N+1) courses of the own ship under each command."""
+    chi = course_response(chi0, chi_c, t, model)
+    u = speed_response(u0, u_c, t, model)
+    v = np.stack((u * np.cos(chi), u * np.sin(chi)), axis=-1)
+    dt = np.diff(t)[None, :, None]
+    steps = 0.5 * dt * (v[:, 1:] + v[:, :-1])
+    p = np.concatenate((np.zeros_like(v[:, :1]), np.cumsum(steps, axis=1)), axis=1)
+    return p + np.array([north, east], dtype=float), chi
+
+
+def predict_targets(p_targets, v_targets, t):
+    """(M, N+1, 2) straight-line positions of targets at (M, 2) positions with (M, 2) velocities."""
+    return np.asarray(p_targets, float)[:, None, :] + np.asarray(v_targets, float)[:, None, :] * t[None, :, None]
+
+
+def segment_min_distance(p_own, p_targets):
+    """Closest approach on each prediction step, both ships moving linearly within the step.
+
+    ``p_own`` (S, N+1, 2), ``p_targets`` (M, N+1, 2) -> (distance (S, M, N) m, fraction (S, M, N)
+    of the step at which it occurs, in [0, 1], relative displacement over the step (S, M, N) m).
+    Sampling alone would miss the closest point of a fast pass between two samples."""
+    ox, oy = np.ascontiguousarray(p_own[..., 0]), np.ascontiguousarray(p_own[..., 1])
+    tx, ty = np.ascontiguousarray(p_targets[..., 0]), np.ascontiguousarray(p_targets[..., 1])
+    x0 = tx[None, :, :-1] - ox[:, None, :-1]                  # (S, M, N) target from own
+    y0 = ty[None, :, :-1] - oy[:, None, :-1]
+    dx = np.diff(tx, axis=-1)[None] - np.diff(ox, axis=-1)[:, None]
+    dy = np.diff(ty, axis=-1)[None] - np.diff(oy, axis=-1)[:, None]
+    dd = dx * dx
+    dd += dy * dy
+    s = x0 * dx
+    s += y0 * dy
+    np.negative(s, out=s)
+    np.divide(s, dd, out=s, where=dd > 0.0)
+    np.clip(s, 0.0, 1.0, out=s)                               # 0 where the ships keep station
+    dx *= s
+    dx += x0
+    dy *= s
+    dy += y0
+    dx *= dx
+    dy *= dy
+    dx += dy
+    return np.sqrt(dx, out=dx), s, np.sqrt(dd, out=dd)

@@ -1,0 +1,75 @@
+"""Scenario-based MPC collision avoidance (Johansen, Perez and Cristofaro 2016), vectorised.
+
+Each scenario k (course offset x speed multiplier, held over the horizon) is predicted with the
+own-ship model and scored, all scenarios x targets x steps at once:
+
+    H_k = max_i [ max_t R_ik(t) + kappa mu_ik ] + port_k + apparent_k + f_k + change_k
+
+- collision risk R (Johansen et al. 2016's C R): on every step where the predicted distance d to
+  target i is below d_safe, w_collision (|v_rel| / U)^2 (T_h / t)^p (d_safe / d)^q, with |v_rel|
+  the relative speed on that step (floored at ``relative_speed_floor`` U, so a slow overtaking
+  still costs), U the nominal speed, t the time of the closest point on the step (at least one
+  step) and T_h the horizon;
+- COLREGs (mu, for threats passing closer than d_close at their predicted closest point):
+  head-on (Rule 14) passed with the target on the own starboard side, or crossing give-way
+  (Rule 15) passed ahead of the target; ``port_k``: a port offset while a threat is head-on or
+  crossing (Rules 14, 15, 17(c)); ``apparent_k``: a give-way alteration that is neither a course
+  change of at least ``apparent_course_change`` nor a speed reduction to half or less (Rule 8(b));
+- f and change: quadratic course deviation and linear speed reduction from the nominal, and the
+  change from the previous decision, port weighted more (CollisionAvoidance.deviation_cost).
+
+Johansen et al. also score the COLREGs situation along the prediction and a transitional cost;
+here the situation is the one classified now (it does not flicker as the scenario turns).
+"""
+import numpy as np
+
+from ship_guidance import colregs
+from ship_guidance.colav import GIVE_WAY_CODES, CollisionAvoidance
+
+
+class SBMPC(CollisionAvoidance):
+    method = 'sbmpc'
+
+    def costs(self, sc):
+        """(S,) total cost of every scenario."""
+        p = self.params
+        risk = np.zeros(sc.dist.shape)
+        inside = sc.dist < p.d_safe_m                  # usually a small part: score only it
+        if inside.any():
+            t_step = sc.t[:-1][np.nonzero(inside)[2]] + sc.frac[inside] * p.dt_s
+            speed = np.maximum(sc.step[inside] / (p.dt_s * sc.u_ref), p.relative_speed_floor) ** 2
+            when = (p.horizon_s / np.maximum(t_step, p.dt_s)) ** p.risk_time_exponent
+            depth = (p.d_safe_m / np.maximum(sc.dist[inside], 1e-3)) ** p.risk_distance_exponent
+            risk[inside] = p.w_collision * speed * when * depth
+        risk = risk.max(axis=2)
+        per_target = risk + p.w_wrong_side * self._wrong_side(sc)
+        return (per_target.max(axis=1) + self.port_turn_penalty(sc) + self._not_apparent(sc)
+                + self.deviation_cost(sc))
+
+    def _choose(self, sc):
+        cost = self.costs(sc)
+        k = int(np.argmin(cost))
+        return k, float(cost[k])
+
+    def _wrong_side(self, sc):
+        """(S, M) 1 where a close head-on / crossing give-way threat is passed on the wrong side."""
+        n = sc.dist.argmin(axis=2)                                             # (S, M)
+        s_idx, m_idx = np.indices(n.shape)
+        close = sc.dist[s_idx, m_idx, n] < self.params.d_close_m
+        p_o, chi = sc.p_own[s_idx, n], sc.chi[s_idx, n]                        # (S, M, 2), (S, M)
+        p_t = sc.p_tgt[m_idx, n]
+        los = p_t - p_o
+        # target on the own starboard side: its bearing minus the own course in (0, pi)
+        starboard = np.sin(np.arctan2(los[..., 1], los[..., 0]) - chi) > 0.0
+        # own ship ahead of the target: in front of the line through the target across its track
+        ahead = np.einsum('...i,...i->...', -los, sc.v_tgt[None]) > 0.0
+        wrong = np.where(sc.codes == colregs.HEAD_ON, starboard,
+                         np.where(sc.codes == colregs.CROSSING_GIVE_WAY, ahead, False))
+        return (wrong & close & sc.threat).astype(float)
+
+    def _not_apparent(self, sc):
+        p = self.params
+        if not np.isin(sc.codes[sc.threat], GIVE_WAY_CODES).any():
+            return np.zeros_like(sc.offsets)
+        small = (np.abs(sc.offsets) > 0.0) & (np.abs(sc.offsets) < p.apparent_course_change - 1e-9)
+        return np.where(small & (sc.multipliers > 0.5), p.w_not_apparent, 0.0)

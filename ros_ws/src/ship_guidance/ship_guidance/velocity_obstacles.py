@@ -1,0 +1,52 @@
+"""Velocity obstacles (Fiorini and Shiller 1998) with the COLREGs constraints of Kuwata et al. 2014.
+
+Candidates are the scenario grid's commanded velocities (course = nominal + offset, speed =
+multiplier x nominal speed). Against each target, with the relative motion a straight line:
+
+- collision cone: a candidate is inadmissible when it brings the target within d_safe (the cone
+  of the target's disc inflated by the safe distance) between now and the horizon;
+- COLREGs (Kuwata et al. 2014): for a threat the own ship gives way to in head-on or crossing,
+  the cone is widened to its port side: a closing candidate whose relative velocity points to
+  port of the line of sight (it would pass with the target on its starboard side, i.e. cross
+  ahead of it or pass starboard to starboard) is inadmissible too, so the choice passes astern
+  / port to port.
+
+The admissible candidate closest to the nominal is chosen (the deviation and change cost of
+CollisionAvoidance, plus the port-turn penalty while a threat is head-on or crossing); ties go
+to the fixed scenario order. With none admissible, the candidate that keeps every target
+outside d_safe the longest is taken (then the shared last-resort check applies).
+"""
+import numpy as np
+
+from ship_guidance import colregs
+from ship_guidance.colav import CollisionAvoidance
+from ship_guidance.cpa import cpa, velocity
+
+
+class VelocityObstacles(CollisionAvoidance):
+    method = 'vo'
+
+    def admissible(self, sc):
+        """((S,) bool, (S,) s until the first target enters d_safe, inf if none does)."""
+        p = self.params
+        v_c = velocity(sc.chi_c, sc.u_c)[:, None, :]                            # (S, 1, 2)
+        tcpa, dcpa = cpa(sc.p_own0, v_c, sc.p_tgt0[None], sc.v_tgt[None])       # (S, M)
+        half = np.sqrt(np.maximum(p.d_safe_m ** 2 - dcpa ** 2, 0.0))
+        hits = dcpa < p.d_safe_m
+        t_in = np.where(hits, tcpa - half, np.inf)
+        in_cone = hits & (t_in < p.horizon_s) & (tcpa + half > 0.0)
+        los = sc.p_tgt0[None] - sc.p_own0                                       # (1, M, 2)
+        w = v_c - sc.v_tgt[None]                                                # own relative velocity
+        to_port = los[..., 0] * w[..., 1] - los[..., 1] * w[..., 0] < 0.0
+        give_way = sc.threat & np.isin(sc.codes, (colregs.HEAD_ON, colregs.CROSSING_GIVE_WAY))
+        widened = give_way[None] & to_port & (tcpa > 0.0) & (tcpa < p.horizon_s)
+        first_entry = np.where(in_cone, np.maximum(t_in, 0.0), np.inf).min(axis=1)
+        return ~(in_cone | widened).any(axis=1), first_entry
+
+    def _choose(self, sc):
+        ok, first_entry = self.admissible(sc)
+        cost = self.deviation_cost(sc) + self.port_turn_penalty(sc)
+        if ok.any():
+            k = int(np.argmin(np.where(ok, cost, np.inf)))
+            return k, float(cost[k])
+        return int(np.argmax(first_entry)), None

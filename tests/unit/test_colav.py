@@ -1,0 +1,301 @@
+"""Collision-avoidance decisions (ship_guidance.colav, colav_methods, sbmpc,
+velocity_obstacles, own_ship_prediction): pass-through with no threat, the COLREGs manoeuvre of
+each encounter, Rule 17 stand-on and 17(b) action, the last resort, determinism, and closed loops
+with the prediction model on the single-target Imazu encounters
+(tests/data/imazu22_encounters.json)."""
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from ship_guidance.colav import ShipState, Target
+from ship_guidance.colav_methods import make_colav
+from ship_guidance.colav_params import ColavParams
+from ship_guidance.cpa import cpa, velocity
+from ship_guidance.own_ship_prediction import (OwnShipModel, course_response, predict_own,
+                                               predict_targets, segment_min_distance,
+                                               speed_response, time_grid)
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = ROOT / 'tests' / 'data' / 'imazu22_encounters.json'
+CONFIG = ROOT / 'ros_ws' / 'src' / 'ship_guidance' / 'config' / 'colav.yaml'
+U = 6.1733                      # m/s, the Imazu set's own-ship speed (12 kn)
+SHIP = OwnShipModel(speed_at_factor_one_mps=U)
+METHODS = ('sbmpc', 'vo')
+P = ColavParams()
+
+
+def _target_on_collision_course(target_course_deg, tcpa_s, speed=U, name='ts'):
+    """Own ship at the origin heading north at U; a target that meets it at the own ship's
+    position after ``tcpa_s`` (DCPA 0)."""
+    v_o, v_t = velocity(0.0, U), velocity(math.radians(target_course_deg), speed)
+    p_t = (v_o - v_t) * tcpa_s
+    return Target(float(p_t[0]), float(p_t[1]), math.radians(target_course_deg), speed, name=name)
+
+
+def _bearing_deg(target):
+    return math.degrees(math.atan2(target.east, target.north)) % 360.0
+
+
+OWN = ShipState(0.0, 0.0, 0.0, U)
+
+
+@pytest.mark.parametrize('method', METHODS)
+def test_no_threat_returns_the_nominal_command_objects(method):
+    col = make_colav(method, ship=SHIP)
+    course, factor = math.radians(3.0) + 1e-13, 0.7 + 1e-15      # values no arithmetic rebuilds
+    # no targets; a target far astern, opening; one passing abeam at 3 NM on a parallel course
+    far = [Target(-5000.0, 0.0, math.pi, U, name='a'), Target(0.0, 5556.0, math.pi, U, name='b')]
+    for targets in ([], far):
+        d = col.decide(0.0, OWN, targets, course, factor)
+        assert d.course is course and d.speed_factor is factor
+        assert (d.mode, d.threat) == ('nominal', False)
+    assert [a.threat for a in d.targets] == [False, False]
+    # after an avoidance, the first decision without a threat again passes the nominal through
+    col.decide(0.0, OWN, [_target_on_collision_course(180.0, 480.0)], course, factor)
+    d = col.decide(10.0, OWN, far, course, factor)
+    assert d.course is course and d.speed_factor is factor
+
+
+@pytest.mark.parametrize('method', METHODS)
+def test_head_on_alters_to_starboard(method):
+    target = _target_on_collision_course(180.0, 480.0)
+    d = make_colav(method, ship=SHIP).decide(0.0, OWN, [target], 0.0, 1.0)
+    assert d.threat and d.mode == 'avoid'
+    assert d.course_offset > 0.0 and d.course == pytest.approx(d.course_offset)   # starboard: clockwise
+    a = d.targets[0]
+    assert (a.situation, a.role) == ('head-on', 'give-way')
+    assert a.tcpa_s == pytest.approx(480.0) and a.dcpa_m == pytest.approx(0.0, abs=1e-6)
+
+
+@pytest.mark.parametrize('method', METHODS)
+def test_crossing_give_way_alters_to_starboard_and_passes_astern(method):
+    target = _target_on_collision_course(270.0, 480.0)      # Imazu case 2, closer
+    assert _bearing_deg(target) == pytest.approx(45.0)
+    col = make_colav(method, ship=SHIP)
+    d = col.decide(0.0, OWN, [target], 0.0, 1.0)
+    assert d.targets[0].situation == 'crossing-give-way'
+    assert d.course_offset > 0.0
+    track = _closed_loop(col, target, 1200.0)
+    assert track['ahead_of_target_at_cpa'] is False
+
+
+def _time_to_lose(distance, tcpa_s):
+    # Imazu case 4's courses (0 and 45 deg, both at U) on a collision course: the range closes at
+    # the relative speed 2 U sin(22.5 deg) and falls below ``distance`` that long before the CPA
+    return tcpa_s - distance / (2.0 * U * math.sin(math.radians(22.5)))
+
+
+@pytest.mark.parametrize('method', METHODS)
+def test_stand_on_holds_course_and_speed(method):
+    # Imazu case 4's geometry (target on the port bow), closest point 550 s ahead: within the
+    # horizon, so a threat, but stand_on_dcpa_m is lost only after stand_on_act_time_s (Rule 17(a))
+    target = _target_on_collision_course(45.0, 550.0)
+    assert _bearing_deg(target) == pytest.approx(292.5)
+    course, factor = 0.0 + 1e-14, 1.0 - 1e-16
+    d = make_colav(method, ship=SHIP).decide(0.0, OWN, [target], course, factor)
+    assert d.targets[0].situation == 'crossing-stand-on' and d.targets[0].role == 'stand-on'
+    assert d.threat and d.mode == 'stand-on'
+    assert d.course is course and d.speed_factor is factor
+    assert _time_to_lose(P.stand_on_dcpa_m, 550.0) > P.stand_on_act_time_s
+
+
+@pytest.mark.parametrize('method', METHODS)
+def test_stand_on_acts_to_starboard_when_the_give_way_ship_does_not(method):
+    # the same encounter at 300 s to the closest point: stand_on_dcpa_m is lost within
+    # stand_on_act_time_s (Rule 17(b))
+    target = _target_on_collision_course(45.0, 300.0)
+    d = make_colav(method, ship=SHIP).decide(0.0, OWN, [target], 0.0, 1.0)
+    assert _time_to_lose(P.stand_on_dcpa_m, 300.0) <= P.stand_on_act_time_s
+    assert d.mode == 'avoid' and d.course_offset > 0.0              # no turn to port (17(c))
+
+
+def test_vo_widens_the_cone_of_a_give_way_target_to_port():
+    # crossing give-way (Imazu case 2 at 300 s): a 45 deg port alteration would cross ahead of the
+    # target clear of d_safe within the horizon, outside its collision cone, yet Kuwata et al.'s
+    # port widening makes it inadmissible; a 45 deg starboard one (passing astern) stays admissible
+    target = _target_on_collision_course(270.0, 300.0)
+    col = make_colav('vo', ship=SHIP)
+    sc = col.scenarios(OWN, [target], 0.0, 1.0)
+    ok, _ = col.admissible(sc)
+    for deg, admissible in ((-45.0, False), (45.0, True)):
+        k = int(np.flatnonzero(np.isclose(sc.offsets, math.radians(deg)) & (sc.multipliers == 1.0))[0])
+        v = velocity(sc.chi_c[k], sc.u_c[k])
+        tcpa, dcpa = cpa([0.0, 0.0], v, [target.north, target.east], velocity(target.course, U))
+        assert 0.0 < tcpa < P.horizon_s and dcpa > P.d_safe_m
+        assert ok[k] == admissible, deg
+
+
+@pytest.mark.parametrize('method', METHODS)
+def test_situation_is_kept_while_the_own_ship_manoeuvres(method):
+    # head-on; after a 30 deg starboard alteration the target bears on the port bow, which read
+    # afresh is a crossing the own ship stands on for: the encounter stays head-on
+    target = _target_on_collision_course(180.0, 480.0)
+    col = make_colav(method, ship=SHIP)
+    assert col.decide(0.0, OWN, [target], 0.0, 1.0).targets[0].situation == 'head-on'
+    turned = ShipState(0.0, 0.0, math.radians(30.0), U)
+    d = col.decide(10.0, turned, [target], 0.0, 1.0)
+    assert d.targets[0].situation == 'head-on' and d.mode == 'avoid' and d.course_offset > 0.0
+    fresh = make_colav(method, ship=SHIP).decide(10.0, turned, [target], 0.0, 1.0)
+    assert fresh.targets[0].situation == 'crossing-stand-on'
+
+
+def test_last_resort_is_hard_starboard_and_stop_where_a_shaft_exists():
+    # a target 150 m ahead closing at 2U: inside the collision radius whatever the own ship does
+    target = Target(150.0, 0.0, math.pi, U, name='close')
+    for method in METHODS:
+        d = make_colav(method, ship=SHIP).decide(0.0, OWN, [target], 0.0, 1.0)
+        assert d.mode == 'last-resort'
+        assert d.course_offset == max(P.course_offsets) and d.speed_multiplier == 0.0
+        no_shaft = OwnShipModel(speed_at_factor_one_mps=U, has_shaft=False)
+        d = make_colav(method, ship=no_shaft).decide(0.0, OWN, [target], 0.0, 1.0)
+        assert d.mode == 'last-resort' and d.course_offset == max(P.course_offsets)
+        assert d.speed_multiplier == 1.0 and d.speed_factor == 1.0
+
+
+@pytest.mark.parametrize('method', METHODS)
+def test_decisions_are_deterministic(method):
+    targets = [_target_on_collision_course(180.0, 480.0, name='a'),
+               _target_on_collision_course(270.0, 400.0, name='b'),
+               _target_on_collision_course(60.0, 500.0, speed=4.0, name='c')]
+    a = make_colav(method, ship=SHIP).decide(0.0, OWN, targets, 0.1, 1.0)
+    b = make_colav(method, ship=SHIP).decide(0.0, OWN, targets, 0.1, 1.0)
+    assert a == b and a.threat
+
+
+def _imazu_single_target_cases():
+    cases = {}
+    for enc in json.loads(DATA.read_text())['encounters']:
+        if enc['case'] in (1, 2, 3, 4) and enc['variant'] == 'chosen':
+            cases[enc['case']] = enc
+    return [cases[k] for k in sorted(cases)]
+
+
+def _closed_loop(col, target, duration_s, own=OWN, period_s=10.0):
+    """Own ship on the prediction model, decisions every ``period_s``, the target straight on.
+
+    Steps on the decision's own grid, so what the ship does is what the decision predicted."""
+    p = col.params
+    t_step = time_grid(period_s, p.dt_s)
+    p_o, chi, u = np.array([own.north, own.east]), own.course, own.speed
+    p_t, v_t = np.array([target.north, target.east]), velocity(target.course, target.speed)
+    d_min, at_cpa, decisions = np.inf, None, []
+    for k in range(int(round(duration_s / period_s))):
+        tgt = dataclasses.replace(target, north=float(p_t[0]), east=float(p_t[1]))
+        d = col.decide(k * period_s, ShipState(float(p_o[0]), float(p_o[1]), float(chi), float(u)),
+                       [tgt], 0.0, 1.0)
+        decisions.append(d)
+        u_c = np.array([d.speed_factor * col.ship.speed_at_factor_one_mps])
+        pos, course = predict_own(p_o[0], p_o[1], chi, u, np.array([d.course]), u_c, t_step, col.ship)
+        pt = predict_targets(p_t[None], v_t[None], t_step)
+        dist, _, _ = segment_min_distance(pos, pt)
+        if dist.min() < d_min:
+            d_min = float(dist.min())
+            n = int(dist[0, 0].argmin())
+            at_cpa = (pos[0, n], float(course[0, n]), pt[0, n])
+        p_o, chi = pos[0, -1], float(course[0, -1])
+        u = float(speed_response(u, u_c, t_step, col.ship)[0, -1])
+        p_t = pt[0, -1]
+    own_at, chi_at, tgt_at = at_cpa
+    los = tgt_at - own_at
+    return {'d_min': d_min, 'decisions': decisions,
+            'target_to_starboard_at_cpa': bool(math.sin(math.atan2(los[1], los[0]) - chi_at) > 0.0),
+            'ahead_of_target_at_cpa': bool(np.dot(-los, v_t) > 0.0)}
+
+
+@pytest.mark.parametrize('method', METHODS)
+@pytest.mark.parametrize('enc', _imazu_single_target_cases(), ids=lambda e: f"imazu{e['case']}")
+def test_closed_loop_imazu_single_target_keeps_the_safe_distance(method, enc):
+    o, t = enc['own'], enc['target_state']
+    assert o['speed_mps'] == U and (o['north_m'], o['east_m'], o['course_deg']) == (0.0, 0.0, 0.0)
+    target = Target(t['north_m'], t['east_m'], math.radians(t['course_deg']), t['speed_mps'], name='TS1')
+    col = make_colav(method, ship=SHIP)
+    # the ships would meet after 1200 s; run on until well past it
+    run = _closed_loop(col, target, 2400.0)
+    assert run['d_min'] > col.params.d_safe_m, (method, enc['case'], run['d_min'])
+    modes = [d.mode for d in run['decisions']]
+    assert 'last-resort' not in modes and 'avoid' in modes
+    situation = enc['expected']['colregs']
+    if method == 'sbmpc' and situation != 'crossing-stand-on':
+        # every departure from the nominal is readily apparent (Rule 8(b)): a course change of at
+        # least apparent_course_change or a speed reduction to half or less
+        acted = [d for d in run['decisions'] if (d.course_offset, d.speed_multiplier) != (0.0, 1.0)]
+        assert acted and all(abs(d.course_offset) >= col.params.apparent_course_change - 1e-9
+                             or d.speed_multiplier <= 0.5 for d in acted)
+    if situation == 'head-on':
+        assert run['target_to_starboard_at_cpa'] is False            # port to port (Rule 14)
+    if situation == 'crossing-give-way':
+        assert run['ahead_of_target_at_cpa'] is False                # astern of it (Rule 15)
+    if situation == 'crossing-stand-on':
+        # stood on (nominal command, the same course) until Rule 17(b) applied
+        first = modes.index('avoid')
+        kept = run['decisions'][:first]
+        assert all(d.course == 0.0 and d.speed_factor == 1.0 for d in kept)
+        assert run['decisions'][first].course_offset > 0.0
+        assert run['decisions'][first].targets[0].situation == 'crossing-stand-on'
+
+
+def test_course_response_matches_the_rate_limited_first_order_lag():
+    # chi_dot = clip((chi_c - chi) / T, -r, r), integrated finely, against the closed form
+    model = OwnShipModel()
+    t = np.arange(0.0, 300.0 + 1e-9, 0.01)
+    for chi_c in (math.radians(90.0), math.radians(-30.0), math.radians(0.5)):
+        chi, out = 0.0, [0.0]
+        for _ in t[1:]:
+            rate = np.clip((chi_c - chi) / model.course_time_constant_s, -model.max_turn_rate,
+                           model.max_turn_rate)
+            chi += rate * 0.01
+            out.append(chi)
+        closed = course_response(0.0, np.array([chi_c]), t, model)[0]
+        np.testing.assert_allclose(closed, out, atol=2e-4)
+    # the turn never exceeds the cap and the speed lag reaches 1 - 1/e of the step after T_u
+    chi = course_response(0.0, np.array([math.pi / 2]), t, model)[0]
+    assert np.diff(chi).max() / 0.01 <= model.max_turn_rate * (1 + 1e-9)
+    u = speed_response(U, np.array([0.0]), np.array([model.speed_time_constant_s]), model)
+    assert u[0, 0] == pytest.approx(U * math.exp(-1.0))
+
+
+def test_straight_prediction_and_closest_point_between_samples():
+    # on a steady course the trapezoidal prediction is the straight line; a head-on pass at
+    # 500 m between two samples is found at its true DCPA, which sampling alone would miss
+    t = time_grid(600.0, 5.0)
+    p_own, _ = predict_own(0.0, 0.0, 0.0, U, np.array([0.0]), np.array([U]), t, OwnShipModel())
+    np.testing.assert_allclose(p_own[0, :, 0], U * t, rtol=1e-12)
+    np.testing.assert_allclose(p_own[0, :, 1], 0.0, atol=1e-9)
+    p_t, v_t = np.array([[2.0 * U * 302.5, 100.0]]), velocity(math.pi, U)[None]
+    dist, frac, step = segment_min_distance(p_own, predict_targets(p_t, v_t, t))
+    tcpa, dcpa = cpa([0.0, 0.0], velocity(0.0, U), p_t[0], v_t[0])
+    assert dist.min() == pytest.approx(dcpa, rel=1e-9) and tcpa == pytest.approx(302.5)
+    n = int(dist[0, 0].argmin())
+    assert t[n] + frac[0, 0, n] * 5.0 == pytest.approx(302.5)
+    assert step[0, 0, n] == pytest.approx(2.0 * U * 5.0)
+    sampled = np.hypot(*(predict_targets(p_t, v_t, t)[0] - p_own[0]).T).min()
+    assert sampled > dcpa + 1.0
+
+
+def test_parameters_validate_and_the_config_lists_every_field():
+    with pytest.raises(ValueError):
+        ColavParams(d_safe_m=100.0, near_miss_m=200.0)
+    with pytest.raises(ValueError):
+        ColavParams(course_offsets=(0.1, 0.2))
+    with pytest.raises(ValueError):
+        make_colav('apf')
+    keys = yaml.safe_load(CONFIG.read_text())['/**']['ros__parameters']
+    params = ColavParams.from_dict({k: v for k, v in keys.items()
+                                    if k in {f.name for f in dataclasses.fields(ColavParams)}
+                                    or k.endswith('_deg')})
+    assert params == ColavParams()
+    ship_keys = {f.name for f in dataclasses.fields(OwnShipModel)}
+    listed = {k.removesuffix('_deg') if k.endswith('_deg') else k for k in keys} - {'method'}
+    assert listed == {f.name for f in dataclasses.fields(ColavParams)} | ship_keys
+    ship = OwnShipModel.from_dict(keys)
+    assert ship.speed_at_factor_one_mps is None and ship.has_shaft
+    for name in ('course_time_constant_s', 'max_turn_rate', 'speed_time_constant_s'):
+        assert getattr(ship, name) == pytest.approx(getattr(OwnShipModel(), name), rel=1e-5)
+    # the Nomoto constants: T, and the steady turn rate K delta_max of the full rudder
+    nomoto = OwnShipModel.from_nomoto(0.0587, 28.0, math.radians(40.0))
+    assert nomoto == OwnShipModel()

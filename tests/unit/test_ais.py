@@ -305,3 +305,14 @@ def test_static_data_alone_does_not_keep_a_stale_position_alive():
     assert 257000901 not in tr.tracks                               # static data stale too
     with pytest.raises(ValueError):
         AisTracker(*ORIGIN, stale_after_s=0.0)
+
+
+def test_replay_file_format():
+    from ship_guidance.ais import parse_replay
+    lines = ['# comment', '', '12.5 !AIVDM,1,1,,A,x,0*00', '!AIVDM,1,1,,A,y,0*00',
+             '!AIVDM,1,1,,A,z,0*00', '3 !AIVDM,1,1,,A,w,0*00']
+    got = parse_replay(lines, rate_hz=2.0, offset_s=100.0)
+    assert got == [(100.0, '!AIVDM,1,1,,A,y,0*00'), (100.5, '!AIVDM,1,1,,A,z,0*00'),
+                   (103.0, '!AIVDM,1,1,,A,w,0*00'), (112.5, '!AIVDM,1,1,,A,x,0*00')]
+    with pytest.raises(ValueError):
+        parse_replay(lines, rate_hz=0.0)

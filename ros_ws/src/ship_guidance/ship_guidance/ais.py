@@ -113,6 +113,35 @@ def dead_reckon(north, east, sog, cog, dt):
     return north + sog * dt * math.cos(cog), east + sog * dt * math.sin(cog)
 
 
+def parse_replay(lines, rate_hz, offset_s=0.0):
+    """Lines of an AIS replay file -> [(t, sentence)], in time order (stable).
+
+    Format, one sentence a line: ``<t_s> <sentence>`` (t_s: seconds, a number) or the sentence
+    alone, timed at ``offset_s + i / rate_hz`` for the i-th such line (0, 1, ...). ``offset_s``
+    is added to the given times too. Blank lines and lines starting with ``#`` are skipped.
+    """
+    if not rate_hz > 0.0:
+        raise ValueError(f'rate_hz must be > 0, got {rate_hz}')
+    out = []
+    plain = 0
+    for line in lines:
+        line = line.strip()
+        if not line or line.startswith('#'):
+            continue
+        head, _, rest = line.partition(' ')
+        try:
+            t = float(head)
+        except ValueError:
+            t = None
+        if t is not None and rest.strip() and math.isfinite(t):
+            out.append((offset_s + t, rest.strip()))
+        else:
+            out.append((offset_s + plain / rate_hz, line))
+            plain += 1
+    out.sort(key=lambda item: item[0])
+    return out
+
+
 def _payload_type(payload):
     """Message type from the first 6-bit character of an armoured payload, None if invalid."""
     c = ord(payload[0]) - 48

@@ -4,7 +4,8 @@
    pyais from known local positions) come out on `targets` as Odometry, ENU at the origin,
    child_frame_id ais_<mmsi>, at the dead-reckoned positions of the stamp's time; each
    disappears once stale_after_s has passed since its last report; a bad line is counted.
-2. UDP on 127.0.0.1: sentences sent in datagrams (two in one, one bad) are tracked the same way.
+2. UDP on 127.0.0.1: sentences sent in datagrams (two in one, one bad) are tracked the same way;
+   a UDP port already in use is refused in one line (exit 2).
 """
 import math
 import socket
@@ -134,3 +135,15 @@ def test_udp_input(ros_graph):
     assert counts(stats.last)['targets'] == 2
     assert node.returncode is None
     assert ros_graph.stop(node) == 0
+
+
+@pytest.mark.timeout(60)
+def test_busy_udp_port_is_refused_in_one_line(ros_graph):
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.bind(('127.0.0.1', 0))
+        port = s.getsockname()[1]
+        node = ros_graph.start('ship_guidance', 'ais_node', params={'udp_port': port})
+        node.wait(timeout=30.0)
+    assert node.returncode == 2
+    lines = node.stderr().strip().splitlines()
+    assert len(lines) == 1 and 'udp_port' in lines[0] and 'in use' in lines[0]

@@ -77,7 +77,6 @@ class AisNode(Node):
         if port:
             try:
                 sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-                sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
                 sock.bind((address, port))
             except OSError as exc:
                 raise ParameterError('udp_port', port, f'a free UDP port on {address} '

@@ -19,8 +19,9 @@ A target is therefore dropped only after ``stale_after_s`` without a position re
 way misses 36 or more reports first). Static data is kept per MMSI as long as the track.
 
 Dead reckoning: between reports a target moves in a straight line in the local plane at its
-last SOG along its last COG (constant-velocity model; the plane's error over a few minutes at
-sea speeds is far below AIS position resolution). A report whose SOG or COG is "not available"
+last SOG along its last COG (constant-velocity model; within the tangent plane's range the
+straight line differs from the rhumb line far less than a real ship departs from constant
+course and speed over a few minutes). A report whose SOG or COG is "not available"
 (102.3 kn, 360 deg) still places the target but holds it there (velocity unknown: zero).
 Orientation is the true heading when reported (511 = not available), else the COG.
 

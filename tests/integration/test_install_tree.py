@@ -107,6 +107,7 @@ BAD_PARAMETER = {
     'route_node': ('route_file', '/no/such/route.yaml'),
     'follower_node': ('lookahead_m', '-1.0'),
     'planner_node': ('clearance_m', '.nan'),
+    'ais_node': ('file', '/no/such/file.nmea'),
 }
 
 

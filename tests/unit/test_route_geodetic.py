@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from ship_planner.geodetic import WGS84_A, WGS84_E2, geodetic_to_ned, ned_to_geodetic
+from ship_sim.geodetic import WGS84_A, WGS84_E2, geodetic_to_ned, ned_to_geodetic
 
 
 def meridian_radius(lat):

@@ -6,7 +6,7 @@ import textwrap
 
 import pytest
 
-from ship_planner.geodetic import WGS84_A, WGS84_E2
+from ship_sim.geodetic import WGS84_A, WGS84_E2
 from ship_planner.route_data import RouteError
 from ship_planner.yaml_route_reader import load_route_yaml, parse_route_yaml
 

@@ -25,6 +25,7 @@ setup(
         'console_scripts': [
             'guidance_node = ship_guidance.guidance_node:main',
             'follower_node = ship_guidance.follower_node:main',
+            'ais_node = ship_guidance.ais_node:main',
         ],
     },
 )

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage
 
-from ship_planner.geodetic import geodetic_to_ned, ned_to_geodetic
+from ship_sim.geodetic import geodetic_to_ned, ned_to_geodetic
 
 #: Default upper limit on raster cells (a 2000 x 2000 grid: ~100 MB of working arrays).
 DEFAULT_MAX_CELLS = 4_000_000

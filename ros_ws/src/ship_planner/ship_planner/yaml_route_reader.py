@@ -60,7 +60,7 @@ import yaml
 
 from ship_guidance import curves
 from ship_planner.fillets import ArcSpec, FilletError, LineSpec, fillet_segments, segments_to_route
-from ship_planner.geodetic import geodetic_to_ned
+from ship_sim.geodetic import geodetic_to_ned
 from ship_planner.route_data import (RouteError, RoutePlan, TextFileError, check_point,
                                      check_route_size, read_text_file)
 from ship_sim.frames import enu_to_ned_xy

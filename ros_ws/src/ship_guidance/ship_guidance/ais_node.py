@@ -1,0 +1,177 @@
+"""ais_node: AIS targets (NMEA 0183 AIVDM/AIVDO) from a replay file and/or UDP -> Odometry.
+
+Inputs (either or both):
+- `file`: a replay file (ship_guidance.ais.parse_replay: ``<t_s> <sentence>`` per line, or the
+  sentence alone at `file_rate_hz`), fed on the node's clock: with use_sim_time, a line is fed
+  once sim time reaches `file_time_offset_s` + t_s (a scenario's sim time starts at 0); on the
+  wall clock, times count from the node's start. Each sentence is fed with its own time.
+- `udp_port` > 0: NMEA lines (one or more per datagram) on UDP `udp_address`:`udp_port`, the way
+  OpenCPN, AIS-catcher and gpsd relay live AIS; stamped with the node's clock on arrival.
+
+Every `publish_period_s` of the node's clock it publishes each live target (ship_guidance.ais:
+dead-reckoned to now, dropped after `stale_after_s` without a report) as nav_msgs/Odometry on
+`targets`, ENU at the geodetic origin (`origin_lat_deg`, `origin_lon_deg`), frame_id `map`,
+child_frame_id `ais_<mmsi>`, orientation the true heading (else the COG), twist FLU from SOG
+and COG; with `per_target_topics` also on `targets/ais_<mmsi>/odom`. `ais_counts`
+(std_msgs/UInt64MultiArray, names in the layout's label) carries the counters. Bad input is
+counted by reason and warned about (throttled); it never stops the node.
+"""
+import math
+import socket
+
+from nav_msgs.msg import Odometry
+from rclpy.clock import Clock, ClockType
+from rclpy.node import Node
+from std_msgs.msg import MultiArrayDimension, UInt64MultiArray
+
+from ship_guidance.ais import BAD_REASONS, STALE_AFTER_S, AisTracker, parse_replay
+from ship_sim.ros.conversions import make_odometry
+from ship_sim.ros.params import NodeParameters, ParameterError
+from ship_sim.ros.qos import STREAM
+from ship_sim.ros.run import run_node
+
+COUNT_NAMES = ('decoded', 'ignored', 'pending_fragments', 'targets') + BAD_REASONS
+UDP_POLL_S = 0.02          # wall-clock period of the UDP poll
+
+
+def child_frame(mmsi):
+    return f'ais_{mmsi}'
+
+
+class AisNode(Node):
+    def __init__(self):
+        super().__init__('ais_node')
+        p = self.params = NodeParameters(self)
+        path = p.declare('file', '', 'AIS replay file (empty: none); format in '
+                         'ship_guidance.ais.parse_replay', read_only=True)
+        rate = p.declare('file_rate_hz', 1.0, 'rate of the file lines without a time',
+                         lo=1e-3, hi=1e4, unit='Hz', read_only=True)
+        offset = p.declare('file_time_offset_s', 0.0, 'added to every replay time', lo=-1e9,
+                           hi=1e9, unit='s', read_only=True)
+        port = p.declare('udp_port', 0, 'UDP port to receive NMEA on (0: no UDP)', lo=0,
+                         hi=65535, read_only=True)
+        address = p.declare('udp_address', '127.0.0.1', 'local address to bind the UDP port '
+                            'to (0.0.0.0: every interface)', read_only=True)
+        lat0 = p.declare('origin_lat_deg', 0.0, 'geodetic origin of the local ENU frame',
+                         lo=-89.0, hi=89.0, unit='deg', read_only=True)
+        lon0 = p.declare('origin_lon_deg', 0.0, 'geodetic origin of the local ENU frame',
+                         lo=-180.0, hi=180.0, unit='deg', read_only=True)
+        stale = p.declare('stale_after_s', STALE_AFTER_S, 'drop a target after this long '
+                          'without a report (class A at anchor reports every 180 s)', lo=1.0,
+                          hi=86400.0, unit='s', read_only=True)
+        period = p.declare('publish_period_s', 1.0, 'period of the target publication, on '
+                           'the node clock', lo=1e-3, hi=3600.0, unit='s', read_only=True)
+        self.per_target = p.declare('per_target_topics', False, 'also publish each target on '
+                                    'targets/ais_<mmsi>/odom', read_only=True)
+        if not path and not port:
+            raise ParameterError('file', message='give a replay file (file) or a UDP port '
+                                 '(udp_port), or both')
+        self.replay = []
+        if path:
+            try:
+                with open(path, encoding='ascii', errors='replace') as f:
+                    self.replay = parse_replay(f, rate, offset)
+            except OSError as exc:
+                raise ParameterError('file', path, f'a readable file ({exc.strerror})') from None
+        self.sock = None
+        if port:
+            try:
+                sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+                sock.bind((address, port))
+            except OSError as exc:
+                raise ParameterError('udp_port', port, f'a free UDP port on {address} '
+                                     f'({exc.strerror})') from None
+            sock.setblocking(False)
+            self.sock = sock
+        self.tracker = AisTracker(lat0, lon0, stale)
+        self.sim_time = self.get_parameter('use_sim_time').value
+        self.t_base = 0.0 if self.sim_time else self._now()
+        self.next_line = 0
+        self.n_bad = 0
+        self.live = set()
+        self.pub = self.create_publisher(Odometry, 'targets', STREAM)
+        self.pubs = {}
+        self.pub_counts = self.create_publisher(UInt64MultiArray, 'ais_counts', STREAM)
+        self.m_counts = UInt64MultiArray()
+        self.m_counts.layout.dim = [MultiArrayDimension(label=','.join(COUNT_NAMES),
+                                                        size=len(COUNT_NAMES), stride=1)]
+        self.create_timer(period, self._tick)
+        if self.sock is not None:
+            self.create_timer(UDP_POLL_S, self._poll_udp,
+                              clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self.get_logger().info(
+            f'AIS: {len(self.replay)} replay lines'
+            + (f', UDP {address}:{port}' if port else '')
+            + f'; origin {lat0:.6f}, {lon0:.6f}; stale after {stale:.0f} s')
+
+    def _now(self):
+        return self.get_clock().now().nanoseconds * 1e-9
+
+    def _feed(self, line, t):
+        self.tracker.feed(line, t)
+        n_bad = sum(self.tracker.bad.values()) - self.tracker.bad['velocity_not_available']
+        if n_bad > self.n_bad:
+            self.n_bad = n_bad
+            reason, text = self.tracker.last_bad
+            self.get_logger().warning(f'skipped bad AIS input ({reason}): {text[:90]!r}; '
+                                      f'{n_bad} so far', throttle_duration_sec=5.0)
+
+    def _poll_udp(self):
+        t = self._now() - self.t_base
+        while True:
+            try:
+                data = self.sock.recv(65536)
+            except (BlockingIOError, InterruptedError):
+                return
+            except OSError as exc:
+                self.get_logger().warning(f'UDP receive failed: {exc}',
+                                          throttle_duration_sec=5.0)
+                return
+            for line in data.splitlines():
+                if line.strip():
+                    self._feed(line, t)
+
+    def _tick(self):
+        now = self._now()
+        t = now - self.t_base
+        replay = self.replay
+        while self.next_line < len(replay) and replay[self.next_line][0] <= t:
+            t_line, line = replay[self.next_line]
+            self._feed(line, t_line)
+            self.next_line += 1
+        targets = self.tracker.targets(t)
+        live = {s.mmsi for s in targets}
+        for mmsi in sorted(self.live - live):
+            self.get_logger().info(f'AIS target {mmsi} dropped (no report for more than '
+                                   f'{self.tracker.stale_after_s:.0f} s)')
+        for mmsi in sorted(live - self.live):
+            self.get_logger().info(f'AIS target {mmsi} tracked')
+        self.live = live
+        for s in targets:
+            d = s.cog - s.psi
+            msg = make_odometry(now, s.north, s.east, s.psi, s.sog * math.cos(d),
+                                s.sog * math.sin(d), 0.0, child_frame(s.mmsi))
+            self.pub.publish(msg)
+            if self.per_target:
+                pub = self.pubs.get(s.mmsi)
+                if pub is None:
+                    pub = self.pubs[s.mmsi] = self.create_publisher(
+                        Odometry, f'targets/{child_frame(s.mmsi)}/odom', STREAM)
+                pub.publish(msg)
+        tr = self.tracker
+        self.m_counts.data = [sum(tr.decoded.values()), sum(tr.ignored.values()),
+                              tr.pending_fragments, len(targets)] + [tr.bad[r] for r in BAD_REASONS]
+        self.pub_counts.publish(self.m_counts)
+
+    def destroy_node(self):
+        if self.sock is not None:
+            self.sock.close()
+        super().destroy_node()
+
+
+def main(args=None):
+    return run_node(AisNode, args=args)
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())

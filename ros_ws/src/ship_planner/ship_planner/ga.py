@@ -104,6 +104,22 @@ def minimize(cost, n_var, population=60, generations=300, elite=2, tournament=3,
     return GAResult(pop[best].copy(), float(f[best]), history, g, evaluations, stopped)
 
 
+def minimize_box(cost, lower, upper, shift_rate=0.0, **kw):
+    """``minimize`` over the box [lower, upper] (arrays of n bounds, lower < upper): the genes
+    stay in [0, 1] and are mapped linearly, so every operator works as for the routes; cost
+    takes (P, n) points in the box's own units. The segment-shift mutation, which moves
+    neighbouring waypoints together, means nothing for unrelated genes and is off by default.
+    Returns the GAResult with x in the box's units."""
+    lo, hi = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+    if lo.ndim != 1 or lo.shape != hi.shape or not np.all(np.isfinite(lo) & np.isfinite(hi)) \
+            or not np.all(hi > lo):
+        raise ValueError(f'lower and upper must be finite 1-D bounds with upper > lower, got {lower}, {upper}')
+    span = hi - lo
+    res = minimize(lambda z: cost(lo + z * span), len(lo), shift_rate=shift_rate, **kw)
+    res.x = lo + res.x * span
+    return res
+
+
 def _shift(x, rng, sigma, which):
     """Segment-shift mutation of the rows selected by which (doc/route_planning.md), clipped to [0, 1]."""
     m, n = x.shape

@@ -278,8 +278,8 @@ class Guidance:
         self._s, self._prev = proj.s, (n, e)
 
         alpha, err, d = proj.path_angle, proj.cross_track, self.lookahead
-        leg = route.legs[proj.leg_index]
-        if self.arc_los_point and isinstance(leg, Arc):
+        leg = route.legs[proj.leg_index] if self.arc_los_point else None
+        if isinstance(leg, Arc):
             pn, pe = circle_los_point(leg.center, leg.radius, leg.clockwise, n, e, d)
             psi_c = float(wrap_angle(math.atan2(pe - e, pn - n)))
         elif self.law == 'los':

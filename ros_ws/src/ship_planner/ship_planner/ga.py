@@ -8,6 +8,8 @@ mutation that moves a stretch of consecutive genes (waypoints along a route) tog
 optional pattern-search ``refine``. Stops after ``generations`` or when the best cost has not
 improved by more than ``rel_tol`` (relative) for ``stall_generations``. Deterministic for a given
 ``seed`` (numpy Generator). ``cost`` is vectorised: (P, n) array -> (P,) costs.
+``minimize_box`` runs the same GA over any box of real parameters (the guidance tuning of
+ship_autopilot.guidance_tuning uses it).
 
 The operators and their parameters in full: ros_ws/src/ship_planner/doc/route_planning.md.
 """

@@ -13,7 +13,8 @@ circles, no current, start 300 m off; cost: energy proxy). Each is tuned with
 ship_planner.ga.minimize_box and compared against conventional LOS with a constant look-ahead
 of 2 ship lengths (322 m, as the Lee 2004 route-following scenarios use). One progress line per
 generation. Writes <out>/results.json (tuned parameters, GA history, metrics of tuned and
-conventional), <out>/cost.png (best cost per generation) and <out>/tracks.png (tracks and
+conventional and of the best constant look-ahead on a 40-point grid of the same range),
+<out>/cost.png (best cost per generation) and <out>/tracks.png (tracks and
 cross-track error, tuned vs conventional); <out> defaults to runs/guidance_ga-<time>/ and
 runs/guidance_ga-latest points at it.
 """
@@ -24,6 +25,8 @@ import sys
 import time
 from datetime import datetime
 from pathlib import Path
+
+import numpy as np
 
 from ship_autopilot.gains import heading_loop_design
 from ship_autopilot.guidance_tuning import (Case, ConstantLookahead, cost, gene_box, metrics,
@@ -77,7 +80,6 @@ def plot(out, results, runs):
     fig, axes = plt.subplots(2, len(results), figsize=(6 * len(results), 8), squeeze=False)
     for j, (name, (case, tuned, conv)) in enumerate(runs.items()):
         ax = axes[0][j]
-        import numpy as np
         pts = np.array([case.route.point_at(s) for s in np.linspace(0.0, case.route.length, 400)])
         ax.plot(pts[:, 1], pts[:, 0], 'k-', lw=1, label='route')
         for run, lab in ((conv, 'conventional 322 m'), (tuned, 'GA-tuned law')):
@@ -125,6 +127,11 @@ def main(argv=None):
         conv = ConstantLookahead(CONVENTIONAL_LOOKAHEAD_M)
         tuned_run, conv_run = simulate(case, law), simulate(case, conv)
         lo, hi = gene_box(case)
+        # The best constant look-ahead over the same range (how much the law's shape adds).
+        grid = np.linspace(lo[0], hi[0], 40) * case.speed
+        const_costs = [cost(case, ConstantLookahead(d)) for d in grid]
+        best_const = ConstantLookahead(float(grid[int(np.argmin(const_costs))]))
+        best_const_run = simulate(case, best_const)
         results[name] = {
             'case': {'cost': case.cost, 'current_mps': case.current_speed,
                      'current_direction_deg': math.degrees(case.current_direction),
@@ -140,6 +147,8 @@ def main(argv=None):
                       'cost': cost(case, law), **metrics(case, tuned_run)},
             'conventional': {'lookahead_m': CONVENTIONAL_LOOKAHEAD_M, 'cost': cost(case, conv),
                              **metrics(case, conv_run)},
+            'best_constant': {'lookahead_m': best_const.lookahead_m, 'cost': float(min(const_costs)),
+                              **metrics(case, best_const_run)},
             'ga': {'population': pop, 'generations': res.generations, 'seed': a.seed,
                    'evaluations': res.evaluations, 'history': res.history,
                    'wall_s': time.time() - t0},
@@ -149,8 +158,9 @@ def main(argv=None):
         print(f'{name}: tuned t_min {law.t_min:.1f} s, t_max {law.t_max:.1f} s, e_scale {law.e_scale:.0f} m '
               f'(d on the path {t["lookahead_on_path_m"]:.0f} m, min {t["lookahead_min_m"]:.0f} m; '
               f'critical {results[name]["critical_lookahead_m"]:.0f} m)')
-        for lab, m in (('tuned', t), ('conventional', c)):
-            print(f'  {lab:12s} cost {m["cost"]:.4f}  xte RMS {m["xte_rms_m"]:.1f} m  max {m["xte_max_abs_m"]:.1f} m  '
+        for lab, m in (('tuned', t), ('conventional', c),
+                       (f'constant {best_const.lookahead_m:.0f} m (best)', results[name]['best_constant'])):
+            print(f'  {lab:22s} cost {m["cost"]:.4f}  xte RMS {m["xte_rms_m"]:.1f} m  max {m["xte_max_abs_m"]:.1f} m  '
                   f'rudder RMS {m["rudder_rms_deg"]:.2f} deg  rate {m["rudder_rate_mean_abs_deg_s"]:.3f} deg/s  '
                   f'energy {m["energy_proxy"]:.4f}  time {m["time_s"]:.0f} s')
     (out / 'results.json').write_text(json.dumps(results, indent=1))

@@ -89,6 +89,8 @@ GROUPS = (  # (name prefix, heading in the table)
     ('route_following_', 'Lee 2004: waypoint route following, LOS + PD vs fuzzy PID'),
     ('curved_path_', 'Martinsen and Lekkas 2018: curved path following, LOS vs ILOS, currents 0 '
      'and 0.9 m/s'),
+    ('turn_circle_', 'Lee 2004: turning circles from a rudder angle (LOS point on the circle) vs '
+                     'tangent fillets + turn-rate lead'),
 )
 
 
@@ -451,6 +453,38 @@ def claim_checks(rows):
                     '(absolute values depend on the unpublished curve, start and time step)', rank,
                     ', '.join(f'{ship} {_fmt(ours[ship], 0)} (paper {seed[ship]})'
                               for ship in TABLE_I_LOS)))
+    out += turn_circle_checks(rows)
+    return out
+
+
+#: turning-circle runs (Lee 2004 Ch. 4): ship -> chosen rudder (deg) of its route file
+TURN_RUDDER_DEG = {'mariner': 10.0, 'tanker': 3.0}
+
+
+def turn_circle_checks(rows):
+    """Lee 2004 Ch. 4: corners as the ship's turning circle at a chosen rudder, LOS point on the
+    circle, against our tangent fillets + turn-rate lead on the same legs (route_following_*_pd)."""
+    out = []
+    for ship, rudder in TURN_RUDDER_DEG.items():
+        names = (f'turn_circle_{ship}_los_point_004', f'turn_circle_{ship}_lead_004',
+                 f'route_following_{ship}_pd_004')
+        if names[0] not in rows:
+            continue
+        fin = _m(rows, names[0], 'guidance_finished_s')
+        sat = _m(rows, names[0], 'rudder_saturated_fraction')
+        out.append((f'004 Ch. 4 ({ship}): the route of {rudder:g} deg turning circles with the LOS point '
+                    'on the circle is completed without saturating the rudder', None if fin is None and
+                    sat is None else fin is not None and sat == 0.0,
+                    f'finished at {_fmt(fin, 0)} s, rudder saturated {_fmt(None if sat is None else 100 * sat, 1)} '
+                    f'% of the time, max {_fmt(_deg(_m(rows, names[0], "rudder_max_abs_rad")), 1)} deg'))
+        xte = [_m(rows, n, 'xte_rms_m') for n in names]
+        mx = [_m(rows, n, 'xte_max_abs_m') for n in names]
+        out.append((f'004 Ch. 4 ({ship}): Lee\'s turning guidance tracks at least as closely as our '
+                    'tangent fillets + turn-rate lead (RMS cross-track)',
+                    None if None in (xte[0], xte[2]) else xte[0] <= xte[2],
+                    'RMS / max m: LOS point ' + ', '.join(
+                        f'{what} {_fmt(a, 1)} / {_fmt(b, 1)}' for what, a, b in
+                        zip(('LOS point', 'same circles + lead', 'ours'), xte, mx)).removeprefix('LOS point ')))
     return out
 
 

@@ -92,6 +92,14 @@ def test_undeclared_parameter_is_refused_naming_the_closest(ros_graph, package, 
 
 
 @pytest.mark.timeout(60)
+def test_guidance_refuses_arc_los_point_with_ilos_naming_it(ros_graph):
+    """Lee 2004's LOS point on the turning circle is a variant of plain LOS only."""
+    proc = ros_graph.start('ship_guidance', 'guidance_node', namespace=NS,
+                           params={'law': 'ilos', 'arc_los_point': True})
+    _assert_one_line_exit_2(proc, 'guidance_node: ', 'arc_los_point')
+
+
+@pytest.mark.timeout(60)
 def test_wildcard_params_file_with_valid_keys_is_accepted(ros_graph, tmp_path):
     config = tmp_path / 'guidance.yaml'
     config.write_text('/**:\n  ros__parameters:\n    law: los\n    lookahead_m: 300.0\n'

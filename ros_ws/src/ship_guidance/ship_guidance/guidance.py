@@ -39,6 +39,12 @@ How the route is followed:
   a turning command by 2 zeta r / omega_n (its velocity error); the lead cancels it (its effect
   on the flagship route: README, Flagship scenario).
 
+- Optional LOS point on turning circles (``arc_los_point``, law 'los' only; Lee 2004, Ch. 4,
+  eq. 4.24): on an arc leg the command is the bearing of the point of the circle one
+  look-ahead of arc ahead of the vessel (los.circle_los_point), instead of the tangent law.
+  On the circle that leads the tangent by d / (2R), a lead fixed by the geometry rather than by
+  the autopilot (the turn-rate lead's alternative; the two are not combined).
+
 Stability check: given the paired PD autopilot's zeta and omega_n (rad/s) and the speed U (m/s)
 the constructor refuses a look-ahead at or below U / (2 zeta omega_n) for LOS, or
 (U + 4 zeta^2 sigma) / (2 zeta omega_n) for ILOS, unless ``allow_unstable=True``.
@@ -54,8 +60,8 @@ import numpy as np
 
 from ship_sim.frames import wrap_angle
 
-from .los import critical_lookahead
-from .path import Route
+from .los import circle_los_point, critical_lookahead
+from .path import Arc, Route
 
 LAWS = ('los', 'ilos', 'course')
 COURSE_LAW = 'course'
@@ -127,7 +133,8 @@ class Guidance:
     def __init__(self, route, law='los', lookahead=100.0, acceptance_radius=0.0, *,
                  integral_gain=0.5, corner_angle=math.radians(1.0), window=None,
                  zeta=None, omega_n=None, speed=None, allow_unstable=False,
-                 reset_integral_at_corners=False, curvature_lead=False, course_schedule=None):
+                 reset_integral_at_corners=False, curvature_lead=False, course_schedule=None,
+                 arc_los_point=False):
         if not isinstance(route, Route):
             raise ValueError('route must be a ship_guidance.path.Route, '
                              f'got {type(route).__name__}')
@@ -181,6 +188,10 @@ class Guidance:
             raise ValueError('curvature_lead needs the paired autopilot: give zeta, omega_n and '
                              'speed')
         self._lead = 2.0 * zeta * speed / omega_n if self.curvature_lead else 0.0
+        self.arc_los_point = bool(arc_los_point)
+        if self.arc_los_point and (law != 'los' or self.curvature_lead):
+            raise ValueError(f"arc_los_point is a variant of law 'los' without curvature_lead "
+                             f'(law {law!r}, curvature_lead {self.curvature_lead})')
         # Smooth stretches between corners: first leg index of each.
         turn = np.abs(wrap_angle(route.start_angles[1:] - route.end_angles[:-1]))
         self._first = np.concatenate(([0], np.nonzero(turn > float(corner_angle))[0] + 1))
@@ -267,7 +278,11 @@ class Guidance:
         self._s, self._prev = proj.s, (n, e)
 
         alpha, err, d = proj.path_angle, proj.cross_track, self.lookahead
-        if self.law == 'los':
+        leg = route.legs[proj.leg_index] if self.arc_los_point else None
+        if isinstance(leg, Arc):
+            pn, pe = circle_los_point(leg.center, leg.radius, leg.clockwise, n, e, d)
+            psi_c = float(wrap_angle(math.atan2(pe - e, pn - n)))
+        elif self.law == 'los':
             psi_c = float(wrap_angle(alpha - math.atan(err / d) + self._lead * proj.curvature))
         elif self.law == 'ilos':
             sigma = self.integral_gain

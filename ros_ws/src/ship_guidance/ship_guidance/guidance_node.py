@@ -87,6 +87,9 @@ class GuidanceNode(Node):
         self.curvature_lead = p.declare('curvature_lead', False, 'lead the heading command by '
                                         '2 zeta U kappa / omega_n on curves (needs the autopilot '
                                         'parameters of the stability check)', read_only=True)
+        self.arc_los_point = p.declare('arc_los_point', False, 'on circular arcs steer at the '
+                                       'point of the circle one look-ahead ahead (Lee 2004 eq. '
+                                       '4.24; law los, without curvature_lead)', read_only=True)
         max_speed = p.declare('max_plausible_speed', 50.0, 'odometry implying a faster move '
                               'than this since the previous sample is refused as an outlier',
                               lo=1e-3, hi=1e4, unit='m/s', read_only=True)
@@ -144,13 +147,16 @@ class GuidanceNode(Node):
             self._make_guidance(Route([Line((0.0, 0.0), (1.0, 0.0))]))
         except ValueError as exc:
             name = 'lookahead_ship_lengths' if self.lookahead_l else 'lookahead_m'
+            if str(exc).startswith('arc_los_point'):
+                name = 'arc_los_point'
             raise ParameterError(name, message=f'{name}: {exc}') from None
 
     def _make_guidance(self, route):
         return Guidance(route, law=self.law, lookahead=self.lookahead,
                         acceptance_radius=self.acceptance, integral_gain=self.sigma,
                         allow_unstable=self.allow_unstable, curvature_lead=self.curvature_lead,
-                        course_schedule=self.schedule, **self.stability)
+                        course_schedule=self.schedule, arc_los_point=self.arc_los_point,
+                        **self.stability)
 
     def _on_route(self, msg):
         route = accept_route(msg, self.get_logger())

@@ -27,6 +27,10 @@ The same law serves every leg type because path.py supplies (alpha, e) for each:
   command by 2 zeta r / omega_n, so plain LOS settles OUTSIDE a circle by (see ``pd_arc_offset``)
       |e| = d tan(2 zeta U / (omega_n (R + |e|)))
   in either direction; integral LOS removes that offset.
+- Lee 2004 (Ch. 4, Fig. 4.6, eq. 4.24) does the same on its turning circles: the LOS point
+  P_LOS lies on the circle an angle theta = d / R ahead of the vessel's bearing from the centre
+  (``circle_los_point``) and the command is the bearing of P_LOS from the vessel; on the circle
+  that is the tangent plus d / (2R).
 - Curved paths: alpha and e of the closest point (Martinsen and Lekkas 2018 eqs. 1-3), see
   path.Route.project.
 
@@ -135,6 +139,22 @@ def linear_loop_matrix(zeta, omega_n, speed, lookahead, sigma=None):
                      [-w2, -c, -w2 / d, -w2 * sigma / d],
                      [u, 0.0, 0.0, 0.0],
                      [0.0, 0.0, 1.0 / d, 0.0]])
+
+
+def circle_los_point(center, radius, clockwise, north, east, lookahead):
+    """Lee 2004 eq. 4.24: the LOS point on a turning circle (NED, m).
+
+    The vessel at (north, east) has bearing phi from the centre; the LOS point lies on the
+    circle at phi + theta (clockwise turn) or phi - theta, theta = lookahead / radius, so it
+    runs ahead of the vessel by one look-ahead of arc. Returns (north, east) of that point.
+    """
+    r = float(radius)
+    if not np.isfinite(r) or r <= 0.0 or not np.isfinite(lookahead) or lookahead <= 0.0:
+        raise ValueError(f'radius and lookahead must be positive finite metres, got {radius}, {lookahead}')
+    phi = math.atan2(east - center[1], north - center[0])
+    theta = float(lookahead) / r
+    a = phi + (theta if clockwise else -theta)
+    return (center[0] + r * math.cos(a), center[1] + r * math.sin(a))
 
 
 def los_current_offset(lookahead, cross_current, speed):

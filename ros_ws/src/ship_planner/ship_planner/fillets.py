@@ -15,11 +15,20 @@ Delta = wrap(chi_out - chi_in) (> 0: starboard turn, < 0: port turn):
     centre  = P_in + R n,   n = unit normal of u_in towards the turn (starboard if Delta > 0)
     sweep   = |Delta|                          the arc turns the course by exactly Delta
 
+The radius may be given, or taken from the vessel itself as Lee 2004 does (Fig. 4.5: the
+turning circle for a constant rudder angle): ``rudder_turn_radius`` runs the chosen plant
+model's steady turn at that rudder (ship_sim.maneuvers.steady_turn) and returns U/|r|, for a
+starboard or a port turn separately (the MSS hulls are not symmetric). The LOS point on the
+circle (eq. 4.24) is ship_guidance.los.circle_los_point, steered at by the guidance's
+``arc_los_point`` option.
+
 A fillet must fit: on every straight leg the tangent lengths taken from both of its ends must
 not exceed the leg's length; otherwise FilletError names the corner and the largest radius
 that would fit. A straight-through corner (Delta = 0) needs no arc; a reversal (|Delta| = pi)
 cannot be filleted.
 """
+import functools
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -91,6 +100,26 @@ def suggest_fillet_radius(turning_diameter_m, rudder_fraction=0.5):
     if not np.isfinite(f) or not 0.0 < f <= 1.0:
         raise ValueError(f'rudder_fraction must be in (0, 1], got {rudder_fraction}')
     return 0.5 * d / f
+
+
+@functools.lru_cache(maxsize=64)
+def rudder_turn_radius(model_name, rudder_deg, starboard):
+    """Steady turning radius (m) of plant model ``model_name`` (ship_sim.models, default
+    parameters) holding |rudder_deg| of rudder to starboard (starboard=True) or to port.
+
+    Lee 2004, Ch. 4 (Fig. 4.5): the circle between two legs is the ship's own turning circle
+    at a chosen rudder angle, so the turn needs that rudder and leaves the rest of the range to
+    correct errors. ValueError for an unknown model or a rudder outside (0, rudder_max].
+    """
+    from ship_sim.maneuvers import steady_turn
+    from ship_sim.models import make_model
+    model = make_model(model_name)
+    a = float(rudder_deg)
+    limit = math.degrees(model.rudder_max)
+    if not math.isfinite(a) or not 0.0 < a <= limit + 1e-9:
+        raise ValueError(f'turn rudder angle must be in (0, {limit:g}] deg for model {model_name}, got {rudder_deg}')
+    # unified rudder sign: positive turns to port
+    return steady_turn(model, math.radians(-a if starboard else a)).radius_m
 
 
 def fillet_corner(p_prev, p_corner, p_next, radius):

@@ -8,6 +8,8 @@ mutation that moves a stretch of consecutive genes (waypoints along a route) tog
 optional pattern-search ``refine``. Stops after ``generations`` or when the best cost has not
 improved by more than ``rel_tol`` (relative) for ``stall_generations``. Deterministic for a given
 ``seed`` (numpy Generator). ``cost`` is vectorised: (P, n) array -> (P,) costs.
+``minimize_box`` runs the same GA over any box of real parameters (the guidance tuning of
+ship_autopilot.guidance_tuning uses it).
 
 The operators and their parameters in full: ros_ws/src/ship_planner/doc/route_planning.md.
 """
@@ -102,6 +104,22 @@ def minimize(cost, n_var, population=60, generations=300, elite=2, tournament=3,
     if progress is not None and g % progress_every:
         progress(g, history[-1])
     return GAResult(pop[best].copy(), float(f[best]), history, g, evaluations, stopped)
+
+
+def minimize_box(cost, lower, upper, shift_rate=0.0, **kw):
+    """``minimize`` over the box [lower, upper] (arrays of n bounds, lower < upper): the genes
+    stay in [0, 1] and are mapped linearly, so every operator works as for the routes; cost
+    takes (P, n) points in the box's own units. The segment-shift mutation, which moves
+    neighbouring waypoints together, means nothing for unrelated genes and is off by default.
+    Returns the GAResult with x in the box's units."""
+    lo, hi = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+    if lo.ndim != 1 or lo.shape != hi.shape or not np.all(np.isfinite(lo) & np.isfinite(hi)) \
+            or not np.all(hi > lo):
+        raise ValueError(f'lower and upper must be finite 1-D bounds with upper > lower, got {lower}, {upper}')
+    span = hi - lo
+    res = minimize(lambda z: cost(lo + z * span), len(lo), shift_rate=shift_rate, **kw)
+    res.x = lo + res.x * span
+    return res
 
 
 def _shift(x, rng, sigma, which):

@@ -8,6 +8,10 @@ The schema (a commented example: ship_planner/config/routes/example_enu.yaml):
     frame: enu                        # required: enu | wgs84
     origin: {lat_deg: 59.9, lon_deg: 10.7}   # required for wgs84; optional for enu (geo-reference only)
     fillet_radius_m: 1000             # optional, >= 0: round every corner between two straight legs
+    turn_rudder_deg: 20               # optional, instead of fillet_radius_m: every corner's radius is
+    turn_model: mariner               #   the steady turning radius of this plant model (ship_sim.models,
+                                      #   default parameters) at this rudder angle, per turn direction
+                                      #   (Lee 2004, Fig. 4.5; ship_planner.fillets.rudder_turn_radius)
     arc_tolerance_m: 0.1              # optional, > 0: how far an arc's end may be off its circle
 
     # the geometry: exactly one of `waypoints`, `start` + `legs`, `curve`
@@ -59,15 +63,16 @@ import numpy as np
 import yaml
 
 from ship_guidance import curves
-from ship_planner.fillets import ArcSpec, FilletError, LineSpec, fillet_segments, segments_to_route
+from ship_planner.fillets import (ArcSpec, FilletError, LineSpec, fillet_segments, rudder_turn_radius,
+                                  segments_to_route)
 from ship_sim.geodetic import geodetic_to_ned
 from ship_planner.route_data import (RouteError, RoutePlan, TextFileError, check_point,
                                      check_route_size, read_text_file)
 from ship_sim.frames import enu_to_ned_xy
 
 FRAMES = ('enu', 'wgs84')
-TOP_KEYS = ('name', 'source', 'description', 'frame', 'origin', 'fillet_radius_m', 'arc_tolerance_m',
-            'waypoints', 'start', 'legs', 'curve')
+TOP_KEYS = ('name', 'source', 'description', 'frame', 'origin', 'fillet_radius_m', 'turn_rudder_deg',
+            'turn_model', 'arc_tolerance_m', 'waypoints', 'start', 'legs', 'curve')
 LEG_KEYS = ('type', 'name', 'to', 'course_deg', 'length_m', 'center', 'direction', 'sweep_deg',
             'fillet_radius_m')
 DIRECTIONS = {'clockwise': True, 'starboard': True, 'counterclockwise': False, 'port': False}
@@ -123,6 +128,7 @@ class _Reader:
         self.origin = None                         # (lat_deg, lon_deg) or None
         self.description = None
         self.fillet = 0.0                          # global fillet radius (m); 0 = sharp corners
+        self.turn = None                           # (model name, rudder deg): radius from the steady turn
         self.arc_tol = DEFAULT_ARC_TOLERANCE_M
 
     # ---- low-level node access -------------------------------------------------------------
@@ -252,6 +258,7 @@ class _Reader:
             if 'fillet_radius_m' in top else 0.0
         self.arc_tol = self.number(top['arc_tolerance_m'], 'arc_tolerance_m', positive=True) \
             if 'arc_tolerance_m' in top else DEFAULT_ARC_TOLERANCE_M
+        self.read_turn(top)
 
         forms = [k for k in ('waypoints', 'legs', 'curve') if k in top]
         if len(forms) != 1:
@@ -271,11 +278,53 @@ class _Reader:
         else:
             route, points = self.curve(top['curve'])
             return self.plan(route, name, source, points, top['curve'])
+        if self.turn is not None:
+            radii = self.turn_radii(segments, radii, top['turn_rudder_deg'])
         try:
             segments = fillet_segments(segments, radii, labels)
         except FilletError as exc:
             raise RouteError(str(exc), file=self.file, line=corner_lines[exc.corner]) from None
         return self.plan(self.build(segments, top[form]), name, source, points, top[form])
+
+    def read_turn(self, top):
+        """turn_rudder_deg + turn_model: corners rounded with the model's steady turning radius."""
+        given = [k for k in ('turn_rudder_deg', 'turn_model') if k in top]
+        if not given:
+            return
+        if len(given) == 1:
+            other = 'turn_model' if given[0] == 'turn_rudder_deg' else 'turn_rudder_deg'
+            raise self.err(top[given[0]], f'{given[0]} needs {other} too (the radius is the steady turn of '
+                                          'that model at that rudder angle)')
+        for clash in ('fillet_radius_m', 'curve'):
+            if clash in top:
+                raise self.err(top['turn_rudder_deg'], f'turn_rudder_deg sets the corners\' radius; it cannot go '
+                                                       f'with {clash}')
+        from ship_sim.models import MODEL_NAMES
+        model = self.choice(top['turn_model'], 'turn_model', MODEL_NAMES)
+        rudder = self.number(top['turn_rudder_deg'], 'turn_rudder_deg', positive=True)
+        self.turn = (model, rudder)
+        self.fillet = None                          # marks corners without their own radius
+
+    def turn_radii(self, segments, radii, node):
+        """Each unset corner's radius: the steady turn to its side at the chosen rudder."""
+        model, rudder = self.turn
+        out = []
+        for j, r in enumerate(radii):
+            a, b = segments[j], segments[j + 1]
+            if r is not None or not (isinstance(a, LineSpec) and isinstance(b, LineSpec)):
+                out.append(r)
+                continue
+            ua = math.atan2(a.end[1] - a.start[1], a.end[0] - a.start[0])
+            ub = math.atan2(b.end[1] - b.start[1], b.end[0] - b.start[0])
+            turn = math.remainder(ub - ua, 2.0 * math.pi)
+            if abs(turn) < 1e-9:
+                out.append(0.0)
+                continue
+            try:
+                out.append(rudder_turn_radius(model, rudder, turn > 0.0))
+            except ValueError as exc:
+                raise self.err(node, f'turn_rudder_deg: {exc}') from None
+        return out
 
     def plan(self, route, name, source, points, node):
         bad = check_route_size(route)

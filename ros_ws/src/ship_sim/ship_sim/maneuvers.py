@@ -12,6 +12,10 @@ of Marine Craft Hydrodynamics and Motion Control, 2nd ed., Sec. 16.1):
   it|. Advance and transfer at 90 deg heading change, tactical diameter = transfer at 180 deg;
   the heading crossings are found by linear interpolation between samples (every step).
   Steady turning radius = U/|r| at the final time (as MSS turncircle.m prints it).
+- Steady turn (``steady_turn``): the same rudder step, integrated on until U/|r| changes by
+  less than a relative tolerance over a stretch of time, so slow ships (the tanker's speed
+  still falls after 700 s) reach their true steady circle. Lee 2004 (Ch. 4, Fig. 4.5) sizes
+  the turning circle between route legs by it.
 - Zig-zag (MSS zigzag.m logic): the rudder goes to starboard-turning first; at the start of
   every step, if the heading change is >= +switch and r > 0 the rudder is reversed to port, if
   it is <= -switch and r < 0 back to starboard. Overshoot = peak heading change beyond the
@@ -56,13 +60,17 @@ class ZigZag:
 def integrate(model, x0, u, h, t_end):
     """Integrate ``model`` from x0 with the native input u held constant, MSS RK4 step h (s).
 
-    x0 (n,) uses the single-vessel float path; x0 (N, n) the batched numpy path. Returns
+    x0 (n,) uses the single-vessel float path (models with ``rhs_scalar``; others are run as a
+    batch of one and squeezed back); x0 (N, n) the batched numpy path. Returns
     t (K+1,) and the states (K+1, n) or (K+1, N, n), K = round(t_end / h). Raises
     ModelStateError if any sample leaves the model's domain.
     """
     n_steps = int(round(t_end / h))
     x0 = np.asarray(x0, dtype=float)
     u = np.asarray(u, dtype=float)
+    if x0.ndim == 1 and not hasattr(model, 'rhs_scalar'):
+        t, states = integrate(model, x0[None], u[None] if u.ndim == 1 else u, h, t_end)
+        return t, states[:, 0]
     if x0.ndim == 1:
         x, ul, f = x0.tolist(), u.tolist(), model.rhs_scalar
         traj = [x]
@@ -120,6 +128,47 @@ def turning_circle(model, rudder, shaft=None, h=0.1, t_end=700.0):
     return (turning_metrics(t, states[:, model.IX], states[:, model.IY],
                             states[:, model.IPSI], model.speed(states), states[:, model.IR]),
             t, states)
+
+
+@dataclass(frozen=True)
+class SteadyTurn:
+    """A converged steady turn: radius U/|r| (m), speed (m/s), yaw rate (rad/s), sim time (s)."""
+
+    radius_m: float
+    speed_mps: float
+    yaw_rate_radps: float
+    time_s: float
+
+
+def steady_turn(model, rudder, shaft=None, h=0.1, chunk_s=200.0, rel_tol=1e-6, t_max=20000.0):
+    """The steady turning circle at a constant unified rudder angle (rad, != 0).
+
+    From straight-running trim, the rudder step at t = 0 is integrated in chunks of chunk_s
+    until U/|r| changes by less than rel_tol (relative) over one chunk. ValueError if that does
+    not happen by t_max (e.g. a rudder too small to turn the ship steadily).
+    """
+    if not np.isfinite(rudder) or rudder == 0.0:
+        raise ValueError(f'rudder must be a finite non-zero angle (rad), got {rudder}')
+    x = model.initial_state(shaft=shaft)
+    u = model.inputs(rudder, shaft)
+    t, prev = 0.0, None
+    while t < t_max:
+        _, states = integrate(model, x, u, h, chunk_s)
+        x, t = states[-1], t + chunk_s
+        speed = float(_speed(model, x))
+        r = float(x[model.IR])
+        radius = speed / abs(r) if r != 0.0 else np.inf
+        if prev is not None and np.isfinite(radius) and abs(radius - prev) <= rel_tol * radius:
+            return SteadyTurn(float(radius), speed, r, t)
+        prev = radius
+    raise ValueError(f'no steady turn at rudder {np.degrees(rudder):.3g} deg within {t_max:g} s')
+
+
+def _speed(model, x):
+    """Speed through the water (m/s); constant-speed models have no ``speed`` of their own."""
+    if hasattr(model, 'speed'):
+        return np.squeeze(model.speed(np.asarray(x)[None]))
+    return np.hypot(x[model.IU], x[model.IV])
 
 
 def zigzag(model, rudder, switch_heading, shaft=None, h=0.1, t_end=700.0):

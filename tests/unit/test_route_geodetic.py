@@ -1,4 +1,4 @@
-"""Tangent-plane conversion (ship_planner.geodetic) against independent WGS-84 geodesy."""
+"""Tangent-plane conversion (ship_sim.geodetic) against independent WGS-84 geodesy."""
 import math
 
 import numpy as np

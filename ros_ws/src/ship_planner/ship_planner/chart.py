@@ -14,7 +14,7 @@ OCR. Here a chart comes from one of:
 
 Grid: cell [i, j] has its centre at north = north0 + i * res, east = east0 + j * res (metres,
 NED as every pure module; row index grows northward). A cell is water when its centre is water.
-Geodetic charts use the tangent plane at ``origin`` (ship_planner.geodetic, < 1 m within 60 km).
+Geodetic charts use the tangent plane at ``origin`` (ship_sim.geodetic).
 
 Clearance. ``distance_to_land`` is the Euclidean distance transform (scipy.ndimage) from each
 cell centre to the nearest land cell centre (m). ``free_mask(C)`` marks cells where a ship keeps

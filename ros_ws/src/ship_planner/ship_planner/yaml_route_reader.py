@@ -37,7 +37,7 @@ The schema (a commented example: ship_planner/config/routes/example_enu.yaml):
 
 Points: in frame enu a point is [x_m, y_m] or {x_m, y_m} (x east, y north, metres from the local
 origin); in frame wgs84 it is [lat_deg, lon_deg] or {lat_deg, lon_deg}, converted to the tangent
-plane at `origin` (ship_planner.geodetic: < 1 m within ~60 km). Every waypoint or leg may carry
+plane at `origin` (ship_sim.geodetic). Every waypoint or leg may carry
 `name` (used in messages). A leg's `fillet_radius_m` (or a waypoint's) applies to the corner at
 its end and overrides the global one (0 keeps that corner sharp).
 

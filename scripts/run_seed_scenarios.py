@@ -69,7 +69,8 @@ TABLE_I_LOS = {'mariner': {0.0: 161, 0.9: 499}, 'container': {0.0: 807, 0.9: 829
 GROUPS = (  # (name prefix, heading in the table)
     ('quarter_circle_', 'Seed 003: quarter circle, arc guidance vs straight legs (NPS AUV II)'),
     ('figure_eight_', 'Seed 003: figure eight with arc guidance (NPS AUV II)'),
-    ('course_change_tanker_', 'Seed 004: course changes, PD vs fuzzy PID (tanker, deep water)'),
+    ('course_tanker_', 'Seed 004: course changes, PD vs fuzzy PID (tanker, deep water)'),
+    ('course_mariner_', 'Seed 004: course changes with Lee 2004\'s own gains (Mariner)'),
     ('course_change_', 'Seed 004: course changes, PD vs fuzzy PID (Mariner)'),
     ('route_following_', 'Seed 004: waypoint route following, LOS + PD vs fuzzy PID'),
     ('curved_path_', 'Seed 000: curved path following, LOS vs ILOS, currents 0 and 0.9 m/s'),
@@ -205,7 +206,7 @@ def analyse_run(scenario, run, make_pngs=True):
     return metrics_to_finish(run / 'bag', f'/{scenario.vessels[0].namespace}', scenario.settle_s,
                              limit, ref_route=SCENARIO_DIR / ref if ref else None,
                              rudder_from_leg=RUDDER_FROM_LEG.get(scenario.name),
-                             step_response=scenario.name.startswith('course_change_'))
+                             step_response=scenario.name.startswith('course_'))
 
 
 def reanalyse(batch):
@@ -386,15 +387,15 @@ def lee_course_change_claims(rows):
     """Lee 2004 Figs. 5.14-5.18 (tanker, deep water) and the thesis's own PD gains."""
     out = []
     for ang in (30, 45, 60, 90):
-        pd = _m(rows, f'course_change_tanker_{ang}_pd_004', 'steady_error_rad')
-        fz = _m(rows, f'course_change_tanker_{ang}_fuzzy_004', 'steady_error_rad')
+        pd = _m(rows, f'course_tanker_{ang}_pd_004', 'steady_error_rad')
+        fz = _m(rows, f'course_tanker_{ang}_fuzzy_004', 'steady_error_rad')
         if pd is None and fz is None:
             continue
         out.append((f'004 Figs. 5.14-5.18 (tanker, depth 1000 m), {ang} deg: the fuzzy PID removes '
                     'the steady heading error the PD keeps', None if None in (pd, fz) else
                     abs(fz) < abs(pd), f'PD {_fmt(_deg(pd), 2)} deg, fuzzy PID '
                     f'{_fmt(_deg(fz), 2)} deg'))
-    errs = {ang: _m(rows, f'course_change_{ang}_pd_thesisgains_004', 'steady_error_rad')
+    errs = {ang: _m(rows, f'course_mariner_{ang}_pd_thesisgains_004', 'steady_error_rad')
             for ang in (30, 45, 60, 90)}
     if any(e is not None for e in errs.values()):
         ok = _all([None if e is None else
@@ -506,8 +507,8 @@ def markdown(results, claims, header):
         title = next((t for p, t in GROUPS if r['scenario'].startswith(p)), 'Other scenarios')
         grouped.setdefault(title, []).append(r)
     for title, rows in grouped.items():
-        cols = (COURSE_CHANGE_COLUMNS if all(r['scenario'].startswith('course_change_')
-                                             for r in rows) else COLUMNS)
+        cols = (COURSE_CHANGE_COLUMNS if all(r['scenario'].startswith('course_') for r in rows)
+                else COLUMNS)
         lines += [f'### {title}', '', '| ' + ' | '.join(h for h, _ in cols) + ' |',
                   '|' + '---|' * len(cols)]
         lines += ['| ' + ' | '.join(f(r) for _, f in cols) + ' |' for r in rows]

@@ -26,6 +26,9 @@ few sim seconds after route_complete, and that tail is cut (``metrics_to_finish`
   key for it), from the odometry.
 - ``rudder_max_abs_from_leg_rad``: the largest rudder angle from a given leg on
   (RUDDER_FROM_LEG; the figure eight's arcs after its one sharp corner).
+- course changes (``course_*``, Lee 2004 Figs. 5.7-5.18): the heading step response (overshoot,
+  2 % settling time, steady error from settle_s on) and the rudder's use over the whole
+  manoeuvre (``course_change_metrics``), tabulated in their own columns.
 - ``guidance_finished_s``, ``bag_end_s``, ``tail_after_finish_s``: when the guidance declared
   the route finished, where the bag ends, and the cut tail (s after the first odometry).
 The seeds' claims become checks on the rows (``claim_checks``): reproduced yes / NO, or n/a

@@ -30,6 +30,9 @@ few sim seconds after route_complete, and that tail is cut (``metrics_to_finish`
 - ``rudder_legs`` (RUDDER_PER_LEG): per leg of the route its kind, curvature, max and mean
   |rudder|, and for an arc the steady-turn rudder its curvature needs, from the vehicle model
   (``steady_turn_rudder``: the manoeuvre module's turning circle, solved for the radius).
+- course changes (``course_*``, Lee 2004 Figs. 5.7-5.18): the heading step response (overshoot,
+  2 % settling time, steady error from settle_s on) and the rudder's use over the whole
+  manoeuvre (``course_change_metrics``), tabulated in their own columns.
 - ``guidance_finished_s``, ``bag_end_s``, ``tail_after_finish_s``: when the guidance declared
   the route finished, where the bag ends, and the cut tail (s after the first odometry).
 The seeds' claims become checks on the rows (``claim_checks``): reproduced yes / NO, or n/a
@@ -85,6 +88,8 @@ GROUPS = (  # (name prefix, heading in the table)
     ('quarter_circle_', 'Simakis 1992: quarter circle, arc guidance vs chord and straight legs '
      '(NPS AUV II)'),
     ('figure_eight_', 'Simakis 1992: figure eight with arc guidance (NPS AUV II)'),
+    ('course_tanker_', 'Lee 2004: course changes, PD vs fuzzy PID (tanker, deep water)'),
+    ('course_mariner_', "Lee 2004: course changes with the thesis's own gains (Mariner)"),
     ('course_change_', 'Lee 2004: course changes, PD vs fuzzy PID (Mariner)'),
     ('route_following_', 'Lee 2004: waypoint route following, LOS + PD vs fuzzy PID'),
     ('curved_path_', 'Martinsen and Lekkas 2018: curved path following, LOS vs ILOS, currents 0 '
@@ -190,10 +195,10 @@ def rudder_per_leg(route, rudder, leg, model, rudder_max):
 
 
 def metrics_to_finish(bag_dir, namespace, settle_s, rudder_limit_rad, ref_route=None,
-                      rudder_from_leg=None, per_leg=None):
+                      rudder_from_leg=None, per_leg=None, step_response=False):
     """mission.metrics.vessel_metrics over [start, route finished] (or the whole run if it never
     finishes; mission.report's cut), plus the ref_* and rudder-after-leg extras; ``per_leg``
-    (route, model) adds rudder_legs."""
+    (route, model) adds rudder_legs, ``step_response`` the course-change extras."""
     from mission import bag as bagmod
     from mission.metrics import cross_track_stats, project_on_route, vessel_metrics
     from mission.report import vessel_completion, vessel_until
@@ -225,6 +230,8 @@ def metrics_to_finish(bag_dir, namespace, settle_s, rudder_limit_rad, ref_route=
     if rudder is not None and len(rudder.t):
         m['rudder_min_rad'] = float(np.min(rudder.v))
         m['rudder_max_rad'] = float(np.max(rudder.v))
+    if step_response and cut['heading_cmd'] is not None:
+        m.update(course_change_metrics(v, cut['heading_cmd'], rudder, t_from, rudder_limit_rad))
     if rudder_from_leg is not None and len(v.progress.t) and rudder is not None:
         leg = np.interp(rudder.t, v.progress.t, v.progress.v[:, v.progress_labels.index('leg')])
         sel = leg >= rudder_from_leg - 1e-9
@@ -237,6 +244,21 @@ def metrics_to_finish(bag_dir, namespace, settle_s, rudder_limit_rad, ref_route=
         leg = v.progress.v[k, v.progress_labels.index('leg')]
         m['rudder_legs'] = rudder_per_leg(per_leg[0], rudder.v, leg, per_leg[1], rudder_limit_rad)
     return m
+
+
+def course_change_metrics(v, heading_cmd, rudder, t_steady, rudder_limit_rad):
+    """Lee 2004 Figs. 5.7-5.18 extras of a course change: the heading step response
+    (mission.metrics.step_response_stats, steady window from settle_s) and the rudder's use over
+    the whole manoeuvre (from the step on: mean |rudder|, total variation per second = mean
+    |rudder rate|, time at the limit), prefixed ``manoeuvre_rudder``."""
+    from mission.metrics import rudder_stats, rudder_time_at_limit, step_response_stats
+    out = step_response_stats(heading_cmd.t, heading_cmd.v, v.t, v.yaw, t_steady)
+    if rudder is not None and out['step_time_s'] is not None:
+        t0 = out['step_time_s']
+        out.update(rudder_stats(rudder.t, rudder.v, t0, rudder_limit_rad, 'manoeuvre_rudder'))
+        out['manoeuvre_rudder_time_at_limit_s'] = rudder_time_at_limit(rudder.t, rudder.v, t0,
+                                                                       rudder_limit_rad)
+    return out
 
 
 def spec_summary(scenario):
@@ -271,7 +293,8 @@ def analyse_run(scenario, run, make_pngs=True):
     return metrics_to_finish(run / 'bag', f'/{scenario.vessels[0].namespace}', scenario.settle_s,
                              limit, ref_route=SCENARIO_DIR / ref if ref else None,
                              rudder_from_leg=RUDDER_FROM_LEG.get(scenario.name),
-                             per_leg=per_leg)
+                             per_leg=per_leg,
+                             step_response=scenario.name.startswith('course_'))
 
 
 def reanalyse(batch):
@@ -428,6 +451,7 @@ def claim_checks(rows):
         out.append((f'004 Fig. 5.7-5.11, {ang} deg: the fuzzy PID removes the steady heading '
                     'error the PD keeps (smaller mean error over the last 100 s)', ok,
                     f'PD {_fmt(_deg(pd), 2)} deg, fuzzy PID {_fmt(_deg(fz), 2)} deg'))
+    out += lee_course_change_claims(rows)
     for ship in ('mariner', 'tanker'):
         names = [f'route_following_{ship}_{c}_004' for c in ('pd', 'fuzzy')]
         if not any(n in rows for n in names):
@@ -441,6 +465,7 @@ def claim_checks(rows):
                     'closely as the PD (RMS cross-track error)',
                     None if None in xte else xte[1] <= xte[0],
                     f'PD {_fmt(xte[0], 1)} m, fuzzy PID {_fmt(xte[1], 1)} m'))
+    out += lee_current_claims(rows)
     for cur, tag in ((0.0, '0'), (0.9, '09')):
         ours = {ship: _m(rows, f'curved_path_{ship}_current{tag}_los_000', 'reward_gaussian_sum')
                 for ship in TABLE_I_LOS}
@@ -512,6 +537,59 @@ def figure_eight_arc_claim(legs):
           + f'; max on the arcs {_fmt(_deg(arc_max), 1)} deg vs {_fmt(_deg(corner), 1)} deg on '
           'the straight legs')
     return claim, ok, ev
+#: Lee 2004 sec. 5.2.1: the PD (Kp = 9, Kd = 70) keeps about this steady heading error (deg)
+#: after the Mariner's course changes (Fig. 5.7(b)); the claim allows +-THESIS_PD_ERROR_TOL_DEG
+THESIS_PD_ERROR_DEG = 0.6
+THESIS_PD_ERROR_TOL_DEG = 0.2
+
+
+def lee_course_change_claims(rows):
+    """Lee 2004 Figs. 5.14-5.18 (tanker, deep water) and the thesis's own PD gains."""
+    out = []
+    for ang in (30, 45, 60, 90):
+        pd = _m(rows, f'course_tanker_{ang}_pd_004', 'steady_error_rad')
+        fz = _m(rows, f'course_tanker_{ang}_fuzzy_004', 'steady_error_rad')
+        if pd is None and fz is None:
+            continue
+        out.append((f'004 Figs. 5.14-5.18 (tanker, depth 1000 m), {ang} deg: the fuzzy PID removes '
+                    'the steady heading error the PD keeps', None if None in (pd, fz) else
+                    abs(fz) < abs(pd), f'PD {_fmt(_deg(pd), 2)} deg, fuzzy PID '
+                    f'{_fmt(_deg(fz), 2)} deg'))
+    errs = {ang: _m(rows, f'course_mariner_{ang}_pd_thesisgains_004', 'steady_error_rad')
+            for ang in (30, 45, 60, 90)}
+    if any(e is not None for e in errs.values()):
+        ok = _all([None if e is None else
+                   abs(abs(_deg(e)) - THESIS_PD_ERROR_DEG) <= THESIS_PD_ERROR_TOL_DEG
+                   for e in errs.values()])
+        ours = [_m(rows, f'course_change_{ang}_pd_004', 'steady_error_rad') for ang in errs]
+        out.append((f'004 sec. 5.2.1, Fig. 5.7(b): with Kp = 9, Kd = 70 the PD keeps about '
+                    f'{THESIS_PD_ERROR_DEG} deg of steady heading error (Mariner; within '
+                    f'+-{THESIS_PD_ERROR_TOL_DEG} deg)', ok,
+                    'thesis gains ' + ', '.join(_fmt(_deg(e), 2) for e in errs.values()) +
+                    ' deg; our gain table ' + ', '.join(_fmt(_deg(e), 2) for e in ours) +
+                    ' deg (30/45/60/90)'))
+    return out
+
+
+def lee_current_claims(rows):
+    """Lee 2004 Ch. 4-5 route following in a 0.75 m/s current: both autopilots finish, and the
+    fuzzy PID (integral action) tracks at least as closely as the PD."""
+    out = []
+    for ship in ('mariner', 'tanker'):
+        names = [f'route_following_{ship}_{c}_current075_004' for c in ('pd', 'fuzzy')]
+        if not any(n in rows for n in names):
+            continue
+        fin = [_m(rows, n, 'guidance_finished_s') for n in names]
+        xte = [_m(rows, n, 'xte_rms_m') for n in names]
+        mean = [_m(rows, n, 'xte_mean_m') for n in names]
+        out.append((f'004 route following ({ship}, 0.75 m/s current): both autopilots complete '
+                    'the route and the fuzzy PID tracks at least as closely as the PD (RMS '
+                    'cross-track error)', None if None in xte else
+                    all(f is not None for f in fin) and xte[1] <= xte[0],
+                    f'PD {_fmt(xte[0], 1)} m (mean {_fmt(mean[0], 1)}), fuzzy PID '
+                    f'{_fmt(xte[1], 1)} m (mean {_fmt(mean[1], 1)}); finished at '
+                    f'{_fmt(fin[0], 0)} / {_fmt(fin[1], 0)} s'))
+    return out
 
 
 # -- table ---------------------------------------------------------------------------------------
@@ -556,6 +634,25 @@ def _get(r, key):
     return (r.get('metrics') or {}).get(key)
 
 
+COURSE_CHANGE_COLUMNS = (  # Lee 2004 Figs. 5.7-5.18: the step response and the rudder's use
+    ('scenario', lambda r: r['scenario']),
+    ('model', lambda r: r['spec']['model']),
+    ('autopilot', lambda r: r['spec']['controller']),
+    ('gains', lambda r: 'Lee 2004' if 'thesisgains' in r['scenario'] else 'gain table'),
+    ('step deg', lambda r: _fmt(_deg(_get(r, 'step_rad')), 1)),
+    ('overshoot deg', lambda r: _fmt(_deg(_get(r, 'overshoot_rad')), 2)),
+    ('settling s (2 %)', lambda r: _fmt(_get(r, 'settling_time_s'), 0)),
+    ('steady err. deg', lambda r: _fmt(_deg(_get(r, 'steady_error_rad')), 2)),
+    ('mean abs rudder deg', lambda r: _fmt(_deg(_get(r, 'manoeuvre_rudder_mean_abs_rad')), 2)),
+    ('max abs rudder deg', lambda r: _fmt(_deg(_get(r, 'manoeuvre_rudder_max_abs_rad')), 1)),
+    ('mean abs rudder rate deg/s',
+     lambda r: _fmt(_deg(_get(r, 'manoeuvre_rudder_total_variation_rad_per_s')), 3)),
+    ('at limit s', lambda r: _fmt(_get(r, 'manoeuvre_rudder_time_at_limit_s'), 0)),
+    ('outcome', lambda r: r['outcome']),
+    ('wall s', lambda r: _fmt(r.get('wall_s'), 0)),
+)
+
+
 def markdown(results, claims, header):
     lines = [header, '']
     lines.append('Statistics from settle_s (scenario file) to the route\'s end (guidance '
@@ -570,9 +667,11 @@ def markdown(results, claims, header):
         title = next((t for p, t in GROUPS if r['scenario'].startswith(p)), 'Other scenarios')
         grouped.setdefault(title, []).append(r)
     for title, rows in grouped.items():
-        lines += [f'### {title}', '', '| ' + ' | '.join(h for h, _ in COLUMNS) + ' |',
-                  '|' + '---|' * len(COLUMNS)]
-        lines += ['| ' + ' | '.join(f(r) for _, f in COLUMNS) + ' |' for r in rows]
+        cols = (COURSE_CHANGE_COLUMNS if all(r['scenario'].startswith('course_') for r in rows)
+                else COLUMNS)
+        lines += [f'### {title}', '', '| ' + ' | '.join(h for h, _ in cols) + ' |',
+                  '|' + '---|' * len(cols)]
+        lines += ['| ' + ' | '.join(f(r) for _, f in cols) + ' |' for r in rows]
         lines.append('')
     for r in results:
         legs = _get(r, 'rudder_legs')

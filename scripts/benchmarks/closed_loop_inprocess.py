@@ -42,7 +42,8 @@ QUICK_REPEATS = 2
 
 def build_loop(scenario_file=SCENARIO):
     """(sim, guidance, autopilot, dt) as the flagship scenario's nodes would build them."""
-    from ship_autopilot.gains import build_autopilot, heading_loop_design
+    from ship_autopilot.gains import (FUZZY_SCALING_PARAMETERS, build_autopilot,
+                                      heading_loop_design)
     from ship_guidance.guidance import Guidance
     from ship_guidance.node_defaults import GUIDANCE_DEFAULTS as G
     from ship_planner.route_loader import load_route
@@ -74,8 +75,8 @@ def build_loop(scenario_file=SCENARIO):
     # Gains as the autopilot node chooses them (the function it calls).
     a = spec.autopilot_params
     kind = a.get('controller', 'pd')
-    gains = heading_loop_design(spec.model, **{k: a[k] for k in ('controller', 'k1', 'k2',
-                                                                 'omega_n', 'zeta') if k in a}).gains
+    keys = ('controller', 'k1', 'k2', 'omega_n', 'zeta', *FUZZY_SCALING_PARAMETERS)
+    gains = heading_loop_design(spec.model, **{k: a[k] for k in keys if k in a}).gains
     autopilot = build_autopilot(kind, gains, model.rudder_max, model.rudder_rate_max,
                                 a.get('saturation', 'hard'))
     return sim, guidance, autopilot, scenario.dt_s

@@ -182,6 +182,62 @@ def rudder_stats(t, delta, t_from, limit_rad=None, prefix='rudder'):
     return out
 
 
+def rudder_time_at_limit(t, delta, t_from, limit_rad):
+    """Time (s) the rudder spends at its limit after t_from (|delta| >= limit (1 - 1e-3), as
+    ``rudder_stats`` counts saturation): each sample holds until the next one, the last adds
+    nothing. None without samples."""
+    t, d = np.asarray(t, dtype=float), np.asarray(delta, dtype=float)
+    sel = t >= t_from
+    t, d = t[sel], d[sel]
+    if d.size == 0:
+        return None
+    at_limit = np.abs(d) >= limit_rad * (1.0 - SATURATION_RTOL)
+    return _f(np.sum(np.diff(t)[at_limit[:-1]]))
+
+
+def step_response_stats(t_cmd, yaw_cmd, t, yaw, t_steady, band_fraction=0.02):
+    """Heading step response of a course change: the command's last step and what followed.
+
+    The step starts at the last change of the command (or its first sample); its size is the
+    final command minus the yaw there (wrapped). After it, with s the sign of the step:
+    overshoot = max(0, max s (yaw - command)) (rad, and as a fraction of |step|); steady error =
+    mean of yaw - command at t >= t_steady (rad); settling time = time from the step until the
+    yaw stays within band_fraction |step| of its own steady value (the mean yaw over
+    t >= t_steady): settling to where it ends, whatever its steady error (None if it never
+    does before t_steady). Yaw is unwrapped and interpolated at the command times.
+    """
+    t_cmd, yaw_cmd = np.asarray(t_cmd, dtype=float), np.asarray(yaw_cmd, dtype=float)
+    t, yaw = np.asarray(t, dtype=float), np.unwrap(np.asarray(yaw, dtype=float))
+    keys = ('step_rad', 'step_time_s', 'overshoot_rad', 'overshoot_fraction',
+            'steady_error_rad', 'settling_time_s', 'settling_band_rad')
+    out = dict.fromkeys(keys)
+    sel = (t_cmd >= t[0]) & (t_cmd <= t[-1])
+    t_cmd, yaw_cmd = t_cmd[sel], yaw_cmd[sel]
+    if t_cmd.size < 2:
+        return out
+    changes = np.nonzero(np.abs(wrap(np.diff(yaw_cmd))) > 1e-9)[0]
+    k0 = int(changes[-1]) + 1 if changes.size else 0
+    t_cmd, yaw_cmd = t_cmd[k0:], yaw_cmd[k0:]
+    psi = np.interp(t_cmd, t, yaw)
+    step = float(wrap(yaw_cmd[-1] - psi[0]))
+    err = wrap(psi - yaw_cmd)                   # yaw - command
+    steady = t_cmd >= t_steady
+    out.update(step_rad=_f(step), step_time_s=_f(t_cmd[0]))
+    if step == 0.0 or not np.any(steady):
+        return out
+    over = max(0.0, float(np.max(np.sign(step) * err)))
+    band = band_fraction * abs(step)
+    final_err = float(np.mean(err[steady]))
+    outside = np.nonzero(np.abs(err - final_err) > band)[0]
+    settled_at = t_cmd[0] if outside.size == 0 else (
+        t_cmd[outside[-1] + 1] if outside[-1] + 1 < t_cmd.size else None)
+    settling = None if settled_at is None or settled_at > t_steady else settled_at - t_cmd[0]
+    out.update(overshoot_rad=_f(over), overshoot_fraction=_f(over / abs(step)),
+               steady_error_rad=_f(final_err), settling_band_rad=_f(band),
+               settling_time_s=None if settling is None else _f(settling))
+    return out
+
+
 def heading_error_stats(t_cmd, yaw_cmd, t, yaw, t_from):
     """Heading error yaw - command (rad, wrapped) at the command times after t_from.
 

@@ -99,6 +99,13 @@ def test_guidance_refuses_arc_los_point_with_ilos_naming_it(ros_graph):
     _assert_one_line_exit_2(proc, 'guidance_node: ', 'arc_los_point')
 
 
+def test_autopilot_refuses_a_partial_fuzzy_scaling_in_one_line(ros_graph):
+    # Lee 2004's fuzzy scaling is all four gains or none (the gain table's)
+    proc = ros_graph.start('ship_autopilot', 'autopilot_node', namespace=NS,
+                           params={'controller': 'fuzzy_pid', 'fuzzy_ge': 2.75, 'fuzzy_gr': 50.0})
+    _assert_one_line_exit_2(proc, 'autopilot_node: ', 'fuzzy_ge', 'all > 0')
+
+
 @pytest.mark.timeout(60)
 def test_wildcard_params_file_with_valid_keys_is_accepted(ros_graph, tmp_path):
     config = tmp_path / 'guidance.yaml'

@@ -134,3 +134,72 @@ def test_guidance_finish_flag_takes_precedence_over_the_route_geometry():
     assert out['remaining_at_end_m'] == pytest.approx(300.0 - 4.0 * 99.9)
     never = m.vessel_metrics(t, x, y, yaw, route=route, finished=(t, np.zeros_like(t)))
     assert never['finished'] is False and never['time_to_complete_s'] is None
+
+
+def test_time_at_the_rudder_limit_counts_each_sample_until_the_next():
+    # 1 s samples; at the 0.2 rad limit from t = 3 to t = 6 inclusive: samples 3, 4, 5 hold it
+    # until the next sample (3 s), sample 6 holds it for 1 s more -> 4 s; the last sample adds 0
+    t = np.arange(0.0, 11.0)
+    d = np.where((t >= 3) & (t <= 6), -0.2, 0.05)
+    d[-1] = 0.2
+    assert m.rudder_time_at_limit(t, d, t_from=0.0, limit_rad=0.2) == pytest.approx(4.0)
+    assert m.rudder_stats(t, d, t_from=0.0, limit_rad=0.2)['rudder_saturated_samples'] == 5
+    assert m.rudder_time_at_limit(t, d, t_from=4.5, limit_rad=0.2) == pytest.approx(2.0)
+    assert m.rudder_time_at_limit(t, d, t_from=99.0, limit_rad=0.2) is None
+
+
+def _first_order_plus_overshoot(t, step, final_err, over, t_peak, tau):
+    """Hand-made heading: rises to step + over at t_peak (linear), then decays to step + final_err
+    exponentially with time constant tau."""
+    yaw = np.where(t <= t_peak, (step + over) * t / t_peak,
+                   step + final_err + (over - final_err) * np.exp(-(t - t_peak) / tau))
+    return yaw
+
+
+def test_step_response_overshoot_settling_and_steady_error_hand_computed():
+    t = np.arange(0.0, 600.0, 0.5)
+    step, over, final_err, t_peak, tau = math.radians(30), math.radians(3), math.radians(-1), 60.0, 20.0
+    yaw = _first_order_plus_overshoot(t, step, final_err, over, t_peak, tau)
+    cmd = np.full_like(t, step)                 # command stepped at t = 0 from heading 0
+    st = m.step_response_stats(t, cmd, t, yaw, t_steady=500.0, band_fraction=0.02)
+    assert st['step_rad'] == pytest.approx(step)
+    assert st['step_time_s'] == 0.0
+    assert st['overshoot_rad'] == pytest.approx(over)
+    assert st['overshoot_fraction'] == pytest.approx(0.1)
+    assert st['steady_error_rad'] == pytest.approx(final_err, abs=1e-9)
+    # leaves the 2 % band around its own final value (0.6 deg) for good when
+    # (over - final_err) exp(-(t - t_peak)/tau) = 0.02 step: t = t_peak + tau ln(4 deg / 0.6 deg)
+    t_settle = t_peak + tau * math.log(4.0 / 0.6)
+    assert st['settling_time_s'] == pytest.approx(t_settle, abs=0.5)   # one sample
+    assert st['settling_band_rad'] == pytest.approx(0.02 * step)
+
+
+def test_step_response_of_a_port_step_after_a_command_change_and_across_pi():
+    # heading 170 deg, first command 170 (held), then at t = 10 s a 30 deg step across +-180
+    # towards 200 deg = -160 deg (wrapped): the step is +30 deg, no overshoot, no steady error
+    t = np.arange(0.0, 300.0, 1.0)
+    psi0, step = math.radians(170), math.radians(30)
+    yaw = m.wrap(psi0 + np.where(t < 10, 0.0, step * (1 - np.exp(-(t - 10) / 15.0))))
+    cmd = m.wrap(np.where(t < 10, psi0, psi0 + step))
+    st = m.step_response_stats(t, cmd, t, yaw, t_steady=250.0)
+    assert st['step_time_s'] == 10.0
+    assert st['step_rad'] == pytest.approx(step)
+    assert st['overshoot_rad'] == 0.0
+    assert st['steady_error_rad'] == pytest.approx(0.0, abs=1e-6)
+    # within 2 % of the step when exp(-(t - 10)/15) <= 0.02 -> 15 ln 50 = 58.7 s, next sample 59
+    assert st['settling_time_s'] == pytest.approx(59.0)
+    # a starboard step (negative) mirrors it: overshoot measured in the step's direction
+    st2 = m.step_response_stats(t, -cmd, t, -yaw, t_steady=250.0)
+    assert st2['step_rad'] == pytest.approx(-step)
+    assert st2['overshoot_rad'] == 0.0
+
+
+def test_step_response_that_never_settles_and_without_a_step():
+    t = np.arange(0.0, 100.0, 1.0)
+    yaw = 0.5 + 0.2 * np.sin(t)            # oscillates +-0.2 rad around the command: never settles
+    st = m.step_response_stats(t, np.full_like(t, 0.5), np.concatenate(([-1.0], t[1:])),
+                               np.concatenate(([0.0], yaw[1:])), t_steady=80.0)
+    assert st['settling_time_s'] is None
+    assert st['overshoot_rad'] == pytest.approx(0.2, abs=0.01)
+    none = m.step_response_stats(t, np.zeros_like(t), t, np.zeros_like(t), t_steady=50.0)
+    assert none['step_rad'] == 0.0 and none['overshoot_rad'] is None

@@ -19,7 +19,8 @@ held (sequence pairing: it still answers its odom, so the pairing holds).
 
 Gains: from the per-model table (ship_autopilot/data/autopilot_gains.yaml, designed from the
 identified Nomoto K, T) for `vessel_model`, unless `k1`/`k2` (PD) are given (> 0), or
-`omega_n`/`zeta` are given to redesign PD gains from the identified Nomoto a, b.
+`omega_n`/`zeta` are given to redesign PD gains from the identified Nomoto a, b, or the fuzzy
+PID's scaling `fuzzy_ge`/`fuzzy_gr`/`fuzzy_ga`/`fuzzy_gu` (`fuzzy_l`) is given (e.g. Lee 2004's).
 Rudder limits default to the vessel model's (`rudder_max_deg`/`rudder_rate_max_deg` override).
 
 `controller: policy` runs a learned policy (learning.policy) on the guidance node's path_state
@@ -33,8 +34,8 @@ from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from std_msgs.msg import Float64, Float64MultiArray
 
-from ship_autopilot.gains import (CONTROLLERS, ZETA, autopilot_gains, build_autopilot,
-                                  heading_loop_design)
+from ship_autopilot.gains import (CONTROLLERS, FUZZY_SCALING_PARAMETERS, ZETA, autopilot_gains,
+                                  build_autopilot, heading_loop_design)
 from ship_autopilot.steering import HeadingSteering, PolicySteering
 from ship_sim.models import MODEL_NAMES, make_model
 from ship_sim.pacing import SequencePairer
@@ -62,6 +63,11 @@ class AutopilotNode(Node):
                        unit='rad/rad', read_only=True)
         k2 = p.declare('k2', 0.0, 'PD yaw-rate gain (0: from the gain table)', lo=0.0, hi=1e5,
                        unit='rad/(rad/s)', read_only=True)
+        fuzzy = {name: p.declare(name, 0.0, f'fuzzy PID scaling {field} (0: the gain table\'s; '
+                                 'GE, GR, GA, GU all > 0 or all 0; L 0 = 1)', lo=0.0, hi=1e6,
+                                 unit=unit, read_only=True)
+                 for (name, field), unit in zip(FUZZY_SCALING_PARAMETERS.items(),
+                                                ('1/rad', 's/rad', '1/(rad s)', 'rad', ''))}
         omega_n = p.declare('omega_n', 0.0, 'redesign PD gains for this natural frequency '
                             '(0: gain table)', lo=0.0, hi=100.0, unit='rad/s', read_only=True)
         zeta = p.declare('zeta', ZETA, 'damping ratio used with omega_n', lo=0.05, hi=5.0,
@@ -92,7 +98,8 @@ class AutopilotNode(Node):
             self.steer = PolicySteering(self._load_policy(model, policy_file, max_angle,
                                                           recovery, vessel))
         else:
-            self._build_classical(kind, model, k1, k2, omega_n, zeta, max_angle, max_rate, shape)
+            self._build_classical(kind, model, k1, k2, omega_n, zeta, max_angle, max_rate, shape,
+                                  fuzzy)
             self.steer = HeadingSteering(self.controller)
 
         self.pub = self.create_publisher(Float64, 'rudder_cmd', STREAM)
@@ -127,17 +134,23 @@ class AutopilotNode(Node):
                 f'{law.release_m:.0f} m')
         return LearnedSteering(policy, recovery=law)
 
-    def _build_classical(self, kind, model, k1, k2, omega_n, zeta, max_angle, max_rate, shape):
+    def _build_classical(self, kind, model, k1, k2, omega_n, zeta, max_angle, max_rate, shape,
+                         fuzzy):
         if kind == 'pd' and (k1 or k2) and not (k1 and k2):
             raise ParameterError('k1', k1, 'k1 and k2 both > 0 (or both 0)')
+        scaling = [v for k, v in fuzzy.items() if k != 'fuzzy_l']
+        if any(scaling) and not all(scaling):
+            raise ParameterError('fuzzy_ge', fuzzy['fuzzy_ge'], 'fuzzy_ge, fuzzy_gr, fuzzy_ga and '
+                                 'fuzzy_gu all > 0 (or all 0)')
         try:
-            gains = heading_loop_design(model, kind, k1, k2, omega_n, zeta).gains
+            gains = heading_loop_design(model, kind, k1, k2, omega_n, zeta, **fuzzy).gains
             self.controller = build_autopilot(kind, gains, max_angle, max_rate, shape)
         except (ValueError, KeyError, OSError) as exc:
             raise ParameterError('vessel_model', message=f'vessel_model {model!r}: {exc}') from None
         self.get_logger().info(
             f'{kind} autopilot for {model}: rudder limit {math.degrees(max_angle):.1f} deg, '
-            f'{math.degrees(max_rate):.2f} deg/s, gains {gains.get("pd", gains) if kind == "pd" else "fuzzy table"}')
+            f'{math.degrees(max_rate):.2f} deg/s, gains '
+            f'{gains.get("pd", gains) if kind == "pd" or "GE" in gains else "fuzzy table"}')
 
     def _on_command(self, msg):
         cmd = self.steer.decode(msg.data)

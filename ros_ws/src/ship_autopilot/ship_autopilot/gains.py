@@ -138,9 +138,19 @@ class HeadingLoopDesign:
     source: str
 
 
-def heading_loop_design(model, controller='pd', k1=0.0, k2=0.0, omega_n=0.0, zeta=ZETA):
+#: autopilot_node's fuzzy scaling parameters -> FuzzyPIDGains fields (0: the gain table's)
+FUZZY_SCALING_PARAMETERS = {'fuzzy_ge': 'GE', 'fuzzy_gr': 'GR', 'fuzzy_ga': 'GA', 'fuzzy_gu': 'GU',
+                            'fuzzy_l': 'L'}
+
+
+def heading_loop_design(model, controller='pd', k1=0.0, k2=0.0, omega_n=0.0, zeta=ZETA,
+                        fuzzy_ge=0.0, fuzzy_gr=0.0, fuzzy_ga=0.0, fuzzy_gu=0.0, fuzzy_l=0.0):
     """The heading loop autopilot_node builds for ``model`` from its parameters, as a
     HeadingLoopDesign; the node and the launcher's platoon check both call this.
+
+    Fuzzy PID with its scaling given (fuzzy_ge, fuzzy_gr, fuzzy_ga, fuzzy_gu all > 0; fuzzy_l
+    0 = 1, e.g. Lee 2004's own values) -> those gains, integration band the error universe
+    L / GE (ship_autopilot.fuzzy_pid), design None (no Nomoto design behind them).
 
     PD with k1, k2 (both > 0) -> those gains and the design they place (Angelopoulos 2011
     eq. 20 inverted, ship_guidance.heading_loop.pd_design); PD with omega_n > 0 -> gains
@@ -148,6 +158,13 @@ def heading_loop_design(model, controller='pd', k1=0.0, k2=0.0, omega_n=0.0, zet
     the fuzzy PID whose linearisation is that PD) the table's entry and design. ValueError
     (or KeyError, OSError from the tables) if the model or the parameters do not fit."""
     table = autopilot_gains(model)
+    scaling = {'GE': fuzzy_ge, 'GR': fuzzy_gr, 'GA': fuzzy_ga, 'GU': fuzzy_gu}
+    if controller == 'fuzzy_pid' and any(scaling.values()):
+        if not all(scaling.values()):
+            raise ValueError('fuzzy_ge, fuzzy_gr, fuzzy_ga and fuzzy_gu all > 0 (or all 0)')
+        g = FuzzyPIDGains(**scaling, L=fuzzy_l or 1.0)
+        return HeadingLoopDesign({'GE': g.GE, 'GR': g.GR, 'GA': g.GA, 'GU': g.GU, 'L': g.L},
+                                 None, None, 'GE, GR, GA, GU')
     if controller == 'pd' and (k1 or k2):
         if not (k1 and k2):
             raise ValueError('k1 and k2 both > 0 (or both 0)')

@@ -205,3 +205,42 @@ def zigzag(model, rudder, switch_heading, shaft=None, h=0.1, t_end=700.0):
         overshoots.append(float(np.max(side * dpsi[k0:k1]) - switch_heading))
     return (ZigZag(tuple(float(t[k]) for k in switches), tuple(overshoots)), t, states,
             np.array(cmds))
+
+
+@dataclass(frozen=True)
+class CourseKeepingTrim:
+    """Straight running on a constant heading with the rudder that holds it (r = 0)."""
+
+    rudder: float        # unified rudder angle (rad, + turns to port) that holds the heading
+    state: np.ndarray    # native state at the trim (heading and position as given)
+
+
+def course_keeping_trim(model, shaft=None, psi=0.0):
+    """The rudder a model needs to run straight (r = 0) and the state it does so in.
+
+    A hull with a constant yaw moment of its own (the Mariner's Y0, N0; the tanker's propeller
+    side force and moment, Lee 2004 Tables 5.4 and 5.6) needs a constant rudder to hold a
+    heading; this is the disturbance an autopilot must cancel, so a PD delta = k1 (psi - psi_c)
+    + k2 r keeps the steady heading error delta_hold / k1. Solved for surge, sway and rudder
+    with u_dot = v_dot = r_dot = 0 (the rudder servo at rest: command = rudder; shaft models at
+    ``shaft`` rpm, default nominal), from the model's zero-rudder trim.
+    """
+    from scipy.optimize import fsolve
+    x0 = np.array(model.initial_state(psi=psi, shaft=shaft), dtype=float)
+    shaft_cmd = None if model.IN is None else float(x0[model.IN])
+    unknown = [model.IU, model.IV, model.IDELTA]
+    sign = model.STATE_RUDDER_SIGN
+
+    def residual(z):
+        x = x0.copy()
+        x[unknown] = z
+        u = np.asarray(model.inputs(sign * x[model.IDELTA], shaft_cmd), dtype=float)
+        xdot = np.asarray(model.rhs(x, u), dtype=float)
+        return xdot[[model.IU, model.IV, model.IR]]
+
+    z, _, ok, msg = fsolve(residual, x0[unknown], xtol=1e-13, full_output=True)
+    if ok != 1 or np.max(np.abs(residual(z))) > 1e-9:
+        raise ValueError(f'{model.name}: no course-keeping trim found ({msg})')
+    x = x0.copy()
+    x[unknown] = z
+    return CourseKeepingTrim(rudder=float(sign * x[model.IDELTA]), state=x)

@@ -9,8 +9,11 @@ ship (vessel_0) with colav_node (SB-MPC), the target (target_0, `traffic:`) hold
   while the decision in force keeps the nominal course, another value while it alters.
 - The record is complete (every step of both vessels) and two runs give identical metrics
   (vessels sections) and identical heading_cmd / colav_targets / colav_decision messages.
+- colav_node alone, fed by the test: it waits for a lockstep target up to its own stamp, decides
+  on the target state stamped at or before that stamp, stops waiting for a silent target.
 """
 import json
+import time
 
 import numpy as np
 import pytest
@@ -80,3 +83,76 @@ def test_head_on_mariners_pass_port_to_port_beyond_d_safe_identically_twice(laun
     msgs2 = colav_messages(second / 'bag', OWN)
     for topic in ('heading_cmd', 'colav_targets', 'colav_decision'):
         assert msgs[topic] == msgs2[topic], topic
+
+
+@pytest.mark.timeout(120)
+def test_colav_node_decides_on_target_states_up_to_its_stamp_and_waits_for_lockstep_targets(
+        ros_graph):
+    """colav_node alone, fed by the test: started with the installed config/colav.yaml (every
+    key it lists is accepted), one lockstep target topic.
+
+    - The first own odom (a decision step) is not answered before the target's sample at that
+      stamp; then it is, with heading_ref itself (no threat: the target is far off).
+    - Between decisions it answers at once, without target samples.
+    - A decision uses the target state stamped at or before the own stamp: a head-on sample at
+      t = 1 s and a harmless one at t = 1.5 s, both there before the own odom of t = 1 s, give a
+      starboard alteration and a head-on / give-way row.
+    - A target silent past lockstep_target_timeout_s is no longer waited for (warned)."""
+    from nav_msgs.msg import Odometry
+    from std_msgs.msg import Float64, Float64MultiArray
+
+    from ship_guidance import colregs
+    from ship_guidance.colav_io import ROLE_CODES, TARGET_COLUMNS
+    from ship_sim.frames import yaw_to_psi
+    from ship_sim.ros.conversions import make_odometry
+    config = REPO_ROOT / 'ros_ws' / 'install' / 'ship_guidance' / 'share' / 'ship_guidance' / \
+        'config' / 'colav.yaml'
+    node = ros_graph.start('ship_guidance', 'colav_node', namespace='/vessel_0',
+                           params_file=config,
+                           params={'target_topics': ['/v1/odom'],
+                                   'lockstep_target_timeout_s': 2.0, 'use_sim_time': True})
+    tn = ros_graph.test_node()
+    odom = tn.publisher('/vessel_0/odom', Odometry)
+    ref = tn.publisher('/vessel_0/heading_ref', Float64)
+    tgt = tn.publisher('/v1/odom', Odometry)
+    cmd = tn.subscribe('/vessel_0/heading_cmd', Float64)
+    rows = tn.subscribe('/vessel_0/colav_targets', Float64MultiArray)
+    for pub in (odom, ref, tgt):
+        assert tn.wait_for_subscribers(pub, timeout=20.0), node.report()
+    U, east = 7.7, float(yaw_to_psi(0.0))     # own ship heading east (ENU yaw 0)
+    nominal = 0.0123456789012345
+
+    def own(t):
+        odom.publish(make_odometry(t, 0.0, U * t, east, U, 0.0, 0.0, 'vessel_0/base_link'))
+        ref.publish(Float64(data=nominal))
+
+    def target(t, north, east_m, psi):
+        tgt.publish(make_odometry(t, north, east_m, psi, U, 0.0, 0.0, 'v1/base_link'))
+
+    own(0.0)
+    tn.spin_for(1.0)
+    assert len(cmd) == 0, 'answered before the lockstep target reached the stamp'
+    target(0.0, 20000.0, 0.0, 0.0)                     # 20 km north, heading north
+    assert tn.wait_for_message(cmd, 5.0) is not None, node.report()
+    assert cmd[0].data == nominal                      # passed through, the same float
+    for k in range(1, 10):                             # no decision due: answered at once
+        own(0.1 * k)
+    assert tn.wait_for_message(cmd, 5.0, count=10) is not None, node.report()
+    assert all(m.data == nominal for m in cmd.messages)
+    # head-on 4 km ahead, stamped 1.0; a harmless sample stamped 1.5 arrives before the own 1.0
+    target(1.0, 0.0, 4000.0, float(yaw_to_psi(3.141592653589793)))
+    target(1.5, 30000.0, 0.0, 0.0)
+    tn.spin_for(0.3)
+    own(1.0)
+    m = tn.wait_for_message(cmd, 5.0, count=11)
+    assert m is not None, node.report()
+    assert m.data < nominal - 0.2, 'no starboard alteration (ENU yaw must decrease)'
+    row = tn.wait_for_message(rows, 5.0, count=2)
+    assert row is not None and len(row.data) == len(TARGET_COLUMNS)
+    assert int(row.data[2]) == colregs.HEAD_ON and int(row.data[3]) == ROLE_CODES['give-way']
+    # t = 2.0: the target's newest sample is 1.5 s; silent, it is waited for 2 s, then dropped
+    t0 = time.monotonic()
+    own(2.0)
+    assert tn.wait_for_message(cmd, 10.0, count=12) is not None, node.report()
+    assert cmd.times[11] - t0 >= 1.5
+    assert node.wait_for_output('silent', 5.0), node.report()

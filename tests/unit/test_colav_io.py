@@ -137,3 +137,24 @@ def test_decision_row_codes():
     assert rows[5] == pytest.approx(1.5 * math.pi)
     assert colav_io.decision_row(3.0, d, 1) == [3.0, 1.0, 0.0, 1.0, 1.0, 1.0]
     assert np.isfinite(rows).all()
+
+
+def test_colav_yaml_lists_exactly_the_node_parameters():
+    """config/colav.yaml is the launcher's list of colav_node's parameters (scenario keys are
+    checked against it): it must hold every parameter the node declares, with its default."""
+    import yaml
+
+    from ship_guidance import colav_node
+    from ship_guidance.colav_params import ColavParams
+    config = (colav_node.__file__.rsplit('/ship_guidance/', 1)[0]
+              + '/config/colav.yaml')
+    listed = yaml.safe_load(open(config).read())['/**']['ros__parameters']
+    declared = {name: default for name, default, *_ in colav_node.SCALARS}
+    declared.update({name: default for name, default, _ in colav_node.LISTS})
+    declared.update(method='sbmpc', decision_period_s=1.0, targets_topic='targets',
+                    target_stale_s=30.0, lockstep_target_timeout_s=10.0, has_shaft=True)
+    assert set(listed) == set(declared)
+    for key, value in listed.items():
+        numeric = not isinstance(value, (str, bool)) and key != 'target_topics'
+        assert value == (pytest.approx(declared[key], rel=1e-4) if numeric else declared[key]), key
+    assert set(declared) - {f for f in ColavParams.__dataclass_fields__} >= colav_io.NODE_KEYS

@@ -290,6 +290,7 @@ def node_parameters(scenario, spec, index, record):
         others = [f'/{s.namespace}/odom' for s in scenario.vessels if s is not spec]
         # No node executes speed_factor_cmd yet: plan with course changes only unless asked.
         params['colav_node'] = {**sim_time, 'target_topics': others or [''], 'has_shaft': False,
+                                'pairing': 'sequence' if lockstep else 'latest',
                                 **spec.colav_params}
     if spec.predecessor is None:
         params['guidance_node'] = {**sim_time, **spec.guidance_params}

@@ -151,7 +151,7 @@ def test_colav_yaml_lists_exactly_the_node_parameters():
     listed = yaml.safe_load(open(config).read())['/**']['ros__parameters']
     declared = {name: default for name, default, *_ in colav_node.SCALARS}
     declared.update({name: default for name, default, _ in colav_node.LISTS})
-    declared.update(method='sbmpc', decision_period_s=1.0, targets_topic='targets',
+    declared.update(method='sbmpc', decision_period_s=1.0, pairing='sequence', targets_topic='targets',
                     target_stale_s=30.0, lockstep_target_timeout_s=10.0, has_shaft=True)
     assert set(listed) == set(declared)
     for key, value in listed.items():

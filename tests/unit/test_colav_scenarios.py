@@ -39,6 +39,7 @@ def test_head_on_scenario_wires_colav_between_guidance_and_autopilot():
     p_tgt, _ = node_parameters(sc, tgt, 1, record=True)
     assert p_own['colav_node']['target_topics'] == ['/target_0/odom']
     assert p_own['colav_node']['method'] == 'sbmpc'
+    assert p_own['colav_node']['pairing'] == 'sequence'
     assert 'colav_node' not in p_tgt
     # own odom: guidance, autopilot, recorder, its colav_node, the target's gate
     assert p_own['vessel_node']['lockstep_odom_subscribers'] == 5
@@ -55,6 +56,8 @@ def test_realtime_traffic_is_not_gated(tmp_path):
     sc = load_scenario(_variant(tmp_path, lambda d: d.update(stepping='realtime')))
     p_tgt, _ = node_parameters(sc, sc.vessels[1], 1, record=True)
     assert 'lockstep_follower_odom_topics' not in p_tgt['vessel_node']
+    p_own, _ = node_parameters(sc, sc.vessels[0], 0, record=True)
+    assert p_own['colav_node']['pairing'] == 'latest'
 
 
 def _colav_in_traffic(d):

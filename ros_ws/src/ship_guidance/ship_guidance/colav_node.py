@@ -5,8 +5,9 @@ nominal ENU yaw: guidance_node's heading_cmd, remapped) and targets as nav_msgs/
 `targets_topic` (default `targets`, relative: the vessel namespace's; ais_node publishes every
 AIS target there, each named by its child_frame_id) and each of `target_topics` (full vessels
 stepping in lockstep, e.g. `/vessel_1/odom`; the topic names the target).
-Publishes, exactly once per own odom (the n-th odom paired with the n-th heading_ref, as the
-autopilot pairs):
+Publishes, exactly once per own odom (`pairing` sequence, for lockstep: the n-th odom paired
+with the n-th heading_ref, as the autopilot pairs; latest, for realtime: with the last
+heading_ref, no waiting for lockstep targets, odom before the first heading_ref unanswered):
   heading_cmd       std_msgs/Float64  ENU yaw the autopilot follows: heading_ref unchanged (the
                     same float) unless the last decision alters course, else heading_ref plus
                     the decided offset
@@ -111,6 +112,10 @@ class ColavRosNode(Node):
         self.wait_timeout = p.declare('lockstep_target_timeout_s', 10.0, 'wall time a decision '
                                       'waits for a silent lockstep target before going on '
                                       'without it', lo=0.01, hi=1e4, unit='s', read_only=True)
+        self.pairing = p.declare('pairing', 'sequence', 'sequence: the n-th odom with the n-th '
+                                 'heading_ref, lockstep targets waited for (lockstep); latest: '
+                                 'each odom with the last heading_ref, no waiting (realtime)',
+                                 choices=('sequence', 'latest'), read_only=True)
         self.has_shaft = p.declare('has_shaft', True, 'own ship has a speed (shaft) command',
                                    read_only=True)
         values = {name: p.declare(name, default, desc, lo=lo, hi=hi, unit=unit, read_only=True)
@@ -130,7 +135,8 @@ class ColavRosNode(Node):
         self.tracks = colav_io.TargetTracks(stale)
         self.lockstep_topics = topics
         self.pairer = SequencePairer()
-        self.pending = []          # (odom NED, heading_ref Float64) pairs not answered yet
+        self.pending = []          # (odom NED, heading_ref) pairs not answered yet
+        self.latest_ref = None     # latest pairing: the last heading_ref
         self.decision = None
         self.wait_since = None
         self.warned = set()
@@ -181,10 +187,18 @@ class ColavRosNode(Node):
         self.warned.discard(name)
 
     def _on_odom(self, data):
+        if self.pairing == 'latest':
+            if self.latest_ref is not None:   # nothing to pass on before guidance has spoken
+                self.pending.append((odometry_to_ned(data), self.latest_ref))
+                self._drain()
+            return
         self.pairer.push_a(odometry_to_ned(data))
         self._pair()
 
     def _on_ref(self, msg):
+        if self.pairing == 'latest':
+            self.latest_ref = msg.data
+            return
         self.pairer.push_b(msg.data)
         self._pair()
 
@@ -198,7 +212,8 @@ class ColavRosNode(Node):
         while self.pending:
             o, ref = self.pending[0]
             t_ns = colav_io.to_ns(o.t)
-            if self.schedule.due(t_ns) and not self._targets_ready(t_ns):
+            if (self.pairing == 'sequence' and self.schedule.due(t_ns)
+                    and not self._targets_ready(t_ns)):
                 return
             self.pending.pop(0)
             self.wait_since = None

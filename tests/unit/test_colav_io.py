@@ -158,3 +158,26 @@ def test_colav_yaml_lists_exactly_the_node_parameters():
         numeric = not isinstance(value, (str, bool)) and key != 'target_topics'
         assert value == (pytest.approx(declared[key], rel=1e-4) if numeric else declared[key]), key
     assert set(declared) - {f for f in ColavParams.__dataclass_fields__} >= colav_io.NODE_KEYS
+
+
+def test_markers_put_the_safe_circle_on_the_target_and_the_arrow_on_the_command_in_enu():
+    from visualization_msgs.msg import Marker
+
+    from ship_guidance.ros.colav_markers import colav_markers
+    from ship_sim.ros.conversions import quaternion_to_yaw
+    own = colav_io.ship_state(0.0, 0.0, math.pi / 2, 7.7, 0.0)                  # heading east
+    tgt = colav_io.target_state('t', 0.0, 4000.0, -math.pi / 2, 7.7, 0.0)       # 4 km east
+    d = make_colav('sbmpc').decide(0.0, own, [tgt], math.pi / 2, 1.0)
+    markers = colav_markers(12.5, own, [tgt], d, 926.0).markers
+    assert markers[0].action == Marker.DELETEALL
+    (circle,) = [m for m in markers if m.ns == 'safe_distance']
+    assert (circle.pose.position.x, circle.pose.position.y) == (4000.0, 0.0)   # ENU x = east
+    assert circle.scale.x == circle.scale.y == 2 * 926.0
+    cpa_points = [m for m in markers if m.ns == 'cpa']
+    # head-on at equal speeds: both CPA points at the middle, 2000 m east
+    assert [m.pose.position.x for m in cpa_points] == pytest.approx([2000.0, 2000.0])
+    (arrow,) = [m for m in markers if m.ns == 'course']
+    assert quaternion_to_yaw(arrow.pose.orientation) == pytest.approx(psi_to_yaw(d.course))
+    assert d.course_offset > 0.0 and quaternion_to_yaw(arrow.pose.orientation) < 0.0
+    assert arrow.header.stamp.sec == 12 and arrow.header.stamp.nanosec == 500_000_000
+    assert all(m.header.frame_id == 'map' for m in markers[1:])

@@ -34,6 +34,9 @@ NODES = (('route_node', 'ship_planner'), ('guidance_node', 'ship_guidance'),
          ('autopilot_node', 'ship_autopilot'))
 FOLLOWER_NODES = (('route_node', 'ship_planner'), ('follower_node', 'ship_guidance'),
                   ('autopilot_node', 'ship_autopilot'))
+COLAV_NODE = ('colav_node', 'ship_guidance')
+#: guidance_node's output is colav_node's nominal input on a vessel with collision avoidance.
+COLAV_REMAP = ['-r', 'heading_cmd:=heading_ref']
 
 
 RECORD_ACK = 'record_ack'  # per vessel namespace: the recorder's lockstep acknowledgement
@@ -133,7 +136,8 @@ def check_scenario(scenario):
                             f'{scenario.dt_s:g} s; at most {MAX_STEPS:.0e} steps '
                             f'({MAX_STEPS * scenario.dt_s:.3g} s)')
     for i, spec in enumerate(scenario.vessels):
-        where = (f'{scenario.file}: vessels.{spec.namespace}.' if platoon is None
+        section = 'traffic' if spec.traffic else 'vessels'
+        where = (f'{scenario.file}: {section}.{spec.namespace}.' if platoon is None
                  else f'{scenario.file}: platoon.vessels[{i}] ({spec.namespace}).')
         if spec.model not in MODEL_NAMES:
             raise ScenarioError(f'{where}model: unknown model {spec.model!r}; one of '
@@ -149,9 +153,12 @@ def check_scenario(scenario):
                                 f'({spec.route_file}, {plan.route.length:.1f} m long); give '
                                 f'0 <= along_m < {plan.route.length:.1f}')
         guidance = vessel_nodes(spec)[1]
-        for block, params, (exe, pkg) in (('vessel', spec.vessel_params, ('vessel_node', 'ship_sim')),
-                                          ('guidance', spec.guidance_params, guidance),
-                                          ('autopilot', spec.autopilot_params, NODES[2])):
+        blocks = [('vessel', spec.vessel_params, ('vessel_node', 'ship_sim')),
+                  ('guidance', spec.guidance_params, guidance),
+                  ('autopilot', spec.autopilot_params, NODES[2])]
+        if spec.colav_params is not None:
+            blocks.append(('colav', spec.colav_params, COLAV_NODE))
+        for block, params, (exe, pkg) in blocks:
             names = node_parameter_names(pkg, exe)
             for key in params:
                 if key not in names:
@@ -206,7 +213,26 @@ def write_run_json(run, summary):
 
 def vessel_nodes(spec):
     """(executable, package) of the nodes started before a vessel's vessel_node."""
-    return NODES if spec.predecessor is None else FOLLOWER_NODES
+    nodes = NODES if spec.predecessor is None else FOLLOWER_NODES
+    return nodes + (COLAV_NODE,) if spec.colav_params is not None else nodes
+
+
+def node_remaps(spec, exe):
+    """Extra ROS remapping arguments of one node: guidance's heading_cmd becomes heading_ref
+    on a vessel with colav_node."""
+    return COLAV_REMAP if spec.colav_params is not None and exe == 'guidance_node' else []
+
+
+def odom_subscribers(scenario, spec, record):
+    """Subscribers of a (non-platoon) vessel's odom a lockstep vessel_node waits for: its
+    guidance and autopilot, the recorder, its own colav_node, every other vessel's colav_node
+    (all other vessels are its targets), and for a colav vessel the simulators of the traffic
+    vessels (each keeps within lockstep_follower_window steps of it)."""
+    colav = [s for s in scenario.vessels if s.colav_params is not None]
+    n = 2 + int(bool(record)) + sum(1 for s in colav if s is not spec)
+    if spec.colav_params is not None:
+        n += 1 + sum(1 for s in scenario.vessels if s.traffic)
+    return n
 
 
 def node_parameters(scenario, spec, index, record):
@@ -228,9 +254,15 @@ def node_parameters(scenario, spec, index, record):
         # ahead of it for a publisher's queue to overwrite an unrecorded message.
         'lockstep_record_topic': RECORD_ACK if lockstep and record else '',
         # guidance + autopilot (+ the recorder) (+ the followers) must all hear step 0.
-        'lockstep_odom_subscribers': (2 + int(record)) if scenario.platoon is None else
-        scenario.platoon.odom_subscribers(spec.namespace, record),
+        'lockstep_odom_subscribers': odom_subscribers(scenario, spec, record)
+        if scenario.platoon is None else scenario.platoon.odom_subscribers(spec.namespace, record),
     }
+    if spec.traffic and lockstep:
+        # A target never runs so far ahead that its odom queue overwrites a sample a colav_node
+        # has not taken (the platoon predecessor's gate, on every colav vessel's odom).
+        gated = [f'/{s.namespace}/odom' for s in scenario.vessels if s.colav_params is not None]
+        if gated:
+            vessel['lockstep_follower_odom_topics'] = ','.join(gated)
     if scenario.platoon is not None:
         # A predecessor never runs so far ahead (lockstep) that its odom queue overwrites a
         # sample its followers have not taken.
@@ -254,6 +286,12 @@ def node_parameters(scenario, spec, index, record):
                            'pairing': 'sequence' if lockstep else 'latest',
                            **spec.autopilot_params},
     }
+    if spec.colav_params is not None:
+        others = [f'/{s.namespace}/odom' for s in scenario.vessels if s is not spec]
+        # No node executes speed_factor_cmd yet: plan with course changes only unless asked.
+        params['colav_node'] = {**sim_time, 'target_topics': others or [''], 'has_shaft': False,
+                                'pairing': 'sequence' if lockstep else 'latest',
+                                **spec.colav_params}
     if spec.predecessor is None:
         params['guidance_node'] = {**sim_time, **spec.guidance_params}
     else:
@@ -394,7 +432,8 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             for exe, pkg in vessel_nodes(spec):
                 f = write_params(run, spec.namespace, exe, params[exe])
                 group.start(f'{spec.namespace}/{exe}', pkg, exe,
-                            ['--ros-args', '-r', f'__ns:=/{spec.namespace}', '--params-file', f])
+                            ['--ros-args', '-r', f'__ns:=/{spec.namespace}', '--params-file', f,
+                             *node_remaps(spec, exe)])
             vessel_params.append((spec, params['vessel_node'], plan))
         if record:
             from ship_sim.models import make_model

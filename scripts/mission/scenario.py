@@ -24,6 +24,10 @@
         vessel: {...}                        # any further vessel_node parameters
         guidance: {law: ilos, lookahead_m: 800.0}         # guidance_node parameters
         autopilot: {controller: pd}                       # autopilot_node parameters
+        colav: {method: sbmpc}               # optional: run colav_node (its parameters) between
+                                             # guidance and autopilot, the other vessels as targets
+    traffic:                                 # optional: target vessels (same keys but `colav`):
+      target_0: {model: mariner, route: routes/..., speed_mps: 7.7}   # full vessels, no avoidance
 
 Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
@@ -31,6 +35,13 @@ the graph together (model, start pose, stepping mode, pairing, rates). The launc
 (mission.launcher.check_scenario) refuses keys a node does not declare, naming the closest one.
 Errors name the file and the key. The file must be a regular UTF-8 file; numbers may be written
 ``1e9`` (read as YAML 1.2 does, ship_planner.yaml_route_reader.Loader, as route files are).
+
+Collision avoidance: a vessel with a `colav` block runs colav_node in its namespace; guidance's
+heading_cmd is remapped to heading_ref (colav_node's nominal input) and colav_node publishes the
+heading_cmd the autopilot follows; every other vessel's odom is one of its `target_topics`.
+`traffic` vessels are the same full vessels (model, route, guidance, autopilot) listed apart:
+they never avoid, and in lockstep each keeps within lockstep_follower_window steps of every
+colav vessel's odom (the platoon gate), so the record stays lossless.
 
 A platoon (a string of vessels, each steering at its predecessor) is written as a `platoon:`
 section instead of `vessels:`; its schema and checks are in mission.platoon. Its vessels come out
@@ -52,9 +63,10 @@ from ship_planner.yaml_route_reader import Loader
 from ship_sim.frames import psi_to_yaw
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
-            'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s'}
+            'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic'}
 VESSEL_KEYS = {'model', 'route', 'start', 'speed_mps', 'current', 'vessel', 'guidance',
-               'autopilot', 'model_params'}
+               'autopilot', 'model_params', 'colav'}
+TRAFFIC_KEYS = VESSEL_KEYS - {'colav'}
 STEPPING = ('lockstep', 'realtime')
 #: Most simulator steps a run may ask for (duration_s / dt_s): vessel_node's max_steps upper
 #: bound (ros_ws/src/ship_sim/ship_sim/vessel_node.py, 10**12), so the launcher's check refuses
@@ -115,18 +127,16 @@ def load_scenario(path):
         vessels = data.get('vessels')
         need(isinstance(vessels, dict) and vessels, path, 'vessels',
               'a mapping namespace -> vessel')
-        specs = []
-        for ns, v in vessels.items():
-            where = f'vessels.{ns}.'
-            need(isinstance(ns, str) and ns.isidentifier(), path, f'vessels.{ns}',
-                  'namespace must be a plain name like vessel_0')
-            need(isinstance(v, dict), path, where[:-1], 'must be a mapping')
-            unknown(v, VESSEL_KEYS, path, where)
-            need(isinstance(v.get('model'), str), path, where + 'model', 'a model name')
-            need(isinstance(v.get('route'), str), path, where + 'route', 'a route file')
-            route = (path.parent / v['route']).resolve()
-            need(route.exists(), path, where + 'route', f'{route} does not exist')
-            specs.append(parse_vessel(ns, v, route, path, where))
+        specs = _parse_vessels(vessels, 'vessels', VESSEL_KEYS, path)
+        traffic = data.get('traffic')
+        if traffic is not None:
+            need(isinstance(traffic, dict), path, 'traffic', 'a mapping namespace -> vessel')
+            for ns in traffic:
+                need(ns not in vessels, path, f'traffic.{ns}',
+                      'namespace already used in vessels')
+            specs += _parse_vessels(traffic, 'traffic', TRAFFIC_KEYS, path, traffic=True)
+    need(not ('traffic' in data and 'platoon' in data), path, 'traffic',
+          'traffic is not supported beside a platoon')
     return Scenario(
         file=path, name=data['name'], source=str(data.get('source', '')),
         description=str(data.get('description', '')),
@@ -136,6 +146,25 @@ def load_scenario(path):
         settle_s=number(data, 'settle_s', path, 0.0, lo=0.0),
         record=bool(data.get('record', True)),
         lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon)
+
+
+def _parse_vessels(vessels, section, keys, path, traffic=False):
+    """VesselSpecs of one `vessels:` or `traffic:` mapping (namespace -> vessel)."""
+    specs = []
+    for ns, v in vessels.items():
+        where = f'{section}.{ns}.'
+        need(isinstance(ns, str) and ns.isidentifier(), path, f'{section}.{ns}',
+              'namespace must be a plain name like vessel_0')
+        need(isinstance(v, dict), path, where[:-1], 'must be a mapping')
+        unknown(v, keys, path, where)
+        need(isinstance(v.get('model'), str), path, where + 'model', 'a model name')
+        need(isinstance(v.get('route'), str), path, where + 'route', 'a route file')
+        route = (path.parent / v['route']).resolve()
+        need(route.exists(), path, where + 'route', f'{route} does not exist')
+        spec = parse_vessel(ns, v, route, path, where)
+        spec.traffic = traffic
+        specs.append(spec)
+    return specs
 
 
 def start_pose(spec, route):

@@ -23,6 +23,10 @@ class VesselSpec:
     # A follower runs follower_node (its `guidance` block holds follower_node parameters).
     predecessor: str = None
     spacing: float = None
+    # Collision avoidance (mission.scenario): colav_node parameters, None for no colav_node;
+    # `traffic` marks a target vessel of the scenario's `traffic:` section.
+    colav_params: dict = None
+    traffic: bool = False
 
 
 def parse_vessel(ns, v, route, path, where):
@@ -43,8 +47,10 @@ def parse_vessel(ns, v, route, path, where):
     speed = v.get('speed_mps')
     if speed is not None:
         speed = number(v, 'speed_mps', path, None, lo=0.0, hi=50.0, where=where)
-    for key in ('current', 'vessel', 'guidance', 'autopilot'):
+    for key in ('current', 'vessel', 'guidance', 'autopilot', 'colav'):
         need(isinstance(v.get(key, {}) or {}, dict), path, where + key, 'a mapping')
+    colav = None if 'colav' not in v else dict(v.get('colav') or {})
     return VesselSpec(ns, v['model'], route, dict(start), speed,
                       dict(v.get('current') or {}), dict(v.get('vessel') or {}),
-                      dict(v.get('guidance') or {}), dict(v.get('autopilot') or {}))
+                      dict(v.get('guidance') or {}), dict(v.get('autopilot') or {}),
+                      colav_params=colav)

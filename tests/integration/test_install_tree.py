@@ -108,6 +108,7 @@ BAD_PARAMETER = {
     'follower_node': ('lookahead_m', '-1.0'),
     'planner_node': ('clearance_m', '.nan'),
     'ais_node': ('file', '/no/such/file.nmea'),
+    'colav_node': ('method', 'no_such_method'),
 }
 
 

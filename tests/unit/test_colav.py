@@ -13,6 +13,7 @@ import pytest
 import yaml
 
 from ship_guidance.colav import ShipState, Target
+from ship_guidance.colav_io import NODE_KEYS
 from ship_guidance.colav_methods import make_colav
 from ship_guidance.colav_params import ColavParams
 from ship_guidance.cpa import cpa, velocity
@@ -290,7 +291,7 @@ def test_parameters_validate_and_the_config_lists_every_field():
                                     or k.endswith('_deg')})
     assert params == ColavParams()
     ship_keys = {f.name for f in dataclasses.fields(OwnShipModel)}
-    listed = {k.removesuffix('_deg') if k.endswith('_deg') else k for k in keys} - {'method'}
+    listed = {k.removesuffix('_deg') if k.endswith('_deg') else k for k in keys} - NODE_KEYS
     assert listed == {f.name for f in dataclasses.fields(ColavParams)} | ship_keys
     ship = OwnShipModel.from_dict(keys)
     assert ship.speed_at_factor_one_mps is None and ship.has_shaft

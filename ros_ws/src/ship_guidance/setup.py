@@ -26,6 +26,7 @@ setup(
             'guidance_node = ship_guidance.guidance_node:main',
             'follower_node = ship_guidance.follower_node:main',
             'ais_node = ship_guidance.ais_node:main',
+            'colav_node = ship_guidance.colav_node:main',
         ],
     },
 )

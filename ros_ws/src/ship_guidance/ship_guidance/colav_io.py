@@ -1,0 +1,185 @@
+"""What colav_node feeds the decision and makes of it (pure: no rclpy, no messages).
+
+- ``ship_state`` / ``target_state``: odometry (already in NED/FRD, ship_sim.ros.conversions
+  .odometry_to_ned) -> ``ShipState`` / ``Target`` with course and speed over ground
+  (chi = psi + atan2(v, u), U = |(u, v)|; the heading keeps psi for the COLREGs sectors).
+- ``TargetTracks``: per target the states received, keyed by stamp; ``at(t)`` gives each target's
+  latest state with a stamp <= t, dead-reckoned in a straight line to t (``dead_reckon``), so
+  a decision never sees a sample from the future, whatever order the messages arrived in.
+  Lockstep targets (full vessels stepping with the own ship) must have a sample at or after t
+  before a decision at t is taken (``waiting_for``).
+- ``DecisionSchedule``: a decision every ``period`` of sim time, on integer nanoseconds so the
+  schedule is exact and identical on repeat.
+- ``command_yaw``: the ENU yaw command from the nominal one and the last decision: the nominal
+  value itself (bit for bit) when the decision keeps the nominal course, else the nominal
+  course plus the decided offset.
+- ``target_rows``: the documented per-target array of the ``colav_targets`` topic.
+"""
+import bisect
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from ship_guidance import colregs
+from ship_guidance.colav import ShipState, Target
+from ship_guidance.cpa import range_and_bearing
+from ship_sim.frames import psi_to_yaw, wrap_angle, yaw_to_psi
+
+NS_PER_S = 1_000_000_000
+
+#: Columns of one target's row on colav_targets.
+TARGET_COLUMNS = ('tcpa_s', 'dcpa_m', 'situation', 'role', 'range_m', 'bearing_rad')
+#: Role codes (column 'role'); situation codes are ship_guidance.colregs' (index into SITUATIONS).
+ROLE_CODES = {'none': 0, colregs.GIVE_WAY: 1, colregs.STAND_ON: 2}
+#: Mode codes on colav_decision.
+MODE_CODES = {'nominal': 0, 'stand-on': 1, 'avoid': 2, 'last-resort': 3}
+#: colav_node's own parameters (config/colav.yaml lists them beside the decision's).
+NODE_KEYS = frozenset({'method', 'decision_period_s', 'pairing', 'targets_topic', 'target_topics',
+                       'target_stale_s', 'lockstep_target_timeout_s'})
+DECISION_COLUMNS = ('t_s', 'mode', 'course_offset_rad', 'speed_multiplier', 'threat',
+                    'n_targets')
+
+
+def to_ns(t_s):
+    """Seconds -> integer nanoseconds (rounded)."""
+    return int(round(t_s * NS_PER_S))
+
+
+def _course_speed(psi, u, v):
+    return float(wrap_angle(psi + math.atan2(v, u))), math.hypot(u, v)
+
+
+def ship_state(north, east, psi, u, v):
+    """Own ship: NED position (m), heading psi (rad), FRD velocity over ground (m/s)."""
+    course, speed = _course_speed(psi, u, v)
+    return ShipState(float(north), float(east), course, speed, float(psi))
+
+
+def target_state(name, north, east, psi, u, v):
+    course, speed = _course_speed(psi, u, v)
+    return Target(float(north), float(east), course, speed, float(psi), name=name)
+
+
+def dead_reckon(state, dt):
+    """``state`` moved on ``dt`` s along its course at its speed (course, speed kept)."""
+    if dt == 0.0:
+        return state
+    return replace(state, north=state.north + state.speed * math.cos(state.course) * dt,
+                   east=state.east + state.speed * math.sin(state.course) * dt)
+
+
+class TargetTracks:
+    """Targets by name: stamped states, the lockstep ones, silence and staleness."""
+
+    def __init__(self, stale_after_s):
+        self.stale_ns = to_ns(stale_after_s)
+        self._stamps = {}      # name -> sorted stamps (ns)
+        self._states = {}      # name -> states in the same order
+        self.lockstep = set()  # names that must be heard up to a decision's stamp
+        self.last_heard = {}   # name -> monotonic wall time of the last message (node's clock)
+
+    def add(self, name, t_ns, state, wall=0.0, lockstep=False):
+        """Keep ``state`` (a Target) stamped ``t_ns``; a repeated stamp replaces the earlier."""
+        stamps = self._stamps.setdefault(name, [])
+        states = self._states.setdefault(name, [])
+        i = bisect.bisect_left(stamps, t_ns)
+        if i < len(stamps) and stamps[i] == t_ns:
+            states[i] = state
+        else:
+            stamps.insert(i, t_ns)
+            states.insert(i, state)
+        self.last_heard[name] = wall
+        if lockstep:
+            self.lockstep.add(name)
+
+    def names(self):
+        return sorted(self._stamps)
+
+    def newest_ns(self, name):
+        stamps = self._stamps.get(name)
+        return stamps[-1] if stamps else None
+
+    def waiting_for(self, t_ns, expected=()):
+        """Lockstep targets (and ``expected`` names not heard yet) without a sample at or after
+        ``t_ns``, sorted."""
+        names = self.lockstep | set(expected)
+        newest = {n: self.newest_ns(n) for n in names}
+        return sorted(n for n in names if newest[n] is None or newest[n] < t_ns)
+
+    def at(self, t_ns):
+        """Targets (sorted by name) at ``t_ns``: each one's latest state stamped <= t_ns,
+        dead-reckoned to t_ns; a target whose latest such state is older than the staleness
+        limit, or that has none, is left out. Older states than the one used are forgotten."""
+        out = []
+        for name in self.names():
+            stamps, states = self._stamps[name], self._states[name]
+            i = bisect.bisect_right(stamps, t_ns) - 1
+            if i < 0:
+                continue
+            if i > 0:   # nothing older is needed again: decisions go forward in time
+                del stamps[:i], states[:i]
+            if t_ns - stamps[0] > self.stale_ns:
+                continue
+            out.append(dead_reckon(states[0], (t_ns - stamps[0]) / NS_PER_S))
+        return out
+
+    def forget(self, name):
+        for table in (self._stamps, self._states, self.last_heard):
+            table.pop(name, None)
+        self.lockstep.discard(name)
+
+
+class DecisionSchedule:
+    """Decide at the first stamp and then at the first stamp at least ``period_s`` after the
+    previous decision."""
+
+    def __init__(self, period_s):
+        self.period_ns = to_ns(period_s)
+        self.next_ns = None
+
+    def due(self, t_ns):
+        return self.next_ns is None or t_ns >= self.next_ns
+
+    def decided(self, t_ns):
+        self.next_ns = t_ns + self.period_ns
+
+
+def keeps_nominal_course(decision):
+    return decision is None or decision.course_offset == 0.0
+
+
+def command_yaw(nominal_yaw, decision):
+    """ENU yaw command: ``nominal_yaw`` itself when the decision keeps the nominal course, else
+    the nominal course (NED) plus the decision's offset (+ starboard), wrapped, in ENU."""
+    if keeps_nominal_course(decision):
+        return nominal_yaw
+    return float(psi_to_yaw(wrap_angle(yaw_to_psi(nominal_yaw) + decision.course_offset)))
+
+
+def speed_factor(nominal, decision):
+    return nominal if decision is None or decision.speed_multiplier == 1.0 else \
+        decision.speed_multiplier * nominal
+
+
+def target_rows(own, targets, decision):
+    """Flat list, one row of TARGET_COLUMNS per target (input order): TCPA (s), DCPA (m),
+    situation code (colregs), role code (ROLE_CODES), range (m) and relative bearing (rad,
+    [0, 2 pi), clockwise from the own bow)."""
+    if not targets:
+        return []
+    p_own = np.array([own.north, own.east])
+    p_tgt = np.array([[tg.north, tg.east] for tg in targets])
+    rng, _ = range_and_bearing(p_own, p_tgt)
+    heading = own.course if own.heading is None else own.heading
+    beta = colregs.relative_bearing(p_own, heading, p_tgt)
+    rows = []
+    for i, a in enumerate(decision.targets):
+        rows += [a.tcpa_s, a.dcpa_m, float(colregs.SITUATIONS.index(a.situation)),
+                 float(ROLE_CODES[a.role]), float(rng[i]), float(beta[i])]
+    return rows
+
+
+def decision_row(t_s, decision, n_targets):
+    return [t_s, float(MODE_CODES[decision.mode]), decision.course_offset,
+            decision.speed_multiplier, float(decision.threat), float(n_targets)]

@@ -1,0 +1,290 @@
+"""colav_node: collision avoidance between guidance and autopilot (thin; logic in colav_io).
+
+Subscribes `odom` (own ship, nav_msgs/Odometry ENU), `heading_ref` (std_msgs/Float64, the
+nominal ENU yaw: guidance_node's heading_cmd, remapped) and targets as nav_msgs/Odometry: the
+`targets_topic` (default `targets`, relative: the vessel namespace's; ais_node publishes every
+AIS target there, each named by its child_frame_id) and each of `target_topics` (full vessels
+stepping in lockstep, e.g. `/vessel_1/odom`; the topic names the target).
+Publishes, exactly once per own odom (`pairing` sequence, for lockstep: the n-th odom paired
+with the n-th heading_ref, as the autopilot pairs; latest, for realtime: with the last
+heading_ref, no waiting for lockstep targets, odom before the first heading_ref unanswered):
+  heading_cmd       std_msgs/Float64  ENU yaw the autopilot follows: heading_ref unchanged (the
+                    same float) unless the last decision alters course, else heading_ref plus
+                    the decided offset
+  speed_factor_cmd  std_msgs/Float64  nominal speed factor (1) x the decided multiplier
+and at each decision (every `decision_period_s` of sim time, on the own stamps):
+  colav_targets     std_msgs/Float64MultiArray  per target (sorted by name)
+                    [tcpa_s, dcpa_m, situation, role, range_m, bearing_rad] (colav_io)
+  colav_decision    std_msgs/Float64MultiArray  [t_s, mode, course_offset_rad,
+                    speed_multiplier, threat, n_targets] (mode codes in colav_io.MODE_CODES)
+  colav_markers     visualization_msgs/MarkerArray  d_safe circles around the targets, the
+                    CPA points of own ship and target, the commanded course as an arrow
+
+Determinism: a decision at own stamp t uses each target's latest state stamped <= t,
+dead-reckoned to t, and waits (the own odom is queued, lockstep holds the own simulator) until
+every `target_topics` target has a sample stamped >= t, so it does not depend on message
+timing. A lockstep target silent for `lockstep_target_timeout_s` of wall time is no longer
+waited for (warned; waited for again once it speaks); any target whose newest usable state is
+older than `target_stale_s` of sim time is left out.
+"""
+import time
+
+from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import ParameterDescriptor
+from rclpy.clock import Clock, ClockType
+from rclpy.node import Node
+from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension
+from visualization_msgs.msg import MarkerArray
+
+from ship_guidance import colav_io
+from ship_guidance.colav_methods import METHODS, make_colav
+from ship_guidance.colav_params import ColavParams
+from ship_guidance.own_ship_prediction import OwnShipModel
+from ship_guidance.ros.colav_markers import colav_markers
+from ship_sim.frames import yaw_to_psi
+from ship_sim.pacing import SequencePairer
+from ship_sim.ros.conversions import odometry_to_ned
+from ship_sim.ros.params import NodeParameters, ParameterError
+from ship_sim.ros.qos import STREAM
+from ship_sim.ros.run import run_node
+
+DEFAULTS = ColavParams()
+SHIP = OwnShipModel()
+# (name, default, description, lo, hi, unit) of the scalar ColavParams / OwnShipModel keys.
+SCALARS = (
+    ('d_safe_m', DEFAULTS.d_safe_m, 'safe passing distance r_min', 1.0, 1e5, 'm'),
+    ('near_miss_m', DEFAULTS.near_miss_m, 'near-miss radius r_nm (evaluation)', 1.0, 1e5, 'm'),
+    ('collision_m', DEFAULTS.collision_m, 'collision radius r_col: last resort below it', 1.0,
+     1e5, 'm'),
+    ('threat_m', DEFAULTS.threat_m, 'a target is a threat within this of the nominal '
+     'prediction', 1.0, 1e5, 'm'),
+    ('d_close_m', DEFAULTS.d_close_m, 'COLREGs side rules apply to passes closer than this', 1.0,
+     1e5, 'm'),
+    ('horizon_s', DEFAULTS.horizon_s, 'prediction horizon', 1.0, 7200.0, 's'),
+    ('dt_s', DEFAULTS.dt_s, 'prediction step', 0.1, 600.0, 's'),
+    ('w_collision', DEFAULTS.w_collision, 'collision-risk weight', 0.0, 1e9, ''),
+    ('relative_speed_floor', DEFAULTS.relative_speed_floor, 'floor of v_rel / U', 0.0, 10.0, ''),
+    ('risk_time_exponent', DEFAULTS.risk_time_exponent, 'p of the risk', 0.0, 10.0, ''),
+    ('risk_distance_exponent', DEFAULTS.risk_distance_exponent, 'q of the risk', 0.0, 10.0, ''),
+    ('w_wrong_side', DEFAULTS.w_wrong_side, 'Rule 14/15 wrong-side penalty', 0.0, 1e9, ''),
+    ('w_port_turn', DEFAULTS.w_port_turn, 'port-turn penalty (Rules 14, 15, 17(c))', 0.0, 1e9, ''),
+    ('w_not_apparent', DEFAULTS.w_not_apparent, 'Rule 8(b) not-apparent penalty', 0.0, 1e9, ''),
+    ('apparent_course_change_deg', 30.0, 'apparent course change (Rule 8(b))', 0.0, 180.0, 'deg'),
+    ('w_course_starboard', DEFAULTS.w_course_starboard, 'starboard deviation weight', 0.0, 1e9, ''),
+    ('w_course_port', DEFAULTS.w_course_port, 'port deviation weight', 0.0, 1e9, ''),
+    ('w_speed', DEFAULTS.w_speed, 'speed reduction weight', 0.0, 1e9, ''),
+    ('w_change_course_starboard', DEFAULTS.w_change_course_starboard, 'change to starboard '
+     'weight', 0.0, 1e9, ''),
+    ('w_change_course_port', DEFAULTS.w_change_course_port, 'change to port weight', 0.0, 1e9, ''),
+    ('w_change_speed', DEFAULTS.w_change_speed, 'speed change weight', 0.0, 1e9, ''),
+    ('stand_on_dcpa_m', DEFAULTS.stand_on_dcpa_m, 'Rule 17(b): act below this distance ...', 0.0,
+     1e5, 'm'),
+    ('stand_on_act_time_s', DEFAULTS.stand_on_act_time_s, '... within this time', 0.0, 7200.0,
+     's'),
+    ('course_time_constant_s', SHIP.course_time_constant_s, 'own-ship model: course lag', 1e-3,
+     1e4, 's'),
+    ('max_turn_rate', float(SHIP.max_turn_rate), 'own-ship model: turn-rate cap', 1e-6, 10.0, 'rad/s'),
+    ('speed_time_constant_s', SHIP.speed_time_constant_s, 'own-ship model: speed lag', 1e-3, 1e5,
+     's'),
+    ('speed_at_factor_one_mps', 0.0, 'own-ship model: speed at factor 1 (0: current speed)', 0.0,
+     100.0, 'm/s'),
+)
+LISTS = (('course_offsets_deg', [float(v) for v in range(-90, 91, 15)],
+          'course offsets from the nominal (deg, + starboard; must hold 0)'),
+         ('speed_factors', [1.0, 0.5, 0.0], 'speed multipliers in [0, 1] (must hold 1)'),
+         ('target_topics', [''], 'Odometry topics of full vessels stepping in lockstep with '
+          'this one (waited for at each decision); empty strings are ignored'))
+
+
+class ColavRosNode(Node):
+    def __init__(self):
+        super().__init__('colav_node')
+        p = NodeParameters(self)
+        method = p.declare('method', 'sbmpc', 'decision method', choices=tuple(METHODS),
+                           read_only=True)
+        period = p.declare('decision_period_s', 1.0, 'sim time between decisions', lo=1e-3,
+                           hi=3600.0, unit='s', read_only=True)
+        self.targets_topic = p.declare('targets_topic', 'targets', 'topic of many targets, each '
+                                       'named by child_frame_id (relative: in this namespace; '
+                                       "'': none)", read_only=True)
+        stale = p.declare('target_stale_s', 30.0, 'a target state older than this (sim time) is '
+                          'not used', lo=0.0, hi=1e5, unit='s', read_only=True)
+        self.wait_timeout = p.declare('lockstep_target_timeout_s', 10.0, 'wall time a decision '
+                                      'waits for a silent lockstep target before going on '
+                                      'without it', lo=0.01, hi=1e4, unit='s', read_only=True)
+        self.pairing = p.declare('pairing', 'sequence', 'sequence: the n-th odom with the n-th '
+                                 'heading_ref, lockstep targets waited for (lockstep); latest: '
+                                 'each odom with the last heading_ref, no waiting (realtime)',
+                                 choices=('sequence', 'latest'), read_only=True)
+        self.has_shaft = p.declare('has_shaft', True, 'own ship has a speed (shaft) command',
+                                   read_only=True)
+        values = {name: p.declare(name, default, desc, lo=lo, hi=hi, unit=unit, read_only=True)
+                  for name, default, desc, lo, hi, unit in SCALARS}
+        lists = {name: self._declare_list(name, default, desc) for name, default, desc in LISTS}
+        topics = [t for t in lists.pop('target_topics') if t.strip()]
+        try:
+            params = ColavParams.from_dict({k: v for k, v in {**values, **lists}.items()
+                                            if k not in OWN_SHIP_KEYS})
+            ship = OwnShipModel.from_dict({**{k: values[k] for k in OWN_SHIP_KEYS},
+                                           'has_shaft': self.has_shaft})
+        except (TypeError, ValueError) as exc:
+            raise ParameterError('d_safe_m', message=f'colav parameters: {exc}') from None
+        self.colav = make_colav(method, params, ship)
+        self.params = params
+        self.schedule = colav_io.DecisionSchedule(period)
+        self.tracks = colav_io.TargetTracks(stale)
+        self.lockstep_topics = topics
+        self.pairer = SequencePairer()
+        self.pending = []          # (odom NED, heading_ref) pairs not answered yet
+        self.latest_ref = None     # latest pairing: the last heading_ref
+        self.decision = None
+        self.wait_since = None
+        self.warned = set()
+
+        self.pub_heading = self.create_publisher(Float64, 'heading_cmd', STREAM)
+        self.pub_speed = self.create_publisher(Float64, 'speed_factor_cmd', STREAM)
+        self.pub_targets = self.create_publisher(Float64MultiArray, 'colav_targets', STREAM)
+        self.pub_decision = self.create_publisher(Float64MultiArray, 'colav_decision', STREAM)
+        self.pub_markers = self.create_publisher(MarkerArray, 'colav_markers', STREAM)
+        self.m_targets = Float64MultiArray()
+        self.m_decision = Float64MultiArray()
+        self.m_decision.layout.dim = [MultiArrayDimension(
+            label=','.join(colav_io.DECISION_COLUMNS), size=len(colav_io.DECISION_COLUMNS),
+            stride=1)]
+        for topic in topics:
+            self.create_subscription(Odometry, topic, self._lockstep_target(topic), STREAM)
+        if self.targets_topic:
+            self.create_subscription(Odometry, self.targets_topic, self._on_targets, STREAM)
+        self.create_subscription(Float64, 'heading_ref', self._on_ref, STREAM)
+        self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
+        self.create_timer(0.2, self._drain, clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self.get_logger().info(f'colav {method}: decision every {period:g} s, d_safe '
+                               f'{params.d_safe_m:g} m, lockstep targets {topics or "none"}')
+
+    def _declare_list(self, name, default, description):
+        desc = ParameterDescriptor(description=description, read_only=True)
+        value = self.declare_parameter(name, default, desc).value
+        return list(value)
+
+    # --- inputs ---------------------------------------------------------------------------
+
+    def _lockstep_target(self, topic):
+        def callback(msg):
+            self._add_target(topic, msg, lockstep=True)
+            self._drain()
+        return callback
+
+    def _on_targets(self, msg):
+        self._add_target(msg.child_frame_id, msg, lockstep=False)
+        self._drain()
+
+    def _add_target(self, name, msg, lockstep):
+        o = odometry_to_ned(msg)
+        if not all(map(_finite, o)):
+            return
+        state = colav_io.target_state(name, o.north, o.east, o.psi, o.u, o.v)
+        self.tracks.add(name, _stamp_ns(msg), state, time.monotonic(), lockstep)
+        self.warned.discard(name)
+
+    def _on_odom(self, data):
+        if self.pairing == 'latest':
+            if self.latest_ref is not None:   # nothing to pass on before guidance has spoken
+                self.pending.append((odometry_to_ned(data), self.latest_ref))
+                self._drain()
+            return
+        self.pairer.push_a(odometry_to_ned(data))
+        self._pair()
+
+    def _on_ref(self, msg):
+        if self.pairing == 'latest':
+            self.latest_ref = msg.data
+            return
+        self.pairer.push_b(msg.data)
+        self._pair()
+
+    def _pair(self):
+        self.pending.extend(self.pairer.pairs())
+        self._drain()
+
+    # --- decisions ------------------------------------------------------------------------
+
+    def _drain(self):
+        while self.pending:
+            o, ref = self.pending[0]
+            t_ns = colav_io.to_ns(o.t)
+            if (self.pairing == 'sequence' and self.schedule.due(t_ns)
+                    and not self._targets_ready(t_ns)):
+                return
+            self.pending.pop(0)
+            self.wait_since = None
+            self._answer(t_ns, o, ref)
+
+    def _answer(self, t_ns, o, ref):
+        if not (all(map(_finite, o)) and _finite(ref)):
+            # Refused input: answer with the nominal (pairing holds), no decision.
+            self._publish(ref if _finite(ref) else 0.0, None)
+            return
+        if self.schedule.due(t_ns):
+            self.schedule.decided(t_ns)
+            own = colav_io.ship_state(o.north, o.east, o.psi, o.u, o.v)
+            targets = self.tracks.at(t_ns)
+            nominal = yaw_to_psi(ref)
+            self.decision = self.colav.decide(o.t, own, targets, nominal, 1.0)
+            self._publish_decision(o.t, own, targets)
+        self._publish(ref, self.decision)
+
+    def _publish(self, ref, decision):
+        self.pub_heading.publish(Float64(data=colav_io.command_yaw(ref, decision)))
+        self.pub_speed.publish(Float64(data=colav_io.speed_factor(1.0, decision)))
+
+    def _publish_decision(self, t, own, targets):
+        d = self.decision
+        rows = colav_io.target_rows(own, targets, d)
+        self.m_targets.layout.dim = [
+            MultiArrayDimension(label=','.join(tg.name for tg in targets), size=len(targets),
+                                stride=len(rows)),
+            MultiArrayDimension(label=','.join(colav_io.TARGET_COLUMNS),
+                                size=len(colav_io.TARGET_COLUMNS),
+                                stride=len(colav_io.TARGET_COLUMNS))]
+        self.m_targets.data = rows
+        self.pub_targets.publish(self.m_targets)
+        self.m_decision.data = colav_io.decision_row(t, d, len(targets))
+        self.pub_decision.publish(self.m_decision)
+        self.pub_markers.publish(colav_markers(t, own, targets, d, self.params.d_safe_m))
+
+    def _targets_ready(self, t_ns):
+        missing = [n for n in self.tracks.waiting_for(t_ns, self.lockstep_topics)
+                   if n not in self.warned]
+        if not missing:
+            return True
+        now = time.monotonic()
+        if self.wait_since is None:
+            self.wait_since = now
+        if now - self.wait_since < self.wait_timeout:
+            return False
+        for name in missing:
+            self.warned.add(name)
+            self.get_logger().warning(f'target {name} silent for {self.wait_timeout:g} s (wall): '
+                                      'deciding without waiting for it (no longer deterministic)')
+        return True
+
+
+def _finite(x):
+    return x == x and abs(x) != float('inf')
+
+
+def _stamp_ns(msg):
+    s = msg.header.stamp
+    return s.sec * colav_io.NS_PER_S + s.nanosec
+
+
+OWN_SHIP_KEYS = ('course_time_constant_s', 'max_turn_rate', 'speed_time_constant_s',
+                 'speed_at_factor_one_mps')
+
+
+def main(args=None):
+    return run_node(ColavRosNode, args=args)
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())

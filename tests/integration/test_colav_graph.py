@@ -1,0 +1,158 @@
+"""Collision avoidance in the node graph, real processes through the launcher
+(scenarios/head_on_mariner_2.yaml): two full Mariners on reciprocal courses in lockstep, the own
+ship (vessel_0) with colav_node (SB-MPC), the target (target_0, `traffic:`) holding its route.
+
+- COLREGs Rule 14: the own ship alters to starboard, apparently (Rule 8(b): at least 30 deg of
+  heading), and they pass port to port (the target on the own port side at the closest point)
+  beyond the colav d_safe_m in force; on their routes alone they would meet (range 0).
+- colav_node answers every own odom with one heading_cmd: heading_ref itself, byte for byte,
+  while the decision in force keeps the nominal course, another value while it alters.
+- The record is complete (every step of both vessels) and two runs give identical metrics
+  (vessels sections) and identical heading_cmd / colav_targets / colav_decision messages.
+- colav_node alone, fed by the test: it waits for a lockstep target up to its own stamp, decides
+  on the target state stamped at or before that stamp, stops waiting for a silent target.
+"""
+import json
+import time
+
+import numpy as np
+import pytest
+import yaml
+
+from mission.bag import read_bag
+from mission.encounter import alteration, colav_messages, decision_rows, min_distance
+from ship_guidance.colav_params import ColavParams
+
+from harness import REPO_ROOT
+
+SCENARIO = REPO_ROOT / 'scenarios' / 'head_on_mariner_2.yaml'
+OWN, TARGET = 'vessel_0', 'target_0'
+
+
+def _run(launch):
+    run = launch(SCENARIO, '--wall-timeout', 150)
+    assert run.wait(170.0) == 0, run.report()
+    run_dir = run.run_dir()
+    info = yaml.safe_load((run_dir / 'run.json').read_text())
+    assert info['outcome'] == 'duration reached', info
+    return run_dir
+
+
+@pytest.mark.timeout(420)
+def test_head_on_mariners_pass_port_to_port_beyond_d_safe_identically_twice(launch):
+    scenario = yaml.safe_load(SCENARIO.read_text())
+    colav = scenario['vessels'][OWN]['colav']
+    d_safe = colav.get('d_safe_m', ColavParams().d_safe_m)
+    dt = scenario['dt_s']
+    n = int(round(scenario['duration_s'] / dt)) + 1
+
+    runs = [_run(launch) for _ in range(2)]
+    first = runs[0]
+    data = read_bag(first / 'bag', namespaces=[f'/{OWN}', f'/{TARGET}'])
+    own, tgt = data.vessels[f'/{OWN}'], data.vessels[f'/{TARGET}']
+    assert len(own.t) == len(tgt.t) == n, 'every step of both vessels in the bag'
+
+    enc = min_distance(own, tgt)
+    rows = decision_rows(first / 'bag', OWN)
+    alt = alteration(rows)
+    print(f'head-on: {enc}, {alt}')
+    # On their routes they meet: both start on y = 0 heading for each other.
+    assert abs(own.y[0]) < 1.0 and abs(tgt.y[0]) < 1.0
+    assert enc['min_distance_m'] > d_safe, enc
+    assert enc['side'] == 'port', enc
+    assert alt['first_avoid_s'] is not None and alt['first_offset_deg'] > 0.0, alt
+    assert not alt['last_resort']
+    # Apparent alteration to starboard: ENU yaw decreases by at least 30 deg before the CPA.
+    before = own.t <= enc['t_min_s']
+    turn = np.degrees(np.unwrap(own.yaw[before]) - own.yaw[0])
+    assert turn.min() <= -30.0, f'largest starboard turn {-turn.min():.1f} deg'
+
+    msgs = colav_messages(first / 'bag', OWN)
+    assert len(msgs['heading_cmd']) == len(msgs['heading_ref']) == n
+    assert len(msgs['colav_decision']) == len(rows) == int(np.ceil(n * dt / 1.0))
+    t_steps = np.arange(n) * dt
+    in_force = np.searchsorted(rows[:, 0], t_steps + 1e-9, side='right') - 1
+    keeps = rows[in_force, 2] == 0.0
+    same = np.array([a == b for a, b in zip(msgs['heading_cmd'], msgs['heading_ref'])])
+    assert keeps.any() and (~keeps).any()
+    np.testing.assert_array_equal(same, keeps)
+
+    second = runs[1]
+    m1, m2 = (json.loads((r / 'metrics.json').read_text()) for r in runs)
+    assert m1['vessels'] == m2['vessels']
+    msgs2 = colav_messages(second / 'bag', OWN)
+    for topic in ('heading_cmd', 'colav_targets', 'colav_decision'):
+        assert msgs[topic] == msgs2[topic], topic
+
+
+@pytest.mark.timeout(120)
+def test_colav_node_decides_on_target_states_up_to_its_stamp_and_waits_for_lockstep_targets(
+        ros_graph):
+    """colav_node alone, fed by the test: started with the installed config/colav.yaml (every
+    key it lists is accepted), one lockstep target topic.
+
+    - The first own odom (a decision step) is not answered before the target's sample at that
+      stamp; then it is, with heading_ref itself (no threat: the target is far off).
+    - Between decisions it answers at once, without target samples.
+    - A decision uses the target state stamped at or before the own stamp: a head-on sample at
+      t = 1 s and a harmless one at t = 1.5 s, both there before the own odom of t = 1 s, give a
+      starboard alteration and a head-on / give-way row.
+    - A target silent past lockstep_target_timeout_s is no longer waited for (warned)."""
+    from nav_msgs.msg import Odometry
+    from std_msgs.msg import Float64, Float64MultiArray
+
+    from ship_guidance import colregs
+    from ship_guidance.colav_io import ROLE_CODES, TARGET_COLUMNS
+    from ship_sim.frames import yaw_to_psi
+    from ship_sim.ros.conversions import make_odometry
+    config = REPO_ROOT / 'ros_ws' / 'install' / 'ship_guidance' / 'share' / 'ship_guidance' / \
+        'config' / 'colav.yaml'
+    node = ros_graph.start('ship_guidance', 'colav_node', namespace='/vessel_0',
+                           params_file=config,
+                           params={'target_topics': ['/v1/odom'],
+                                   'lockstep_target_timeout_s': 2.0, 'use_sim_time': True})
+    tn = ros_graph.test_node()
+    odom = tn.publisher('/vessel_0/odom', Odometry)
+    ref = tn.publisher('/vessel_0/heading_ref', Float64)
+    tgt = tn.publisher('/v1/odom', Odometry)
+    cmd = tn.subscribe('/vessel_0/heading_cmd', Float64)
+    rows = tn.subscribe('/vessel_0/colav_targets', Float64MultiArray)
+    for pub in (odom, ref, tgt):
+        assert tn.wait_for_subscribers(pub, timeout=20.0), node.report()
+    U, east = 7.7, float(yaw_to_psi(0.0))     # own ship heading east (ENU yaw 0)
+    nominal = 0.0123456789012345
+
+    def own(t):
+        odom.publish(make_odometry(t, 0.0, U * t, east, U, 0.0, 0.0, 'vessel_0/base_link'))
+        ref.publish(Float64(data=nominal))
+
+    def target(t, north, east_m, psi):
+        tgt.publish(make_odometry(t, north, east_m, psi, U, 0.0, 0.0, 'v1/base_link'))
+
+    own(0.0)
+    tn.spin_for(1.0)
+    assert len(cmd) == 0, 'answered before the lockstep target reached the stamp'
+    target(0.0, 20000.0, 0.0, 0.0)                     # 20 km north, heading north
+    assert tn.wait_for_message(cmd, 5.0) is not None, node.report()
+    assert cmd[0].data == nominal                      # passed through, the same float
+    for k in range(1, 10):                             # no decision due: answered at once
+        own(0.1 * k)
+    assert tn.wait_for_message(cmd, 5.0, count=10) is not None, node.report()
+    assert all(m.data == nominal for m in cmd.messages)
+    # head-on 4 km ahead, stamped 1.0; a harmless sample stamped 1.5 arrives before the own 1.0
+    target(1.0, 0.0, 4000.0, float(yaw_to_psi(3.141592653589793)))
+    target(1.5, 30000.0, 0.0, 0.0)
+    tn.spin_for(0.3)
+    own(1.0)
+    m = tn.wait_for_message(cmd, 5.0, count=11)
+    assert m is not None, node.report()
+    assert m.data < nominal - 0.2, 'no starboard alteration (ENU yaw must decrease)'
+    row = tn.wait_for_message(rows, 5.0, count=2)
+    assert row is not None and len(row.data) == len(TARGET_COLUMNS)
+    assert int(row.data[2]) == colregs.HEAD_ON and int(row.data[3]) == ROLE_CODES['give-way']
+    # t = 2.0: the target's newest sample is 1.5 s; silent, it is waited for 2 s, then dropped
+    t0 = time.monotonic()
+    own(2.0)
+    assert tn.wait_for_message(cmd, 10.0, count=12) is not None, node.report()
+    assert cmd.times[11] - t0 >= 1.5
+    assert node.wait_for_output('silent', 5.0), node.report()

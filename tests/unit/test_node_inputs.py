@@ -12,7 +12,6 @@ tests/integration/test_node_input_processes.py):
 """
 import math
 import struct
-import time
 
 import numpy as np
 import pytest
@@ -29,7 +28,6 @@ from ship_sim.ros.run import rcl_reason
 from ship_sim.simulator import VesselSimulator
 
 #: The vessel node's lockstep timeout default (s): a route must be decoded well within it.
-LOCKSTEP_TIMEOUT_S = 5.0
 
 
 # -- run_node / parameters ----------------------------------------------------------------------
@@ -113,12 +111,10 @@ def _serialized_with_count(count):
 
 def test_too_many_poses_are_refused_at_once_from_the_count():
     log = Log()
-    t0 = time.perf_counter()
+    # the bytes hold 2 poses behind a count of 200000: only a refusal from the count alone passes
     assert accept_route(_serialized_with_count(200_000), log) is None
-    elapsed = time.perf_counter() - t0
     assert len(log.lines) == 1 and f'at most {MAX_ROUTE_POSES}' in log.lines[0]
     assert '200000 poses' in log.lines[0]
-    assert elapsed < 0.05   # no pose is decoded: microseconds, with room for a loaded machine
     # The message form too (a node given a deserialised Path).
     msg = _route_msg(Route.polyline(np.column_stack([np.arange(MAX_ROUTE_POSES + 1.0),
                                                      np.zeros(MAX_ROUTE_POSES + 1)])))
@@ -131,22 +127,18 @@ def _large_route():
     return Route.from_curve(s, 300.0 * np.sin(s / 3000.0))
 
 
-def test_raw_bytes_decode_equals_message_decode_and_a_large_route_is_fast():
+def test_raw_bytes_decode_of_a_large_route_equals_message_decode():
     msg = _route_msg(_large_route())
     assert 0.8 * MAX_ROUTE_POSES < len(msg.poses) <= MAX_ROUTE_POSES
     data = serialize_message(msg)
     assert path_msgs._cdr_path_fields(data) is not None   # read with numpy, not rclpy
-    t0 = time.perf_counter()
     from_bytes = path_msg_to_route(data)
-    elapsed = time.perf_counter() - t0
     from_msg = path_msg_to_route(msg)
     assert len(from_bytes.legs) == len(from_msg.legs)
     for a, b in zip(from_bytes.legs, from_msg.legs):
         assert a.kind == b.kind
         np.testing.assert_array_equal(a.start, b.start)
         np.testing.assert_array_equal(a.end, b.end)
-    # Half the lockstep timeout, on a loaded 2-core machine (idle: ~0.6 s).
-    assert elapsed < 0.5 * LOCKSTEP_TIMEOUT_S, f'{elapsed:.2f} s'
 
 
 def test_raw_decode_falls_back_to_rclpy_for_unequal_pose_frame_ids():

@@ -97,3 +97,10 @@ def test_state_is_vectorised_and_exact_at_repeated_calls():
     b = traffic.state(123.4)
     for x, y in zip(a, b):
         assert x.shape == (5,) and np.array_equal(x, y)
+
+
+def test_a_target_at_rest_keeps_its_given_course():
+    traffic = make_traffic([{'name': 'r', 'x_m': 5.0, 'y_m': 6.0, 'course_deg': 135.0,
+                             'speed_mps': 0.0}])
+    n, e, c, s = traffic.state(1000.0)
+    assert (n[0], e[0], c[0], s[0]) == pytest.approx((6.0, 5.0, math.radians(135.0), 0.0))

@@ -21,24 +21,26 @@ class LightTraffic:
     """N light targets; ``state(t)`` gives all of them at once (arrays of length N)."""
 
     def __init__(self, names, legs):
-        """names: N distinct strings; legs: per target (T, P, V) with T (m,), P and V (m, 2)."""
+        """names: N distinct strings; legs: per target (T, P, V) with T (m,), P and V (m, 2),
+        or (T, P, V, course) with the course (m,) of each leg given (a target at rest)."""
         if len(names) != len(legs):
             raise ValueError(f'{len(names)} names for {len(legs)} targets')
         if len(set(names)) != len(names):
             raise ValueError(f'target names must be distinct, got {list(names)}')
         self.names = list(names)
-        m = max((len(t) for t, _, _ in legs), default=1)
+        m = max((len(leg[0]) for leg in legs), default=1)
         n = len(legs)
         self._t = np.full((n, m), np.inf)   # padding never becomes the current leg
         self._p = np.zeros((n, m, 2))
         self._v = np.zeros((n, m, 2))
         self._course = np.zeros((n, m))
-        for i, (t, p, v) in enumerate(legs):
+        for i, leg in enumerate(legs):
+            t, p, v = leg[:3]
             k = len(t)
             self._t[i, :k] = t
             self._p[i, :k] = p
             self._v[i, :k] = v
-            self._course[i, :k] = _leg_courses(v)
+            self._course[i, :k] = _leg_courses(v) if len(leg) == 3 else leg[3]
         self._t[:, 0] = np.where(np.isfinite(self._t[:, 0]), self._t[:, 0], 0.0)
 
     def __len__(self):
@@ -83,13 +85,15 @@ def _finite(values, what):
 
 
 def constant_legs(north, east, course, speed, t0=0.0):
-    """Legs of a target at (north, east) at time t0 (s), course (rad, NED), speed (m/s)."""
+    """Legs of a target at (north, east) at time t0 (s), course (rad, NED), speed (m/s); the
+    course is kept as given, also at speed 0."""
     north, east, course, speed, t0 = _finite([north, east, course, speed, t0],
                                              'start, course, speed and time')
     if speed < 0.0:
         raise ValueError(f'speed must be >= 0, got {speed}')
     v = speed * np.array([[math.cos(course), math.sin(course)]])
-    return np.array([t0]), np.array([[north, east]]), v
+    wrapped = (course + math.pi) % (2.0 * math.pi) - math.pi
+    return np.array([t0]), np.array([[north, east]]), v, np.array([wrapped])
 
 
 def waypoint_legs(times, north, east):

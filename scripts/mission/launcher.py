@@ -15,6 +15,7 @@ Afterwards the bag is turned into metrics.json and PNG plots.
 Run folder: runs/<scenario>-<timestamp>/ with params/ (one ROS parameter file per node),
 logs/ (one log per process), bag/ (rosbag2 MCAP), metrics.json, *.png; runs/latest points at it.
 """
+import json
 import math
 import os
 import signal
@@ -42,16 +43,25 @@ COLAV_REMAP = ['-r', 'heading_cmd:=heading_ref']
 RECORD_ACK = 'record_ack'  # per vessel namespace: the recorder's lockstep acknowledgement
 
 
-def record_ack_arg(namespace, clock_master):
-    """The recorder's --ack argument for one vessel: the topics it publishes or gets every step."""
+def record_ack_arg(namespace, clock_master, extra=()):
+    """The recorder's --ack argument for one vessel: the topics it publishes or gets every step
+    (``extra``: more per-step topics acknowledged with it, e.g. the light targets' odom)."""
     ns = f'/{namespace}'
     topics = (['/clock'] if clock_master else []) + [f'{ns}/{t}' for t in ('odom', 'rudder', 'rudder_cmd')]
-    return ['--ack', f'{ns}/{RECORD_ACK}=' + ','.join(topics)]
+    return ['--ack', f'{ns}/{RECORD_ACK}=' + ','.join(topics + list(extra))]
+
+
+def light_odom_topics(scenario):
+    """The odom topics traffic_node publishes, one per light target of the scenario."""
+    return [f"/{t['name']}/odom" for t in scenario.light]
 
 
 def record_ack_args(scenario):
-    """The recorder's --ack arguments for every vessel (the first is the clock master)."""
-    return [a for i, spec in enumerate(scenario.vessels) for a in record_ack_arg(spec.namespace, i == 0)]
+    """The recorder's --ack arguments for every vessel (the first is the clock master, whose
+    acknowledgement also covers the light targets: traffic_node publishes them on its /clock)."""
+    light = light_odom_topics(scenario)
+    return [a for i, spec in enumerate(scenario.vessels)
+            for a in record_ack_arg(spec.namespace, i == 0, light if i == 0 else ())]
 
 
 class MissionFailed(RuntimeError):
@@ -287,7 +297,8 @@ def node_parameters(scenario, spec, index, record):
                            **spec.autopilot_params},
     }
     if spec.colav_params is not None:
-        others = [f'/{s.namespace}/odom' for s in scenario.vessels if s is not spec]
+        others = [f'/{s.namespace}/odom' for s in scenario.vessels if s is not spec] + \
+            light_odom_topics(scenario)
         # No node executes speed_factor_cmd yet: plan with course changes only unless asked.
         params['colav_node'] = {**sim_time, 'target_topics': others or [''], 'has_shaft': False,
                                 'pairing': 'sequence' if lockstep else 'latest',
@@ -298,6 +309,28 @@ def node_parameters(scenario, spec, index, record):
         from mission.platoon import follower_parameters
         params['follower_node'] = follower_parameters(scenario, spec)
     return params, plan
+
+
+def traffic_parameters(scenario):
+    """traffic_node's parameters: the light targets as JSON text (ship_sim.light_traffic)."""
+    return {'use_sim_time': True, 'targets': json.dumps(scenario.light)}
+
+
+def _wait_for_clock_subscriber(monitor, node_name, group, timeout_s=30.0):
+    """Wait until ``node_name`` subscribes /clock: the simulators start after it, so it hears
+    step 0 (colav_node waits for its samples from step 0 on)."""
+    end = time.monotonic() + timeout_s
+    while time.monotonic() < end:
+        infos = monitor.node.get_subscriptions_info_by_topic('/clock')
+        if any(i.node_name == node_name for i in infos):
+            return
+        dead = group.failed()
+        if dead:
+            p = dead[0]
+            raise MissionFailed(f'{p.label} exited with {_exit_status(p.returncode)}, its last '
+                                f'line: {_last_line(p)} (log: {p.log_path})')
+        monitor.spin(0.1)
+    raise MissionFailed(f'{node_name} did not subscribe /clock within {timeout_s:.0f} s')
 
 
 def write_params(run, namespace, node, params):
@@ -435,6 +468,10 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
                             ['--ros-args', '-r', f'__ns:=/{spec.namespace}', '--params-file', f,
                              *node_remaps(spec, exe)])
             vessel_params.append((spec, params['vessel_node'], plan))
+        if scenario.light:
+            f = write_params(run, 'traffic', 'traffic_node', traffic_parameters(scenario))
+            group.start('traffic/traffic_node', 'ship_sim', 'traffic_node',
+                        ['--ros-args', '--params-file', f])
         if record:
             from ship_sim.models import make_model
             # Each vessel's limit for mission.report (the instance's: some models set it in
@@ -452,6 +489,8 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
                                           *meta, *acks])
         monitor = Monitor(namespaces)
         monitor.spin(1.0)
+        if scenario.light:
+            _wait_for_clock_subscriber(monitor, 'traffic_node', group)
         simulators = {}
         if scenario.platoon is not None:   # every predecessor's simulator before its followers'
             from mission.platoon import start_order

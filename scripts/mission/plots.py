@@ -147,7 +147,8 @@ def plot_rudder(vessels, path, limit_rad=None):
                            label='limit' if sign > 0 else None)
         ax.set_ylabel('rudder (deg)')
         ax.grid(True, alpha=0.3)
-        ax.legend(loc='best', fontsize=8)
+        if ax.get_legend_handles_labels()[0]:   # a light target has no rudder: no legend
+            ax.legend(loc='best', fontsize=8)
     axes[-1].set_xlabel('time (s)')
     return _save(fig, path)
 

@@ -28,6 +28,12 @@
                                              # guidance and autopilot, the other vessels as targets
     traffic:                                 # optional: target vessels (same keys but `colav`):
       target_0: {model: mariner, route: routes/..., speed_mps: 7.7}   # full vessels, no avoidance
+      target_1:                              # a light target: the one key `light`, either
+        light: {x_m: 3000.0, y_m: -3000.0, course_deg: 0.0, speed_mps: 7.7}
+                                             #   constant course (clockwise from north) and
+                                             #   speed from (x_m, y_m) ENU at t = 0 (default 0/0)
+      target_2:                              #   or timed waypoints [t_s, x_m, y_m] (ENU, times
+        light: {waypoints: [[0, 0, 0], [600, 0, 4000]]}   # strictly increasing), straight legs
 
 Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
@@ -42,6 +48,11 @@ heading_cmd the autopilot follows; every other vessel's odom is one of its `targ
 `traffic` vessels are the same full vessels (model, route, guidance, autopilot) listed apart:
 they never avoid, and in lockstep each keeps within lockstep_follower_window steps of every
 colav vessel's odom (the platoon gate), so the record stays lossless.
+Light targets (`light:` entries, ship_sim.light_traffic) are no vessels: one traffic_node moves
+them all in closed form and publishes `/<name>/odom` at every /clock step, stamped at the step;
+their odom topics join every colav vessel's `target_topics` and the clock master's record
+acknowledgement. They are in `Scenario.light` (the traffic_node's target list), not in
+`Scenario.vessels`.
 
 A platoon (a string of vessels, each steering at its predecessor) is written as a `platoon:`
 section instead of `vessels:`; its schema and checks are in mission.platoon. Its vessels come out
@@ -89,6 +100,8 @@ class Scenario:
     lockstep_timeout_s: float
     vessels: list
     platoon: object = None   # mission.platoon.Platoon for a `platoon:` scenario
+    #: light targets of `traffic:` as traffic_node's `targets` list (name + the `light` mapping)
+    light: list = field(default_factory=list)
     #: route file -> its parsed RoutePlan, filled once by mission.launcher.check_scenario and
     #: passed on to the nodes' parameters (a route file is parsed once per run by the launcher)
     routes: dict = field(default_factory=dict)
@@ -121,6 +134,7 @@ def load_scenario(path):
     need(not ('vessels' in data and 'platoon' in data), path, 'platoon',
           "give either 'vessels' (independent vessels) or 'platoon' (a string), not both")
     platoon = None
+    light = []
     if 'platoon' in data:
         platoon, specs = parse_platoon(data['platoon'], path, lockstep_timeout)
     else:
@@ -134,7 +148,10 @@ def load_scenario(path):
             for ns in traffic:
                 need(ns not in vessels, path, f'traffic.{ns}',
                       'namespace already used in vessels')
-            specs += _parse_vessels(traffic, 'traffic', TRAFFIC_KEYS, path, traffic=True)
+            full = {ns: v for ns, v in traffic.items()
+                    if not (isinstance(v, dict) and 'light' in v)}
+            light = _parse_light({ns: v for ns, v in traffic.items() if ns not in full}, path)
+            specs += _parse_vessels(full, 'traffic', TRAFFIC_KEYS, path, traffic=True)
     need(not ('traffic' in data and 'platoon' in data), path, 'traffic',
           'traffic is not supported beside a platoon')
     return Scenario(
@@ -145,7 +162,31 @@ def load_scenario(path):
         dt_s=number(data, 'dt_s', path, 0.1, lo=1e-3, hi=10.0),
         settle_s=number(data, 'settle_s', path, 0.0, lo=0.0),
         record=bool(data.get('record', True)),
-        lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon)
+        lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light)
+
+
+def _parse_light(entries, path):
+    """traffic_node's target list from the light `traffic:` entries (namespace -> {light:
+    ...}); each is checked by ship_sim.light_traffic, its refusal named by the key."""
+    from ship_sim.light_traffic import make_traffic
+    out = []
+    for ns, v in entries.items():
+        where = f'traffic.{ns}'
+        need(isinstance(ns, str) and ns.isidentifier(), path, where,
+              'namespace must be a plain name like target_1')
+        unknown(v, {'light'}, path, where + '.')
+        light = v['light']
+        need(isinstance(light, dict), path, where + '.light', 'a mapping')
+        unknown(light, {'x_m', 'y_m', 'course_deg', 'speed_mps', 'waypoints'}, path,
+                where + '.light.')
+        target = {'name': ns, **light}
+        try:
+            make_traffic([target])
+        except ValueError as exc:
+            detail = str(exc).removeprefix(f'light target {ns}: ')
+            raise ScenarioError(f'{path}: {where}.light: {detail}') from None
+        out.append(target)
+    return out
 
 
 def _parse_vessels(vessels, section, keys, path, traffic=False):

@@ -109,6 +109,7 @@ BAD_PARAMETER = {
     'planner_node': ('clearance_m', '.nan'),
     'ais_node': ('file', '/no/such/file.nmea'),
     'colav_node': ('method', 'no_such_method'),
+    'traffic_node': ('targets', 'no_json'),
 }
 
 

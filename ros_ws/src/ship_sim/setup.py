@@ -24,6 +24,7 @@ setup(
     entry_points={
         'console_scripts': [
             'vessel_node = ship_sim.vessel_node:main',
+            'traffic_node = ship_sim.traffic_node:main',
         ],
     },
 )

@@ -1,0 +1,72 @@
+"""traffic_node: light target ships on the graph (thin plumbing around ship_sim.light_traffic).
+
+Subscribes /clock (rosgraph_msgs/Clock, reliable) and for every /clock message publishes one
+nav_msgs/Odometry per light target on ``/<name>/odom`` (QoS ship_sim.ros.qos.STREAM), stamped
+with exactly that clock time: pose ENU (frame ``map``), child ``<name>/base_link``, twist in
+body FLU with the body along the course (surge = speed, no sway, no yaw rate). colav_node can
+list these topics in its ``target_topics`` and stays deterministic in lockstep: one sample per
+simulator step, stamped at the step, computed in closed form from the clock time alone.
+
+Parameter ``targets``: the targets as JSON text (ROS 2 parameters carry no list of mappings),
+schema in ship_sim.light_traffic.parse_targets; a bad list is refused at start (exit 2, one
+line naming the target and the problem).
+"""
+from nav_msgs.msg import Odometry
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock as ClockMsg
+
+from ship_sim.light_traffic import parse_targets
+from ship_sim.ros.conversions import MAP_FRAME, base_link_frame, fill_odometry
+from ship_sim.ros.params import NodeParameters
+from ship_sim.ros.qos import STREAM
+from ship_sim.ros.run import run_node
+
+#: /clock as the simulator publishes it (reliable): no step is lost between it and us.
+CLOCK_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
+_NS_PER_S = 1_000_000_000
+
+
+def _check_targets(text):
+    try:
+        parse_targets(text)
+    except ValueError as exc:
+        return str(exc)
+    return None
+
+
+class TrafficNode(Node):
+    def __init__(self):
+        super().__init__('traffic_node')
+        p = self.params = NodeParameters(self)
+        text = p.declare('targets', '[]', 'light targets as JSON: a list of {name, x_m, y_m, '
+                         'course_deg, speed_mps} or {name, waypoints: [[t_s, x_m, y_m], ...]} '
+                         '(ENU; course clockwise from north)', check=_check_targets,
+                         allowed='a JSON list of light targets', read_only=True)
+        self.traffic = parse_targets(text)
+        # /clock first: once the odom publishers are visible, the clock subscription exists.
+        self._clock_sub = self.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK_QOS)
+        self._pubs, self._msgs = [], []
+        for name in self.traffic.names:
+            self._pubs.append(self.create_publisher(Odometry, f'/{name}/odom', STREAM))
+            msg = Odometry()
+            msg.header.frame_id = MAP_FRAME
+            msg.child_frame_id = base_link_frame(name)
+            self._msgs.append(msg)
+        self.steps = 0
+        self.get_logger().info(f'{len(self.traffic)} light targets: '
+                               f"{', '.join(self.traffic.names) or '(none)'}")
+
+    def _on_clock(self, msg):
+        stamp = msg.clock
+        t = (stamp.sec * _NS_PER_S + stamp.nanosec) / _NS_PER_S
+        north, east, course, speed = self.traffic.state(t)
+        for i, (pub, odom) in enumerate(zip(self._pubs, self._msgs)):
+            fill_odometry(odom, t, north[i], east[i], course[i], speed[i], 0.0, 0.0)
+            odom.header.stamp.sec, odom.header.stamp.nanosec = stamp.sec, stamp.nanosec
+            pub.publish(odom)
+        self.steps += 1
+
+
+def main(args=None):
+    return run_node(TrafficNode, args=args)

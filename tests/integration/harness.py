@@ -36,6 +36,7 @@ import time
 from pathlib import Path
 
 import rclpy
+import yaml
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 
@@ -319,3 +320,14 @@ class RosGraph:
             if self.processes:
                 print(f'\n[ros_graph domain {self.domain_id}, logs in {self.log_dir}]')
                 print(self.report())
+
+
+def run_to_duration(launch, scenario, wall_timeout_s=150.0):
+    """Run ``scenario`` through the launcher (the ``launch`` fixture) to its duration, asserting
+    a clean exit and that outcome; returns the run folder."""
+    run = launch(scenario, '--wall-timeout', wall_timeout_s)
+    assert run.wait(wall_timeout_s + 20.0) == 0, run.report()
+    run_dir = run.run_dir()
+    info = yaml.safe_load((run_dir / 'run.json').read_text())
+    assert info['outcome'] == 'duration reached', info
+    return run_dir

@@ -23,19 +23,11 @@ from mission.bag import read_bag
 from mission.encounter import alteration, colav_messages, decision_rows, min_distance
 from ship_guidance.colav_params import ColavParams
 
-from harness import REPO_ROOT
+from harness import REPO_ROOT, run_to_duration
 
 SCENARIO = REPO_ROOT / 'scenarios' / 'head_on_mariner_2.yaml'
 OWN, TARGET = 'vessel_0', 'target_0'
 
-
-def _run(launch):
-    run = launch(SCENARIO, '--wall-timeout', 150)
-    assert run.wait(170.0) == 0, run.report()
-    run_dir = run.run_dir()
-    info = yaml.safe_load((run_dir / 'run.json').read_text())
-    assert info['outcome'] == 'duration reached', info
-    return run_dir
 
 
 @pytest.mark.timeout(420)
@@ -46,7 +38,7 @@ def test_head_on_mariners_pass_port_to_port_beyond_d_safe_identically_twice(laun
     dt = scenario['dt_s']
     n = int(round(scenario['duration_s'] / dt)) + 1
 
-    runs = [_run(launch) for _ in range(2)]
+    runs = [run_to_duration(launch, SCENARIO) for _ in range(2)]
     first = runs[0]
     data = read_bag(first / 'bag', namespaces=[f'/{OWN}', f'/{TARGET}'])
     own, tgt = data.vessels[f'/{OWN}'], data.vessels[f'/{TARGET}']

@@ -34,3 +34,24 @@ def make_node():
     for node in nodes:
         node.destroy_node()
     ctx.try_shutdown()
+
+
+@pytest.fixture
+def scenario_variant(tmp_path):
+    """variant(source, change) -> path of a copy of the scenario file ``source`` with
+    ``change(data)`` applied; every relative route is made absolute against the source's folder
+    (routes added by ``change`` too), so the copy reads the repository's route files."""
+    import yaml
+
+    def variant(source, change):
+        data = yaml.safe_load(source.read_text())
+        change(data)
+        for section in ('vessels', 'traffic'):
+            entries = data.get(section)
+            for entry in entries.values() if isinstance(entries, dict) else ():
+                if isinstance(entry, dict) and isinstance(entry.get('route'), str):
+                    entry['route'] = str((source.parent / entry['route']).resolve())
+        path = tmp_path / 'variant.yaml'
+        path.write_text(yaml.safe_dump(data))
+        return path
+    return variant

@@ -1,10 +1,8 @@
 """Scenario parsing and launcher wiring of collision avoidance: a vessel's `colav:` block and
 the `traffic:` section (mission.scenario, mission.launcher)."""
-import shutil
 from pathlib import Path
 
 import pytest
-import yaml
 
 from mission.launcher import (COLAV_REMAP, check_scenario, node_parameters, node_remaps,
                               vessel_nodes)
@@ -13,16 +11,6 @@ from mission.scenario import ScenarioError, load_scenario
 ROOT = Path(__file__).resolve().parents[2]
 HEAD_ON = ROOT / 'scenarios' / 'head_on_mariner_2.yaml'
 
-
-def _variant(tmp_path, change):
-    data = yaml.safe_load(HEAD_ON.read_text())
-    change(data)
-    (tmp_path / 'routes').mkdir(exist_ok=True)
-    for name in ('head_on_east.yaml', 'head_on_west.yaml'):
-        shutil.copy(ROOT / 'scenarios' / 'routes' / name, tmp_path / 'routes' / name)
-    path = tmp_path / 'variant.yaml'
-    path.write_text(yaml.safe_dump(data))
-    return path
 
 
 def test_head_on_scenario_wires_colav_between_guidance_and_autopilot():
@@ -52,8 +40,8 @@ def test_head_on_scenario_wires_colav_between_guidance_and_autopilot():
         'lockstep_odom_subscribers'] == 4
 
 
-def test_realtime_traffic_is_not_gated(tmp_path):
-    sc = load_scenario(_variant(tmp_path, lambda d: d.update(stepping='realtime')))
+def test_realtime_traffic_is_not_gated(scenario_variant):
+    sc = load_scenario(scenario_variant(HEAD_ON, lambda d: d.update(stepping='realtime')))
     p_tgt, _ = node_parameters(sc, sc.vessels[1], 1, record=True)
     assert 'lockstep_follower_odom_topics' not in p_tgt['vessel_node']
     p_own, _ = node_parameters(sc, sc.vessels[0], 0, record=True)
@@ -87,29 +75,29 @@ def _colav_not_mapping(d):
     (_traffic_not_mapping, 'traffic'),
     (_colav_not_mapping, 'vessels.vessel_0.colav'),
 ])
-def test_bad_traffic_or_colav_blocks_are_refused_naming_the_key(tmp_path, change, key):
+def test_bad_traffic_or_colav_blocks_are_refused_naming_the_key(scenario_variant, change, key):
     with pytest.raises(ScenarioError, match=f': {key}: '):
-        load_scenario(_variant(tmp_path, change))
+        load_scenario(scenario_variant(HEAD_ON, change))
 
 
-def test_unknown_colav_parameter_is_refused_with_the_closest_name(tmp_path):
-    sc = load_scenario(_variant(tmp_path, lambda d: d['vessels']['vessel_0']['colav'].update(
+def test_unknown_colav_parameter_is_refused_with_the_closest_name(scenario_variant):
+    sc = load_scenario(scenario_variant(HEAD_ON, lambda d: d['vessels']['vessel_0']['colav'].update(
         d_saf_m=500.0)))
     with pytest.raises(ScenarioError, match=r'vessels\.vessel_0\.colav\.d_saf_m: colav_node has '
                        r'no parameter .*did you mean "d_safe_m"'):
         check_scenario(sc)
 
 
-def test_traffic_parameters_are_checked_like_vessels(tmp_path):
-    sc = load_scenario(_variant(tmp_path, lambda d: d['traffic']['target_0']['guidance'].update(
+def test_traffic_parameters_are_checked_like_vessels(scenario_variant):
+    sc = load_scenario(scenario_variant(HEAD_ON, lambda d: d['traffic']['target_0']['guidance'].update(
         lookahed_m=1.0)))
     with pytest.raises(ScenarioError, match=r'traffic\.target_0\.guidance\.lookahed_m'):
         check_scenario(sc)
 
 
-def test_traffic_beside_a_platoon_is_refused(tmp_path):
+def test_traffic_beside_a_platoon_is_refused(scenario_variant):
     def change(d):
         d['platoon'] = {}
         del d['vessels']
     with pytest.raises(ScenarioError, match=': (platoon|traffic)'):
-        load_scenario(_variant(tmp_path, change))
+        load_scenario(scenario_variant(HEAD_ON, change))

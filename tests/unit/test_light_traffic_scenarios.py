@@ -3,7 +3,6 @@ import json
 from pathlib import Path
 
 import pytest
-import yaml
 
 from mission.launcher import check_scenario, node_parameters, record_ack_args, traffic_parameters
 from mission.scenario import ScenarioError, load_scenario
@@ -13,16 +12,6 @@ from ship_sim.light_traffic import parse_targets
 ROOT = Path(__file__).resolve().parents[2]
 CROSSING = ROOT / 'scenarios' / 'crossing_light_target_mariner.yaml'
 
-
-def _variant(tmp_path, change):
-    data = yaml.safe_load(CROSSING.read_text())
-    change(data)
-    (tmp_path / 'routes').mkdir(exist_ok=True)
-    route = ROOT / 'scenarios' / 'routes' / 'head_on_east.yaml'
-    (tmp_path / 'routes' / route.name).write_text(route.read_text())
-    path = tmp_path / 'variant.yaml'
-    path.write_text(yaml.safe_dump(data))
-    return path
 
 
 def test_light_target_is_not_a_vessel_and_joins_colav_targets_and_the_record_ack():
@@ -43,11 +32,11 @@ def test_light_target_is_not_a_vessel_and_joins_colav_targets_and_the_record_ack
     assert (n[0], e[0], c[0], s[0]) == pytest.approx((0.0, 2315.25, 0.0, 7.7175), abs=1e-9)
 
 
-def test_waypoint_light_targets_mix_with_full_traffic_vessels(tmp_path):
+def test_waypoint_light_targets_mix_with_full_traffic_vessels(scenario_variant):
     def change(d):
         d['traffic']['target_2'] = {'light': {'waypoints': [[0, 100, 0], [60, 100, 600]]}}
         d['traffic']['target_3'] = {'model': 'mariner', 'route': 'routes/head_on_east.yaml'}
-    sc = load_scenario(_variant(tmp_path, change))
+    sc = load_scenario(scenario_variant(CROSSING, change))
     assert [t['name'] for t in sc.light] == ['target_1', 'target_2']
     assert [(s.namespace, s.traffic) for s in sc.vessels] == [('vessel_0', False),
                                                                ('target_3', True)]
@@ -63,14 +52,14 @@ def test_waypoint_light_targets_mix_with_full_traffic_vessels(tmp_path):
     ({'course_deg': '.nan', 'speed_mps': 1.0}, 'traffic.target_1.light: .*'),
     ([1, 2], r'traffic\.target_1\.light: a mapping'),
 ])
-def test_bad_light_targets_are_refused_naming_the_key(tmp_path, light, key):
+def test_bad_light_targets_are_refused_naming_the_key(scenario_variant, light, key):
     with pytest.raises(ScenarioError, match=key):
-        load_scenario(_variant(tmp_path, lambda d: d['traffic'].update({'target_1':
+        load_scenario(scenario_variant(CROSSING, lambda d: d['traffic'].update({'target_1':
                                                                        {'light': light}})))
 
 
-def test_a_light_entry_takes_no_vessel_keys(tmp_path):
+def test_a_light_entry_takes_no_vessel_keys(scenario_variant):
     def change(d):
         d['traffic']['target_1']['model'] = 'mariner'
     with pytest.raises(ScenarioError, match=r'traffic\.target_1\.model: unknown key'):
-        load_scenario(_variant(tmp_path, change))
+        load_scenario(scenario_variant(CROSSING, change))

@@ -448,7 +448,7 @@ def claim_checks(rows):
         if pd is None and fz is None:
             continue
         ok = None if pd is None or fz is None else abs(fz) < abs(pd)
-        out.append((f'004 Fig. 5.7-5.11, {ang} deg: the fuzzy PID removes the steady heading '
+        out.append((f'Lee 2004 Fig. 5.7-5.11, {ang} deg: the fuzzy PID removes the steady heading '
                     'error the PD keeps (smaller mean error over the last 100 s)', ok,
                     f'PD {_fmt(_deg(pd), 2)} deg, fuzzy PID {_fmt(_deg(fz), 2)} deg'))
     out += lee_course_change_claims(rows)
@@ -457,11 +457,11 @@ def claim_checks(rows):
         if not any(n in rows for n in names):
             continue
         fin = [_m(rows, n, 'guidance_finished_s') for n in names]
-        out.append((f'004 route following ({ship}): both autopilots complete the route',
+        out.append((f'Lee 2004 route following ({ship}): both autopilots complete the route',
                     None if not all(n in rows for n in names) else all(f is not None for f in fin),
                     ', '.join(f'{n.split("_")[3]} at {_fmt(f, 0)} s' for n, f in zip(names, fin))))
         xte = [_m(rows, n, 'xte_rms_m') for n in names]
-        out.append((f'004 route following ({ship}): the fuzzy PID tracks the route at least as '
+        out.append((f'Lee 2004 route following ({ship}): the fuzzy PID tracks the route at least as '
                     'closely as the PD (RMS cross-track error)',
                     None if None in xte else xte[1] <= xte[0],
                     f'PD {_fmt(xte[0], 1)} m, fuzzy PID {_fmt(xte[1], 1)} m'))
@@ -474,7 +474,7 @@ def claim_checks(rows):
         seed = {ship: TABLE_I_LOS[ship][cur] for ship in TABLE_I_LOS}
         rank = (None if None in ours.values() else
                 sorted(ours, key=ours.get) == sorted(seed, key=seed.get))
-        out.append((f'000 Table I, LOS at {cur} m/s: the three ships rank as in the paper '
+        out.append((f'Martinsen and Lekkas 2018 Table I, LOS at {cur} m/s: the three ships rank as in the paper '
                     '(absolute values depend on the unpublished curve, start and time step)', rank,
                     ', '.join(f'{ship} {_fmt(ours[ship], 0)} (paper {seed[ship]})'
                               for ship in TABLE_I_LOS)))
@@ -497,14 +497,14 @@ def turn_circle_checks(rows):
             continue
         fin = _m(rows, names[0], 'guidance_finished_s')
         sat = _m(rows, names[0], 'rudder_saturated_fraction')
-        out.append((f'004 Ch. 4 ({ship}): the route of {rudder:g} deg turning circles with the LOS point '
+        out.append((f'Lee 2004 Ch. 4 ({ship}): the route of {rudder:g} deg turning circles with the LOS point '
                     'on the circle is completed without saturating the rudder', None if fin is None and
                     sat is None else fin is not None and sat == 0.0,
                     f'finished at {_fmt(fin, 0)} s, rudder saturated {_fmt(None if sat is None else 100 * sat, 1)} '
                     f'% of the time, max {_fmt(_deg(_m(rows, names[0], "rudder_max_abs_rad")), 1)} deg'))
         xte = [_m(rows, n, 'xte_rms_m') for n in names]
         mx = [_m(rows, n, 'xte_max_abs_m') for n in names]
-        out.append((f'004 Ch. 4 ({ship}): Lee\'s turning guidance tracks at least as closely as our '
+        out.append((f'Lee 2004 Ch. 4 ({ship}): Lee\'s turning guidance tracks at least as closely as our '
                     'tangent fillets + turn-rate lead (RMS cross-track)',
                     None if None in (xte[0], xte[2]) else xte[0] <= xte[2],
                     'RMS / max m: LOS point ' + ', '.join(
@@ -551,7 +551,7 @@ def lee_course_change_claims(rows):
         fz = _m(rows, f'course_tanker_{ang}_fuzzy_004', 'steady_error_rad')
         if pd is None and fz is None:
             continue
-        out.append((f'004 Figs. 5.14-5.18 (tanker, depth 1000 m), {ang} deg: the fuzzy PID removes '
+        out.append((f'Lee 2004 Figs. 5.14-5.18 (tanker, depth 1000 m), {ang} deg: the fuzzy PID removes '
                     'the steady heading error the PD keeps', None if None in (pd, fz) else
                     abs(fz) < abs(pd), f'PD {_fmt(_deg(pd), 2)} deg, fuzzy PID '
                     f'{_fmt(_deg(fz), 2)} deg'))
@@ -562,7 +562,7 @@ def lee_course_change_claims(rows):
                    abs(abs(_deg(e)) - THESIS_PD_ERROR_DEG) <= THESIS_PD_ERROR_TOL_DEG
                    for e in errs.values()])
         ours = [_m(rows, f'course_change_{ang}_pd_004', 'steady_error_rad') for ang in errs]
-        out.append((f'004 sec. 5.2.1, Fig. 5.7(b): with Kp = 9, Kd = 70 the PD keeps about '
+        out.append((f'Lee 2004 sec. 5.2.1, Fig. 5.7(b): with Kp = 9, Kd = 70 the PD keeps about '
                     f'{THESIS_PD_ERROR_DEG} deg of steady heading error (Mariner; within '
                     f'+-{THESIS_PD_ERROR_TOL_DEG} deg)', ok,
                     'thesis gains ' + ', '.join(_fmt(_deg(e), 2) for e in errs.values()) +
@@ -582,7 +582,7 @@ def lee_current_claims(rows):
         fin = [_m(rows, n, 'guidance_finished_s') for n in names]
         xte = [_m(rows, n, 'xte_rms_m') for n in names]
         mean = [_m(rows, n, 'xte_mean_m') for n in names]
-        out.append((f'004 route following ({ship}, 0.75 m/s current): both autopilots complete '
+        out.append((f'Lee 2004 route following ({ship}, 0.75 m/s current): both autopilots complete '
                     'the route and the fuzzy PID tracks at least as closely as the PD (RMS '
                     'cross-track error)', None if None in xte else
                     all(f is not None for f in fin) and xte[1] <= xte[0],

@@ -235,10 +235,10 @@ def test_runner_claim_checks_on_hand_made_rows():
         'curved_path_tanker_current0_los_000': _row(reward_gaussian_sum=10.0),
     }
     verdicts = {c.split(':')[0]: v for c, v, _ in rs.claim_checks(rows)}
-    assert verdicts['004 Fig. 5.7-5.11, 30 deg'] is True      # |0.2| < |-1.0|
-    assert verdicts['004 Fig. 5.7-5.11, 45 deg'] is True      # |-0.8| < |-1.0|
-    assert verdicts['004 Fig. 5.7-5.11, 60 deg'] is None      # the fuzzy run is missing
-    assert verdicts['004 Fig. 5.7-5.11, 90 deg'] is False     # |1.5| > |-1.0|
-    assert verdicts['000 Table I, LOS at 0.9 m/s'] is True
-    assert verdicts['000 Table I, LOS at 0.0 m/s'] is False
+    assert verdicts['Lee 2004 Fig. 5.7-5.11, 30 deg'] is True      # |0.2| < |-1.0|
+    assert verdicts['Lee 2004 Fig. 5.7-5.11, 45 deg'] is True      # |-0.8| < |-1.0|
+    assert verdicts['Lee 2004 Fig. 5.7-5.11, 60 deg'] is None      # the fuzzy run is missing
+    assert verdicts['Lee 2004 Fig. 5.7-5.11, 90 deg'] is False     # |1.5| > |-1.0|
+    assert verdicts['Martinsen and Lekkas 2018 Table I, LOS at 0.9 m/s'] is True
+    assert verdicts['Martinsen and Lekkas 2018 Table I, LOS at 0.0 m/s'] is False
     assert not any(c.startswith('003') for c in verdicts)     # no 003 run, no 003 claim

@@ -28,7 +28,12 @@ def main(argv=None):
     if (a.chromium or find_chromium()) is None:
         print('check_report: no Chromium on PATH (Debian: apt-get install chromium)', file=sys.stderr)
         return 2
-    result = check_page(a.html, a.screenshot, a.chromium, a.timeout, a.width, a.height, a.full_page)
+    from playwright.sync_api import Error as BrowserError
+    try:
+        result = check_page(a.html, a.screenshot, a.chromium, a.timeout, a.width, a.height, a.full_page)
+    except BrowserError as exc:
+        print(f'check_report: the browser failed: {str(exc).splitlines()[0]}', file=sys.stderr)
+        return 1
     bad = problems(result)
     if a.json:
         print(json.dumps(dict(result, problems=bad), indent=2))

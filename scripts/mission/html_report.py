@@ -17,8 +17,8 @@ Batch page, for any batch script (run_seed_scenarios.py, evaluate_controllers.py
 - ``links``: per row the path of that case's report.html (or None): the first cell becomes a
   link, relative to the page's folder so a copied batch folder keeps working.
 - ``intro``: a paragraph under the title; ``sections``: more tables after the main one, each
-  (heading, columns, rows), e.g. a claims table; ``command``: shown in the header (default:
-  this process's command line).
+  (heading, columns, rows) or (heading, columns, rows, links), e.g. a claims table;
+- ``command``: shown in the header (default: this process's command line).
 """
 import base64
 import html
@@ -273,7 +273,7 @@ def batch_page(path, title, columns, rows, links=None, intro='', sections=(), co
     meta = [('written', _utc(datetime.now().timestamp())), ('git commit', git_commit() or 'unknown'),
             ('command', command or shlex.join(sys.argv))]
     body = [f'<p>{esc(intro)}</p>' if intro else '', table(columns, rows, links, path.parent)]
-    for heading, cols, srows in sections:
-        body += [f'<h2>{esc(heading)}</h2>', table(cols, srows)]
+    for heading, cols, srows, *slinks in sections:
+        body += [f'<h2>{esc(heading)}</h2>', table(cols, srows, slinks[0] if slinks else None, path.parent)]
     path.write_text(page(title, '\n'.join(body), meta), encoding='utf-8')
     return path

@@ -119,3 +119,54 @@ def test_batch_page_links_are_relative_and_survive_a_move(tmp_path):
 def test_fmt_shows_numbers_to_four_significant_digits():
     assert [html_report.fmt(v) for v in (1234567.0, 0.000123456, 3, None, True, [1, 2])] == \
         ['1.235e+06', '0.0001235', '3', '-', 'yes', '[1, 2]']
+
+
+def _cells(text, heading):
+    """The rows (lists of cell texts) of the first table after <h2>heading</h2> (or the first
+    table of the page with heading None)."""
+    start = text.index(f'<h2>{heading}</h2>') if heading else text.index('<table><tr>')
+    tbl = text[start:text.index('</table>', start)]
+    return [[_strip_tags(c) for c in re.findall(r'<t[dh][^>]*>(.*?)</t[dh]>', row)]
+            for row in re.findall(r'<tr>(.*?)</tr>', tbl, re.S)]
+
+
+def test_seed_batch_page_links_each_run_and_lists_the_claims(tmp_path):
+    import run_seed_scenarios as rs
+    done = tmp_path / 'course_change_30_000-1'
+    done.mkdir()
+    (done / 'report.html').write_text('<html></html>')
+    spec = {'model': 'mariner', 'law': 'ilos', 'controller': 'pd', 'current_mps': 0.0}
+    results = [{'scenario': 'course_change_30_000', 'spec': spec, 'outcome': 'completed',
+                'run_dir': str(done), 'metrics': {'step_rad': 0.5235987755982988}},
+               {'scenario': 'quarter_circle_chord_003', 'spec': spec, 'outcome': 'failed',
+                'error': 'vessel_0/guidance_node exited with 1', 'run_dir': str(tmp_path / 'gone')}]
+    claims = [('claim <a>', True, 'because'), ('claim b', False, 'not so')]
+    page = rs.html_index(tmp_path, results, claims, '## Seed scenarios: 2 runs')
+    text = page.read_text()
+    assert re.findall(r'href="([^"]*)"', text) == ['course_change_30_000-1/report.html'] * 2
+    assert _cells(text, None)[1:] == [['course_change_30_000', 'completed', ''],
+                                      ['quarter_circle_chord_003', 'failed',
+                                       'vessel_0/guidance_node exited with 1']]
+    assert _cells(text, 'Seed claims')[1:] == [['claim <a>', 'yes', 'because'], ['claim b', 'NO', 'not so']]
+    course = next(h for p, h in rs.GROUPS if 'course_change_30_000'.startswith(p))
+    rows = _cells(text, html.escape(course))
+    assert rows[0][:6] == [h for h, _ in rs.COURSE_CHANGE_COLUMNS][:6]
+    assert rows[1][4] == '30.0'   # the step, in degrees
+
+
+def test_table_one_page_puts_the_paper_and_our_rewards_in_the_same_columns(tmp_path):
+    import evaluate_controllers as ec
+    results = {f'mariner/{c}/los': {'gaussian': 1000.0 + c, 'mean_abs_e': 5.0, 'max_abs_e': 9.0,
+                                    'mean_abs_e_settled': 4.0, 'rudder_rate_deg_s': 0.5,
+                                    'mean_abs_rudder_deg': 2.0} for c in ec.CURRENTS}
+    results['mariner/0.0/policy'] = {'error': 'no policy file'}
+    text = ec.html_page(tmp_path / 't1.html', results, ['mariner'], ['los', 'policy'], 1000.0, 5).read_text()
+    rows = _cells(text, None)
+    assert rows[0] == ['controller', 'mariner 0 m/s', 'mariner 0.9 m/s']
+    paper = ec.SEED_TABLE['LOS (Martinsen and Lekkas 2018)']['mariner']
+    assert rows[1] == ['LOS (Martinsen and Lekkas 2018)', str(paper[0]), str(paper[1])]
+    assert rows[3] == [ec.LABELS['los'], '1000', '1001']
+    assert rows[4] == [ec.LABELS['policy'], '-', '-']
+    every = _cells(text, 'Every case (means over the start states)')
+    assert every[2][:3] == ['mariner', '0', ec.LABELS['policy']] and every[2][-1] == 'no policy file'
+    assert every[1][3:] == ['1000', '5', '9', '4', '0.5', '2', '']

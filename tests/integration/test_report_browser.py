@@ -70,6 +70,7 @@ def test_run_report_loads_in_chromium_with_every_plot_decoded(launch, tmp_path):
     run_dir = run.run_dir()
     report = run_dir / 'report.html'
     assert report.is_file(), sorted(p.name for p in run_dir.iterdir())
+    assert f'report (opens in any browser, offline): {report}' in run.stdout()
     shot = tmp_path / 'report.png'
     code, result = check_report(report, '--screenshot', shot)
     print(json.dumps({k: v for k, v in result.items() if k != 'console'}, indent=1))

@@ -45,8 +45,8 @@ th{background:#f0f2f5}td.n{text-align:right;font-variant-numeric:tabular-nums}
 tr:nth-child(even) td{background:#fafbfc}
 pre{background:#f6f8fa;border:1px solid #ddd;padding:.6em;overflow:auto;font-size:12px}
 pre .c{color:#6a737d}pre .k{color:#005cc5}
-.plots{display:grid;grid-template-columns:repeat(auto-fill,minmax(520px,1fr));gap:.6em}
-figure{margin:0}figure img{width:100%;border:1px solid #ddd}figcaption{font-size:12px;color:#555}
+.plots{columns:2 480px;column-gap:.8em}figure{margin:0 0 .8em;break-inside:avoid}
+figure img{width:100%;border:1px solid #ddd}figcaption{font-size:12px;color:#555}
 .bad{color:#b00020;font-weight:bold}.ok{color:#137333}.meta td:first-child{font-weight:bold}
 """
 

@@ -37,7 +37,8 @@ Setup (the same for every controller):
 
 Metrics per run: cumulative Gaussian (mean over starts), mean and max |e| (m), mean |e| over the
 last 500 s (settled), rudder activity = mean |d delta / dt| of the actual rudder (deg/s) and
-mean |delta| (deg). Output: <out>.json and <out>.md (also printed).
+mean |delta| (deg). Output: <out>.json, <out>.md (also printed) and <out>.html (the same tables,
+mission.html_report).
 """
 import argparse
 import json
@@ -261,6 +262,30 @@ def markdown(results, models, controllers, duration, n_starts):
     return '\n'.join(lines) + '\n'
 
 
+def html_page(path, results, models, controllers, duration, n_starts):
+    """<out>.html (mission.html_report.batch_page): Table I (the paper's rows, then ours) and one
+    row per (ship, current, controller) case with every metric. No run folders: these are
+    in-process simulations, so the rows link nowhere."""
+    from mission.html_report import batch_page
+    cols = [(m, c) for m in models for c in CURRENTS]
+    table1 = [[name] + [table[m][CURRENTS.index(c)] for m, c in cols] for name, table in SEED_TABLE.items()]
+    table1 += [[LABELS[ctrl]] + [results.get(f'{m}/{c}/{ctrl}', {}).get('gaussian') for m, c in cols]
+               for ctrl in controllers]
+    keys = ('gaussian', 'mean_abs_e', 'max_abs_e', 'mean_abs_e_settled', 'rudder_rate_deg_s',
+            'mean_abs_rudder_deg')
+    rows = [[m, c, LABELS[ctrl]] + [results.get(f'{m}/{c}/{ctrl}', {}).get(k) for k in keys]
+            + [results.get(f'{m}/{c}/{ctrl}', {}).get('error', '')]
+            for m in models for c in CURRENTS for ctrl in controllers]
+    return batch_page(
+        path, 'Table I (Martinsen and Lekkas 2018): cumulative Gaussian reward',
+        ['controller'] + [f'{m} {c:g} m/s' for m, c in cols], table1,
+        intro=f'Per {duration:g} s episode, sum at {SIM_DT:g} s samples (max {duration / SIM_DT:.0f}), '
+              f'mean of {n_starts} start states. The paper\'s own rows first.',
+        sections=[('Every case (means over the start states)',
+                   ['ship', 'current m/s', 'controller', 'Gaussian reward', 'mean |e| m', 'max |e| m',
+                    'mean |e| settled m', 'rudder rate deg/s', 'mean |rudder| deg', 'error'], rows)])
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     p.add_argument('--quick', action='store_true',
@@ -312,7 +337,8 @@ def main(argv=None):
            'results': results, 'wall_s': round(time.perf_counter() - t0, 1)}
     out.with_suffix('.json').write_text(json.dumps(doc, indent=2))
     out.with_suffix('.md').write_text(md)
-    print(f'wrote {out}.json and {out}.md')
+    html_page(out.with_suffix('.html'), results, models, controllers, duration, n_starts)
+    print(f'wrote {out}.json, {out}.md and {out}.html')
     return 1 if any('error' in r for r in results.values()) else 0
 
 

@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
-"""Regenerate metrics.json and the plots of a recorded mission from its bag.
+"""Regenerate metrics.json, the plots and report.html of a recorded mission from its bag.
 
     scripts/replay_bag.py BAG_DIR [--out DIR] [--settle S] [--rudder-limit-deg D]
         [--reward-step S] [--episode S] [--progress-topic NAME] [--no-plots]
 
-Writes into --out (default: the directory that holds the bag). Definitions of the metrics:
+Writes into --out (default: the directory that holds the bag); report.html (mission.html_report)
+takes the scenario, run summary and node logs from the bag's own run folder. Definitions of the metrics:
 scripts/mission/metrics.py. Exit codes: 0 done, 2 not a bag / nothing to analyse.
 """
 import argparse
@@ -58,7 +59,8 @@ def main(argv=None):
         print(f'{ns}: xte rms {_fmt(m.get("xte_rms_m"))} m, max {_fmt(m.get("xte_max_abs_m"))} m, '
               f'reward {_fmt(m.get("reward_gaussian_sum"))} @ {m.get("reward_step_s")} s, '
               f'time to complete {_fmt(m.get("time_to_complete_s"))} s{missing}')
-    print(f'wrote {out / "metrics.json"}' + (f' and {len(result.get("plots", []))} plots' if not args.no_plots else ''))
+    print(f'wrote {out / "metrics.json"}' + (f', {len(result.get("plots", []))} plots' if not args.no_plots else '')
+          + f' and {out / "report.html"}')
     return 0
 
 

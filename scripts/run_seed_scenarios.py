@@ -12,7 +12,8 @@ with mission.report.analyse_bag (the run folder's metrics.json and plots, whole 
 rudder limit of the vessel model so that saturation is counted. Everything lands in one batch
 folder, runs/seeds-<time>/ (runs/seeds-latest points at it): one run folder per scenario,
 results.json (per run: scenario, spec summary, outcome, the table's metrics of vessel_0; the
-claim checks) and results.md, the table that is also printed. A failed run is recorded as such
+claim checks), results.md, the table that is also printed, and index.html, the same tables with
+each run linked to its report.html (mission.html_report). A failed run is recorded as such
 and the batch goes on; a run whose bag came out incomplete is run once more (``--retries``).
 Exit code 1 if any run failed, 130 on Ctrl-C (the table of the runs so far is still written).
 ``--reanalyse BATCH_DIR`` recomputes the table of an earlier batch from its bags.
@@ -768,15 +769,46 @@ def main(argv=None):
     return code
 
 
+def html_index(batch, results, claims, header):
+    """batch/index.html (mission.html_report.batch_page): the runs grouped as in results.md,
+    each scenario linked to its run's report.html, then the claims with their evidence."""
+    from mission.html_report import batch_page
+    grouped = {}
+    for r in results:
+        title = next((t for p, t in GROUPS if r['scenario'].startswith(p)), 'Other scenarios')
+        grouped.setdefault(title, []).append(r)
+
+    def report(r):
+        path = Path(r['run_dir']) / 'report.html' if r.get('run_dir') else None
+        return path if path and path.exists() else None
+
+    sections = []
+    for title, rows in grouped.items():
+        cols = (COURSE_CHANGE_COLUMNS if all(r['scenario'].startswith('course_') for r in rows)
+                else COLUMNS)
+        sections.append((title, [h for h, _ in cols], [[f(r) for _, f in cols] for r in rows],
+                         [report(r) for r in rows]))
+    verdict = {True: 'yes', False: 'NO', None: 'n/a'}
+    if claims:
+        sections.append(('Seed claims', ['claim', 'reproduced', 'evidence'],
+                         [[c, verdict[v], e] for c, v, e in claims]))
+    runs = [[r['scenario'], r['outcome'], r.get('error') or ''] for r in results]
+    links = [report(r) for r in results]
+    return batch_page(batch / 'index.html', header.lstrip('# '), ['run (its report)', 'outcome', 'error'],
+                      runs, links, intro=f'{len(results)} runs; the tables as in results.md.',
+                      sections=sections)
+
+
 def write_results(batch, results, claims, table, quick, wall):
     (batch / 'results.md').write_text(table + '\n')
+    html_index(batch, results, claims, table.splitlines()[0])
     with open(batch / 'results.json', 'w') as fh:
         json.dump({'batch': str(batch), 'quick': quick, 'wall_time_s': wall, 'runs': results,
                    'claims': [{'claim': c, 'reproduced': v, 'evidence': e} for c, v, e in claims]},
                   fh, indent=2, allow_nan=False, default=str)
     print()
     print(table)
-    print(f'written: {batch / "results.md"}, {batch / "results.json"}')
+    print(f'written: {batch / "results.md"}, {batch / "results.json"}, {batch / "index.html"}')
 
 
 if __name__ == '__main__':

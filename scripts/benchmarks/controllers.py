@@ -6,7 +6,7 @@ at current 0 and 0.9 m/s, from the same fixed start states. The full run (5 star
 ~10 min on two cores; ``--quick`` runs 1 start for 300 s (a smoke run: its numbers are not the
 README's). The goal line is the issue's: the learned policy's reward is at least the best
 classical controller's, per ship and current. The evaluation's own JSON and Markdown go to
-bench/results/controllers.{json,md} next to bench.json.
+bench/results/controllers.{json,md,html} next to bench.json.
 """
 import os
 
@@ -24,6 +24,7 @@ def run(quick=False):
     out.parent.mkdir(parents=True, exist_ok=True)
     out.with_suffix('.md').write_text(ec.markdown(results, models, controllers, duration,
                                                   n_starts))
+    ec.html_page(out.with_suffix('.html'), results, models, controllers, duration, n_starts)
     rows, goals, failed = [], [], False
     classical = [c for c in controllers if c != 'policy']
     for model in models:

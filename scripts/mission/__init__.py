@@ -10,7 +10,9 @@
 - ``bag``: read a bag back into numpy arrays per vessel namespace.
 - ``metrics``: path-following metrics (pure numpy).
 - ``plots``: PNG plots (matplotlib Agg).
-- ``report``: bag -> metrics.json + plots (used by run_mission.py and replay_bag.py).
+- ``report``: bag -> metrics.json + plots + report.html (used by run_mission.py and replay_bag.py).
+- ``html_report``: self-contained HTML pages (a run's report.html, batch pages);
+  ``browser_check``: open a page in headless Chromium (scripts/check_report.py, its test).
 
 Submodules are imported on demand, so importing one does not pull in rclpy or matplotlib.
 The ship_* packages come from the interpreter's path: the source tree in the project's venv

@@ -13,7 +13,8 @@ stops everything too (exit 130; ``install_stop_handlers``, as run_mission.py doe
 Afterwards the bag is turned into metrics.json and PNG plots.
 
 Run folder: runs/<scenario>-<timestamp>/ with params/ (one ROS parameter file per node),
-logs/ (one log per process), bag/ (rosbag2 MCAP), metrics.json, *.png; runs/latest points at it.
+logs/ (one log per process), bag/ (rosbag2 MCAP), metrics.json, *.png, report.html (all of it on
+one self-contained page: mission.html_report); runs/latest points at it.
 """
 import json
 import math
@@ -582,4 +583,5 @@ def _analyse(scenario, run, summary, progress, partial=False):
         progress(metrics['recovered'])
     progress(summary_line(metrics['record']))
     progress(f'metrics and plots {"of what was recorded " if partial else ""}written to {run}')
+    progress(f'report (opens in any browser, offline): {run / "report.html"}')
     return metrics

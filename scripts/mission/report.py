@@ -1,4 +1,4 @@
-"""Bag -> metrics.json + PNG plots: what the launcher runs after a mission and replay_bag.py runs later.
+"""Bag -> metrics.json + PNG plots + report.html: what the launcher runs after a mission and replay_bag.py runs later.
 
 Reads the bag with ``mission.bag``, computes ``mission.metrics.vessel_metrics`` per vessel and
 draws ``mission.plots``. The rudder limit for the saturation count and the plot comes from the
@@ -37,20 +37,22 @@ from pathlib import Path
 import numpy as np
 
 from mission import bag as bagmod
-from mission import integrity, metrics, plots
+from mission import html_report, integrity, metrics, plots
 
 RUDDER_LIMIT_KEY = 'mission.rudder_limit_rad'
 
 
 def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, topics=None, namespaces=None,
                 reward_step_s=metrics.REWARD_STEP_S, episode_s=None, make_pngs=True, platoon=None,
-                extra=None):
+                extra=None, html=True):
     """Write ``metrics.json`` and the plots for ``bag_dir`` into ``out_dir`` (default: the bag's parent).
 
     Returns the metrics dict: {'bag', 'time_source', 'topics': {topic: {type, count}},
     'vessels': {namespace: vessel_metrics(...) + 'missing_topics'}, 'plots': [file names]}.
     ``platoon``: {namespace: predecessor namespace or None} for a platoon run (module docstring);
     adds 'platoon' to the result. ``extra``: more top-level entries (e.g. the run's summary).
+    ``html``: also write report.html beside metrics.json (mission.html_report; the scenario,
+    logs and run summary come from the bag's parent folder, the run folder).
     Raises ``mission.bag.BagError`` when the path is not a bag or has no vessel odometry.
     """
     bag_dir = Path(bag_dir)
@@ -101,6 +103,8 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
     result.update(extra or {})
     with open(out / 'metrics.json', 'w') as f:
         json.dump(result, f, indent=2, sort_keys=False, allow_nan=False)
+    if html:
+        html_report.write_run_report(out, result, source_dir=bag_dir.resolve().parent)
     return result
 
 

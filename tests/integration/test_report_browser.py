@@ -1,0 +1,99 @@
+"""report.html in a real browser: a short lockstep run through scripts/run_mission.py, then
+scripts/check_report.py opens its report in headless Chromium (Debian's ``chromium``, driven by
+Playwright) and the page must load with no console error, no request leaving the file, and every
+<img> decoded at the size of the PNG it embeds; a screenshot is saved in the test's tmp dir.
+A page with a broken image, a console error and an external image must fail the same check.
+
+The browser runs in scripts/check_report.py's own process group, bounded in time and killed
+with everything it started even when the check fails. Skipped (one line) only where no Chromium
+is installed: `apt-get install chromium` (.ci/run does it).
+"""
+import json
+import os
+import shutil
+import signal
+import struct
+import subprocess
+import sys
+import tempfile
+
+import pytest
+
+from harness import REPO_ROOT, _die_with_parent
+from mission.browser_check import find_chromium
+from test_launcher import SCENARIO, run_processes
+
+CHECK = REPO_ROOT / 'scripts' / 'check_report.py'
+BROWSER_TIMEOUT_S = 90.0
+
+pytestmark = pytest.mark.skipif(find_chromium() is None,
+                                reason='no Chromium on PATH: apt-get install chromium (.ci/run installs it)')
+
+
+def check_report(html, *args):
+    """(exit code, JSON result) of check_report.py on ``html``, its browser profile in a fresh
+    temporary folder (short: Chromium's socket path there must fit in 108 bytes); the process
+    group, and any process naming that folder, killed on the way out whatever happened."""
+    tmp = tempfile.mkdtemp(prefix='shipnav-browser-')
+    env = dict(os.environ, TMPDIR=tmp)
+    proc = subprocess.Popen([sys.executable, str(CHECK), str(html), '--json', *map(str, args)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env, text=True,
+                            start_new_session=True, preexec_fn=_die_with_parent)
+    try:
+        out, err = proc.communicate(timeout=BROWSER_TIMEOUT_S)
+    finally:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        proc.wait()
+        for pid, _argv in run_processes(tmp):   # a browser that left its group
+            os.kill(pid, signal.SIGKILL)
+        left = run_processes(tmp)
+        shutil.rmtree(tmp, ignore_errors=True)
+    assert left == [], f'browser processes outlived the check: {left}'
+    assert out.strip(), f'check_report.py exit {proc.returncode}, no output; stderr:\n{err[-3000:]}'
+    return proc.returncode, json.loads(out)
+
+
+def png_size(path):
+    """(width, height) from a PNG's IHDR chunk."""
+    head = path.read_bytes()[:24]
+    assert head[:8] == b'\x89PNG\r\n\x1a\n', path
+    return struct.unpack('>II', head[16:24])
+
+
+@pytest.mark.timeout(200)
+def test_run_report_loads_in_chromium_with_every_plot_decoded(launch, tmp_path):
+    run = launch(SCENARIO, '--duration', 20, '--wall-timeout', 60)
+    assert run.wait(75.0) == 0, run.report()
+    run_dir = run.run_dir()
+    report = run_dir / 'report.html'
+    assert report.is_file(), sorted(p.name for p in run_dir.iterdir())
+    assert f'report (opens in any browser, offline): {report}' in run.stdout()
+    shot = tmp_path / 'report.png'
+    code, result = check_report(report, '--screenshot', shot)
+    print(json.dumps({k: v for k, v in result.items() if k != 'console'}, indent=1))
+    assert result['problems'] == [] and code == 0, result
+    assert result['console'] == [] and result['requests'] == []
+    pngs = sorted(run_dir.glob('*.png'))
+    assert len(pngs) >= 4    # track, cross-track error, heading, rudder
+    images = {i['alt']: (i['natural_width'], i['natural_height']) for i in result['images']}
+    assert images == {p.name: png_size(p) for p in pngs}
+    assert result['title'] == 'Run report: auv_closed_loop'
+    assert png_size(shot) == (1280, 1000)
+
+
+@pytest.mark.timeout(120)
+def test_the_check_fails_a_page_with_a_broken_image_a_console_error_and_a_remote_image(tmp_path):
+    bad = tmp_path / 'bad.html'
+    bad.write_text('<!DOCTYPE html><html><head><title>bad</title></head><body>'
+                   '<img alt="truncated" src="data:image/png;base64,iVBORw0KGgoAAAANSUhEUg==">'
+                   '<img alt="remote" src="http://192.0.2.1/plot.png">'
+                   '<script>console.error("boom")</script></body></html>')
+    code, result = check_report(bad)
+    assert code == 1
+    assert 'console error: boom' in result['problems']
+    assert 'image not decoded: truncated' in result['problems']
+    assert 'image not decoded: remote' in result['problems']
+    assert result['requests'] == ['http://192.0.2.1/plot.png']

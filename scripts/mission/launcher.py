@@ -287,6 +287,7 @@ def node_parameters(scenario, spec, index, record):
                        ('time_constant_s', 'current_time_constant'), ('seed', 'current_seed')):
         if key in cur:
             vessel[param] = cur[key]
+    vessel.update(spec.wave_params)
     vessel.update(spec.vessel_params)
     sim_time = {'use_sim_time': True}
     params = {

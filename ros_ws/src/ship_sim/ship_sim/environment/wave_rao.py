@@ -123,6 +123,12 @@ class WaveResponse:
         """|w - w^2 U cos(beta) / g| (N x D, rad/s) of every component (as the RAO functions)."""
         return self._at(U, psi, beta_wave)[0]
 
+    def response_amplitudes(self, U, psi, beta_wave):
+        """(encounter frequencies N x D, response amplitudes |RAO| Amp 6 x N x D) of every
+        component: which components dominate the response, and at which frequency."""
+        Oe, Z = self._at(U, psi, beta_wave)
+        return Oe, np.abs(Z) * self.Amp
+
     def _sum(self, Z, arg):
         return np.sum(np.abs(Z) * self.Amp * np.cos(arg + np.angle(Z)), axis=(-2, -1))
 

@@ -24,6 +24,9 @@ from ship_sim.frames import wrap_angle
 
 #: Lowest notch frequency (rad/s): below it the notch would sit in the heading loop's band.
 MIN_FREQUENCY = 0.05
+#: The discrete filter is rebuilt when the notch frequency has moved by this fraction (far
+#: below the notch's relative width 2 zeta) or the time step changed.
+RETUNE = 1e-3
 
 
 def _tustin(A, B, C, D, dt):
@@ -70,6 +73,8 @@ class WaveFilter:
         self._t = None
         self.psi = self.r = None
         self.w_e = None
+        self._tuned = None      # (w_e, dt) of the discrete matrices in _d
+        self._d = None
 
     def notch_frequency(self, speed, psi):
         """The notch frequency w_e (rad/s) for speed (m/s) and heading psi (rad)."""
@@ -94,8 +99,13 @@ class WaveFilter:
         if not dt > 0.0:
             return self.psi, self.r
         self._t = t
-        self.w_e = self.notch_frequency(speed, self.psi)
-        Ad, Bd, C, D = _tustin(*_cascade(self.w_e, self.zeta, self.lowpass or self.w_e), dt)
+        w_e = self.notch_frequency(speed, self.psi)
+        if self._tuned is None or dt != self._tuned[1] or abs(w_e - self._tuned[0]) > \
+                RETUNE * self._tuned[0]:
+            self._tuned = (w_e, dt)
+            self._d = _tustin(*_cascade(w_e, self.zeta, self.lowpass or w_e), dt)
+        self.w_e = self._tuned[0]
+        Ad, Bd, C, D = self._d
         u = np.array([[unwrapped, r]])
         y = C @ self._x + D @ u
         self._x = Ad @ self._x + Bd @ u

@@ -129,8 +129,10 @@ class WaveResponse:
         Oe, Z = self._at(U, psi, beta_wave)
         return Oe, np.abs(Z) * self.Amp
 
-    def _sum(self, Z, arg):
-        return np.sum(np.abs(Z) * self.Amp * np.cos(arg + np.angle(Z)), axis=(-2, -1))
+    def _phasors(self, Oe, t):
+        """Amp exp(i (w_e t + phase)) of every component (N x D): |Z| Amp cos(w_e t + arg Z +
+        phase) summed over the components is Re(sum Z times this), evaluated that way."""
+        return self.Amp * np.exp(1j * (Oe * t + self.phases))
 
     def elevation(self, t, U, psi, beta_wave):
         """Wave elevation (m) the vessel sees at time t (s), MSS waveElevation."""
@@ -142,14 +144,16 @@ class WaveResponse:
         (m/s), heading psi (rad) and main wave direction beta_wave (rad, 0 = following sea
         for psi = 0), MSS waveForceRAO (Fossen 2021, eq. 10.96)."""
         Oe, Z = self._at(U, psi, beta_wave)
-        return self._sum(Z, Oe * t + self.phases)
+        return np.real(np.sum(Z * self._phasors(Oe, t), axis=(1, 2)))
 
     def motion(self, t, U, psi, beta_wave, rates=True):
         """Wave-frequency motion (eta_WF, nu_WF, nudot_WF), 6 each (m, rad; per s; per s^2), MSS
         waveMotionRAO (Fossen 2021, eq. 10.105); ``rates=False`` returns eta_WF only."""
         Oe, Z = self._at(U, psi, beta_wave)
-        arg = Oe * t + self.phases
-        eta = self._sum(Z, arg)
+        zp = Z * self._phasors(Oe, t)
+        eta = np.real(np.sum(zp, axis=(1, 2)))
         if not rates:
             return eta
-        return eta, self._sum(1j * Oe * Z, arg), self._sum(-Oe ** 2 * Z, arg)
+        izp = 1j * Oe * zp
+        return eta, np.real(np.sum(izp, axis=(1, 2))), np.real(np.sum(1j * Oe * izp,
+                                                                      axis=(1, 2)))

@@ -4,8 +4,12 @@
     waves: {wind_speed_mps: 10.0, spectrum: torsethaugen, spreading: true}
 
 direction_deg is where the waves travel towards, clockwise from north, as the current's.
-Omitted keys take the node's defaults (ros_ws/src/ship_sim/config/vessel.yaml).
+Omitted keys take the node's defaults (ros_ws/src/ship_sim/config/vessel.yaml). A vessel whose
+`autopilot:` block turns `wave_filter` on gets the filter tuned to this sea (peak period and
+direction) unless the block tunes it itself.
 """
+import math
+
 from mission.fields import need, number, unknown
 
 #: scenario key -> (node parameter, kind, lo, hi)
@@ -48,3 +52,21 @@ def wave_parameters(waves, path, where):
                  f'{value!r}')
             out[param] = value
     return out
+
+
+def wave_filter_parameters(wave_params, autopilot_params):
+    """Autopilot parameters that tune an enabled wave filter to the vessel's sea: its peak
+    period and direction, unless the `autopilot:` block sets the filter's frequency or period
+    itself ({} otherwise). The block's own keys still win (the launcher applies them last)."""
+    if not autopilot_params.get('wave_filter') or not wave_params or \
+            autopilot_params.get('wave_filter_frequency') or \
+            autopilot_params.get('wave_filter_peak_period'):
+        return {}
+    from ship_sim.environment.encounter import vw2hs
+    from ship_sim.environment.sea_state import pm_peak_frequency
+    hs = wave_params.get('waves_hs') or float(vw2hs(wave_params.get('waves_wind_speed', 0.0)))
+    if not hs:
+        return {}
+    tp = wave_params.get('waves_tp') or 2.0 * math.pi / pm_peak_frequency(hs)
+    return {'wave_filter_peak_period': float(tp),
+            'wave_filter_direction_deg': float(wave_params.get('waves_direction_deg', 0.0))}

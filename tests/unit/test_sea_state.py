@@ -1,12 +1,13 @@
 """Sea states, RAO scaling and the scenario `waves:` block (ship_sim.environment.sea_state,
 mission.waves)."""
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from mission.fields import ScenarioError
-from mission.waves import wave_parameters
+from mission.waves import wave_filter_parameters, wave_parameters
 from ship_sim.environment.sea_state import (SeaState, ShipWaves, mean_drift_upper_bound,
                                             pm_peak_frequency, rao_table_for)
 from ship_sim.environment.wave_rao import load_rao_table
@@ -72,3 +73,34 @@ def test_scenario_waves_block():
                      ({'spectrum': 'pm'}, 'spectrum'), ({'hs_m': 40}, 'hs_m')):
         with pytest.raises(ScenarioError, match=key):
             wave_parameters(bad, 'f.yaml', 'vessels.a.waves.')
+
+
+def test_an_enabled_wave_filter_is_tuned_to_the_vessels_sea():
+    waves = wave_parameters({'wind_speed_mps': 10.0, 'direction_deg': 150.0}, 'f.yaml', 'w.')
+    got = wave_filter_parameters(waves, {'wave_filter': True})
+    # the PM peak of the fully developed 10 m/s sea
+    assert got['wave_filter_peak_period'] == pytest.approx(2 * math.pi / (
+        (0.8 * 0.74) ** 0.25 * 9.81 / 10.0), rel=1e-12)
+    assert got['wave_filter_direction_deg'] == 150.0
+    assert wave_filter_parameters(waves, {'wave_filter': False}) == {}
+    assert wave_filter_parameters(waves, {'wave_filter': True, 'wave_filter_frequency': 0.5}) == {}
+    assert wave_filter_parameters({}, {'wave_filter': True}) == {}
+    assert wave_filter_parameters({'waves_hs': 3.0, 'waves_tp': 9.0},
+                                  {'wave_filter': True})['wave_filter_peak_period'] == 9.0
+
+
+def test_scenario_with_waves_gives_the_nodes_their_parameters():
+    from mission.launcher import node_parameters
+    from mission.scenario import load_scenario
+    root = Path(__file__).resolve().parents[2]
+    sc = load_scenario(root / 'scenarios' / 'flagship_mariner_waves.yaml')
+    params, _ = node_parameters(sc, sc.vessels[0], 0, record=True)
+    v, a = params['vessel_node'], params['autopilot_node']
+    assert v['waves_wind_speed'] == 15.0 and v['waves_spreading'] is True
+    assert v['waves_direction_deg'] == a['wave_filter_direction_deg'] == 120.0
+    assert a['wave_filter'] is True
+    assert a['wave_filter_peak_period'] == pytest.approx(
+        2 * math.pi / pm_peak_frequency(0.21 * 15.0 ** 2 / 9.81))
+    calm = load_scenario(root / 'scenarios' / 'flagship_mariner.yaml')
+    params, _ = node_parameters(calm, calm.vessels[0], 0, record=True)
+    assert not [k for n in params.values() for k in n if 'wave' in k]

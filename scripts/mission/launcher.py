@@ -30,6 +30,7 @@ import yaml
 from mission.domain import NoFreeDomain, lease_domain_id
 from mission.processes import INSTALL, REPO, ProcessGroup, install_env
 from mission.scenario import ScenarioError, start_pose
+from mission.waves import wave_filter_parameters
 
 RECORDER = Path(__file__).resolve().parent / 'recorder.py'
 NODES = (('route_node', 'ship_planner'), ('guidance_node', 'ship_guidance'),
@@ -288,6 +289,7 @@ def node_parameters(scenario, spec, index, record):
                        ('time_constant_s', 'current_time_constant'), ('seed', 'current_seed')):
         if key in cur:
             vessel[param] = cur[key]
+    vessel.update(spec.wave_params)
     vessel.update(spec.vessel_params)
     sim_time = {'use_sim_time': True}
     params = {
@@ -295,6 +297,7 @@ def node_parameters(scenario, spec, index, record):
         'route_node': {**sim_time, 'route_file': str(spec.route_file)},
         'autopilot_node': {**sim_time, 'vessel_model': spec.model,
                            'pairing': 'sequence' if lockstep else 'latest',
+                           **wave_filter_parameters(spec.wave_params, spec.autopilot_params),
                            **spec.autopilot_params},
     }
     if spec.colav_params is not None:

@@ -10,6 +10,7 @@ degrees only in the *_deg keys.
       route: routes/platoon_curve.yaml   # one route for the whole string (relative to the file)
       spacing_m: 400.0                   # default set gap of every follower (m, > 0)
       current: {speed_mps: 0.5, direction_deg: 90.0}   # default current of every vessel
+      waves: {hs_m: 3.0, direction_deg: 45.0}          # default waves of every vessel
       stability_margin: 1.5              # look-aheads must exceed margin x U / (2 zeta omega_n)
       allow_unstable: false              # true: skip that refusal (and tell the nodes so)
       predecessor_wait_s: 2.0            # lockstep: longest wall wait of a first follower for
@@ -21,6 +22,7 @@ degrees only in the *_deg keys.
           start: {along_m: 1600.0, cross_m: 0.0}  # relative to the route, or {x_m, y_m, yaw_deg}
           speed_mps: 7.7175              # optional, as for single vessels
           current: {...}                 # optional, replaces the platoon's current
+          waves: {...}                   # optional, replaces the platoon's waves
           vessel: {...}                  # vessel_node parameters, verbatim
           guidance: {law: ilos, lookahead_m: 250.0}   # leader: guidance_node parameters
           autopilot: {controller: pd, omega_n: 0.12}  # autopilot_node parameters
@@ -82,9 +84,9 @@ from mission.fields import ScenarioError, need, number, unknown
 from mission.vessel_spec import parse_vessel
 
 PLATOON_KEYS = {'route', 'spacing_m', 'current', 'stability_margin', 'allow_unstable',
-                'predecessor_wait_s', 'vessels'}
+                'predecessor_wait_s', 'vessels', 'waves'}
 VESSEL_KEYS = {'namespace', 'model', 'predecessor', 'spacing_m', 'start', 'speed_mps', 'current',
-               'vessel', 'guidance', 'autopilot'}
+               'vessel', 'guidance', 'autopilot', 'waves'}
 #: follower_node parameters the launcher sets from the platoon (a scenario must not).
 LAUNCHER_FOLLOWER_KEYS = {'predecessor_odom_topic': 'predecessor',
                           'spacing_m': 'spacing_m', 'stepping_mode': 'the scenario\'s stepping'}
@@ -170,6 +172,8 @@ def parse_platoon(section, path, lockstep_timeout_s):
     need(isinstance(allow, bool), path, 'platoon.allow_unstable', f'true or false, got {allow!r}')
     current = section.get('current', {}) or {}
     need(isinstance(current, dict), path, 'platoon.current', 'a mapping')
+    waves = section.get('waves', {}) or {}
+    need(isinstance(waves, dict), path, 'platoon.waves', 'a mapping')
     vessels = section.get('vessels')
     need(isinstance(vessels, list) and vessels, path, 'platoon.vessels',
           'a list of vessels, leader first')
@@ -201,7 +205,8 @@ def parse_platoon(section, path, lockstep_timeout_s):
                   f'no vessel {pred!r} in the platoon (namespaces: {", ".join(names)})')
             need(pred != ns, path, where + 'predecessor', f'{ns} cannot follow itself')
         predecessors[ns] = pred
-        spec = parse_vessel(ns, {**v, 'current': v.get('current', current)}, route, path, where)
+        spec = parse_vessel(ns, {**v, 'current': v.get('current', current),
+                                 'waves': v.get('waves', waves)}, route, path, where)
         if pred is None:
             need('spacing_m' not in v, path, where + 'spacing_m',
                   'only a follower (a vessel with a predecessor) keeps a spacing')

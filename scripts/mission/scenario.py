@@ -21,6 +21,7 @@
         # or absolute ENU: start: {x_m: 0, y_m: 0, yaw_deg: 90}
         speed_mps: 7.7175                    # optional initial speed (model default if absent)
         current: {speed_mps: 0.5, direction_deg: 90.0}   # towards, clockwise from north
+        waves: {hs_m: 3.0, direction_deg: 45.0}          # towards (mission.waves)
         vessel: {...}                        # any further vessel_node parameters
         guidance: {law: ilos, lookahead_m: 800.0}         # guidance_node parameters
         autopilot: {controller: pd}                       # autopilot_node parameters
@@ -76,7 +77,7 @@ from ship_sim.frames import psi_to_yaw
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic'}
 VESSEL_KEYS = {'model', 'route', 'start', 'speed_mps', 'current', 'vessel', 'guidance',
-               'autopilot', 'model_params', 'colav'}
+               'autopilot', 'model_params', 'colav', 'waves'}
 TRAFFIC_KEYS = VESSEL_KEYS - {'colav'}
 STEPPING = ('lockstep', 'realtime')
 #: Most simulator steps a run may ask for (duration_s / dt_s): vessel_node's max_steps upper

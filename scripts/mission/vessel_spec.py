@@ -4,6 +4,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from mission.fields import need, number
+from mission.waves import wave_parameters
 
 from ship_planner.route_data import MAX_COORDINATE_M
 
@@ -27,6 +28,8 @@ class VesselSpec:
     # `traffic` marks a target vessel of the scenario's `traffic:` section.
     colav_params: dict = None
     traffic: bool = False
+    # vessel_node's waves_* parameters from the `waves:` block (mission.waves)
+    wave_params: dict = field(default_factory=dict)
 
 
 def parse_vessel(ns, v, route, path, where):
@@ -50,7 +53,8 @@ def parse_vessel(ns, v, route, path, where):
     for key in ('current', 'vessel', 'guidance', 'autopilot', 'colav'):
         need(isinstance(v.get(key, {}) or {}, dict), path, where + key, 'a mapping')
     colav = None if 'colav' not in v else dict(v.get('colav') or {})
+    waves = wave_parameters(v.get('waves') or {}, path, where + 'waves.')
     return VesselSpec(ns, v['model'], route, dict(start), speed,
                       dict(v.get('current') or {}), dict(v.get('vessel') or {}),
                       dict(v.get('guidance') or {}), dict(v.get('autopilot') or {}),
-                      colav_params=colav)
+                      colav_params=colav, wave_params=waves)

@@ -8,6 +8,8 @@ setup(
     name=package_name,
     version='0.1.0',
     packages=find_packages(exclude=['test']),
+    # RAO tables of ship_sim.environment.wave_rao (scripts/make_rao_tables.py writes them)
+    package_data={'ship_sim.environment': ['data/*.npz']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),

@@ -23,6 +23,9 @@ identified Nomoto K, T) for `vessel_model`, unless `k1`/`k2` (PD) are given (> 0
 PID's scaling `fuzzy_ge`/`fuzzy_gr`/`fuzzy_ga`/`fuzzy_gu` (`fuzzy_l`) is given (e.g. Lee 2004's).
 Rudder limits default to the vessel model's (`rudder_max_deg`/`rudder_rate_max_deg` override).
 
+`wave_filter` (default off) passes heading and yaw rate through ship_autopilot.wave_filter (a
+notch at the encounter frequency + low-pass) before the classical controller sees them.
+
 `controller: policy` runs a learned policy (learning.policy) on the guidance node's path_state
 (in place of heading_cmd, paired the same way);
 with `policy_recovery` (default true) ILOS + the gain-table PD takes over outside the region the
@@ -37,6 +40,7 @@ from std_msgs.msg import Float64, Float64MultiArray
 from ship_autopilot.gains import (CONTROLLERS, FUZZY_SCALING_PARAMETERS, ZETA, autopilot_gains,
                                   build_autopilot, heading_loop_design)
 from ship_autopilot.steering import HeadingSteering, PolicySteering
+from ship_autopilot.wave_filter import WaveFilter
 from ship_sim.models import MODEL_NAMES, make_model
 from ship_sim.pacing import SequencePairer
 from ship_sim.ros.conversions import odometry_to_ned
@@ -102,6 +106,7 @@ class AutopilotNode(Node):
                                   fuzzy)
             self.steer = HeadingSteering(self.controller)
 
+        self.wave_filter = self._declare_wave_filter(p, kind)
         self.pub = self.create_publisher(Float64, 'rudder_cmd', STREAM)
         self.pairer = SequencePairer()  # sequence pairing: A odometry, B commands
         self.latest = None          # latest pairing: the last accepted command
@@ -113,6 +118,42 @@ class AutopilotNode(Node):
         self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
         self.create_subscription(COMMAND_TYPES[self.steer.command_topic],
                                  self.steer.command_topic, self._on_command, STREAM)
+
+    def _declare_wave_filter(self, p, kind):
+        """The optional wave filter (ship_autopilot.wave_filter) on heading and yaw rate."""
+        on = p.declare('wave_filter', False, 'filter the wave-frequency yaw out of the heading '
+                       'and yaw rate the controller sees (notch at the encounter frequency + '
+                       'low-pass; classical controllers)', read_only=True)
+        freq = p.declare('wave_filter_frequency', 0.0, 'fixed notch frequency (0: the encounter '
+                         'frequency of wave_filter_peak_period and wave_filter_direction_deg at '
+                         "the vessel's speed and heading)", lo=0.0, hi=10.0, unit='rad/s',
+                         read_only=True)
+        tp = p.declare('wave_filter_peak_period', 0.0, "the sea's peak period (the notch "
+                       'follows its encounter frequency)', lo=0.0, hi=30.0, unit='s',
+                       read_only=True)
+        direction = p.declare('wave_filter_direction_deg', 0.0, 'direction the waves travel '
+                              'towards, clockwise from north (as waves_direction_deg)',
+                              lo=-360.0, hi=360.0, unit='deg', read_only=True)
+        zeta = p.declare('wave_filter_zeta', 0.1, 'notch gain at its frequency (depth/width)',
+                         lo=0.01, hi=0.99, read_only=True)
+        lowpass = p.declare('wave_filter_lowpass', 0.0, 'low-pass corner (0: the notch '
+                            'frequency)', lo=0.0, hi=10.0, unit='rad/s', read_only=True)
+        if not on:
+            return None
+        if kind == 'policy':
+            raise ParameterError('wave_filter', True, 'false with controller policy (the policy '
+                                 'steers by path_state, which the filter does not see)')
+        if not (freq or tp):
+            raise ParameterError('wave_filter_frequency', freq, '> 0, or wave_filter_peak_period '
+                                 '> 0, when wave_filter is on')
+        filt = WaveFilter(freq, peak_frequency=2.0 * math.pi / tp if tp else 0.0,
+                          direction=math.radians(direction), zeta=zeta, lowpass=lowpass)
+        self.get_logger().info(
+            'wave filter: notch ' + (f'at {freq:g} rad/s' if freq else
+                                     f'following the encounter frequency of Tp {tp:g} s towards '
+                                     f'{direction:g} deg') + f', zeta {zeta:g}, low-pass '
+            + (f'{lowpass:g} rad/s' if lowpass else 'at the notch frequency'))
+        return filt
 
     def _load_policy(self, model, policy_file, max_angle, recovery, vessel):
         from ship_autopilot.learning.policy import (LearnedSteering, PolicyError, Recovery,
@@ -191,7 +232,10 @@ class AutopilotNode(Node):
     def _step(self, o, cmd):
         steer = self.steer
         n_bad, mode = steer.n_rejected, steer.mode
-        self.msg.data = steer.update(o.t, o.psi, o.r, cmd)
+        psi, r = o.psi, o.r
+        if self.wave_filter is not None:
+            psi, r = self.wave_filter.update(o.t, psi, r, math.hypot(o.u, o.v))
+        self.msg.data = steer.update(o.t, psi, r, cmd)
         if steer.mode != mode:
             self.get_logger().info(steer.mode_text(cmd))
         if steer.n_rejected != n_bad:

@@ -10,6 +10,9 @@ ship_sim.ros.qos.STREAM = reliable, keep-last 100):
              ready       std_msgs/Bool       true once step 0 is out (latched: reliable +
                                              transient_local); the launcher starts a platoon
                                              follower's simulator after it
+             sea_state   std_msgs/Float64MultiArray  with waves: the sea state (latched;
+                                             labels in the layout); odom then carries the
+                                             wave-frequency motion (ship_sim.ros.waves)
   subscribes rudder_cmd  std_msgs/Float64    rudder command (rad, positive turns to port)
              shaft_cmd   std_msgs/Float64    shaft speed command (rpm), models with a shaft only
 
@@ -62,6 +65,7 @@ from ship_sim.ros.conversions import base_link_frame, fill_odometry, time_to_msg
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED, STREAM
 from ship_sim.ros.run import finish, run_node
+from ship_sim.ros.waves import WaveOdometry, declare_waves
 from ship_sim.simulator import VesselSimulator
 
 # Node parameter -> model constructor keyword, per model. 0 / '' means "model default" and is
@@ -100,7 +104,8 @@ class VesselNode(Node):
             + f", clock master {self.clock_master}, start ENU ({self.start[0]:.1f}, "
             f'{self.start[1]:.1f}) m, yaw {self.start[2]:.1f} deg, U {self.sim.speed_water():.3f}'
             ' m/s' + (f', shaft {self._shaft_cmd:g} rpm' if self._shaft_cmd is not None else '')
-            + (f', current {self._current_text}' if self._current_text else ''))
+            + (f', current {self._current_text}' if self._current_text else '')
+            + (f'; {self._waves.describe()}' if self._waves is not None else ''))
 
     # -- parameters and the simulator ---------------------------------------------------------
     def _declare_and_build(self):
@@ -234,6 +239,8 @@ class VesselNode(Node):
                                   + (f' (sd {c_sd:g} m/s, {c_dir_sd:g} deg, T {c_tc:g} s, seed '
                                      f'{c_seed})' if current.varying else ''))
 
+        self._sea = declare_waves(p, m)
+
         # Initial state: ENU pose -> NED; shaft default for models with a shaft.
         if shaft and not m.has_shaft:
             raise ParameterError('shaft_rpm', shaft, f'0 for model {model!r} (it has no shaft)')
@@ -273,6 +280,7 @@ class VesselNode(Node):
                                                     STREAM)
                            if self.sim.model.has_shaft else None)
         self._ready_pub = self.create_publisher(Bool, 'ready', LATCHED)
+        self._waves = None if self._sea is None else WaveOdometry(self, self._sea, self.sim.model)
         # Lockstep step gates: who must keep up before the next step goes out.
         self._lockstep = None
         if self.mode == 'lockstep':
@@ -299,7 +307,10 @@ class VesselNode(Node):
     def _publish(self):
         sim = self.sim
         t, n, e, psi, u, v, r = sim.nav_state()
-        fill_odometry(self._odom, t, n, e, psi, u, v, r)
+        if self._waves is None:
+            fill_odometry(self._odom, t, n, e, psi, u, v, r)
+        else:
+            self._waves.fill(self._odom, t, n, e, psi, u, v, r, sim.speed_water())
         self._rudder_msg.data = sim.rudder()
         try:
             if self._clock_pub is not None:

@@ -1,0 +1,1 @@
+"""Environmental disturbances: ocean waves (and wind), pure numpy/scipy ports of MSS."""

@@ -1,0 +1,159 @@
+"""First-order wave loads and wave-frequency motions from RAO tables, MSS ``waveForceRAO.m``
+and ``waveMotionRAO.m`` (Fossen 2021, eqs. 10.96 and 10.105: output superposition).
+
+RAO tables (package data ``data/rao_<vessel>.npz``, from MSS ``HYDRO/vessels_shipx``): the
+zero-speed slices of the force and motion RAOs of the S-175 container ship (``s175``, Son and
+Nomoto's ship, MSS container.m) and of the supply vessel (``supply``), amplitude (N/m, N m/m,
+m/m, rad/m) and phase (rad) for 6 DOF [surge, sway, heave, roll, pitch, yaw] (MSS's body
+axes), 36 frequencies x 36 headings (0, 10, ..., 350 deg; 0 = following sea, 180 = head sea).
+
+``WaveResponse`` is the persistent cache of the MSS functions made an explicit object: it
+holds the RAOs interpolated at the component frequencies and the random phases, so building
+a new one is what ``clear waveForceRAO`` is in MSS (whose stale cache across scenarios is thus
+knowingly fixed). Reproduced as coded: only the zero-speed RAOs are used whatever U is, the
+encounter frequency is |w - w^2 U cos(beta) / g|, and interpolation is linear with linear
+extrapolation in frequency and in direction (no wrap-around: beta in (350, 360) deg is
+extrapolated from the 340-350 deg segment) unless ``wrap_headings=True`` (the plant's choice:
+a 360 deg column equal to the 0 deg one). MSS draws the phases with rng(12345) in MATLAB's
+generator; here they are an input (or drawn from a numpy Generator).
+"""
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+DATA = Path(__file__).with_name('data')
+VESSELS = ('s175', 'supply')
+
+
+@dataclass(frozen=True)
+class RaoTable:
+    """One RAO table: ``w`` (n_w, rad/s), ``headings`` (n_h, rad), ``amp`` and ``phase``
+    (6 x n_w x n_h), ``g`` (m/s^2, the vessel file's), ``length`` Lpp (m), ``kind`` 'force' or
+    'motion', ``vessel`` name, ``scale`` (1, or the Froude scale it was scaled by)."""
+    w: np.ndarray
+    headings: np.ndarray
+    amp: np.ndarray
+    phase: np.ndarray
+    g: float
+    length: float
+    kind: str
+    vessel: str
+    scale: float = 1.0
+
+    def truncated(self, max_freq):
+        """The table with only the frequencies <= max_freq (as the MSS examples do)."""
+        keep = self.w <= max_freq
+        return replace(self, w=self.w[keep], amp=self.amp[:, keep], phase=self.phase[:, keep])
+
+    def froude_scaled(self, length):
+        """The table of a geometrically similar ship of Lpp ``length`` (Froude scaling by
+        lam = length / Lpp: w / sqrt(lam); motion RAOs m/m unchanged and rad/m / lam; force RAOs
+        N/m x lam^2 and N m/m x lam^3; phases unchanged)."""
+        lam = float(length) / self.length
+        if self.kind == 'motion':
+            f = np.array([1.0, 1.0, 1.0, 1.0 / lam, 1.0 / lam, 1.0 / lam])
+        else:
+            f = np.array([lam ** 2] * 3 + [lam ** 3] * 3)
+        return replace(self, w=self.w / np.sqrt(lam), amp=self.amp * f[:, None, None],
+                       length=float(length), scale=self.scale * lam)
+
+
+def load_rao_table(vessel='s175', kind='motion'):
+    """The zero-speed ``kind`` ('force' or 'motion') RAO table of ``vessel`` (VESSELS)."""
+    if vessel not in VESSELS or kind not in ('force', 'motion'):
+        raise ValueError(f'RAO table {vessel!r}/{kind!r}: vessels {", ".join(VESSELS)}, kinds '
+                         'force, motion')
+    with np.load(DATA / f'rao_{vessel}.npz') as d:
+        return RaoTable(w=d[f'{kind}_w'], headings=d['headings'], amp=d[f'{kind}_amp'],
+                        phase=d[f'{kind}_phase'], g=float(d['g']), length=float(d['Lpp']),
+                        kind=kind, vessel=vessel)
+
+
+def _interp_extrap(x, xq):
+    """Indices i and weights s of linear interpolation with linear extrapolation (interp1
+    'linear', 'extrap'): y(xq) = y[i] + s (y[i+1] - y[i])."""
+    i = np.clip(np.searchsorted(x, xq, side='right') - 1, 0, x.size - 2)
+    return i, (xq - x[i]) / (x[i + 1] - x[i])
+
+
+class WaveResponse:
+    """First-order wave response of one vessel to one set of wave components.
+
+    ``table``: RaoTable; ``Omega`` (N, rad/s) and ``mu`` (D, rad, relative to the main wave
+    direction) and ``Amp`` (N x D, m) from ``wave_directional_spectrum``; ``phases`` (N x D,
+    rad) or ``rng`` (numpy Generator) to draw them uniformly in [0, 2 pi).
+    """
+
+    def __init__(self, table, Omega, mu, Amp, phases=None, *, rng=None, wrap_headings=False):
+        self.table = table
+        self.Omega = np.asarray(Omega, dtype=float).ravel()
+        self.mu = np.atleast_1d(np.asarray(mu, dtype=float)).ravel()
+        shape = (self.Omega.size, self.mu.size)
+        self.Amp = np.asarray(Amp, dtype=float).reshape(shape)
+        if phases is None:
+            phases = 2.0 * np.pi * (rng or np.random.default_rng()).random(shape)
+        self.phases = np.asarray(phases, dtype=float).reshape(shape)
+        self.g = table.g
+        re = table.amp * np.cos(table.phase)         # 6 x n_w x n_h
+        im = table.amp * np.sin(table.phase)
+        headings = table.headings
+        if wrap_headings:
+            headings = np.append(headings, headings[0] + 2.0 * np.pi)
+            re = np.concatenate([re, re[:, :, :1]], axis=2)
+            im = np.concatenate([im, im[:, :, :1]], axis=2)
+        i, s = _interp_extrap(table.w, self.Omega)
+        s = s[None, :, None]
+        # RAOs at the component frequencies, 6 x N x n_h (the MSS cache).
+        self._re = re[:, i] + s * (re[:, i + 1] - re[:, i])
+        self._im = im[:, i] + s * (im[:, i + 1] - im[:, i])
+        self._headings = headings
+
+    def _at(self, U, psi, beta_wave):
+        """Encounter frequencies (N x D) and complex RAOs (6 x N x D) for one heading."""
+        beta = np.mod(beta_wave - psi + self.mu, 2.0 * np.pi)
+        Oe = np.abs(self.Omega[:, None] - (self.Omega[:, None] ** 2 / self.g) * U
+                    * np.cos(beta)[None, :])
+        i, s = _interp_extrap(self._headings, beta)
+        re = self._re[:, :, i] + s * (self._re[:, :, i + 1] - self._re[:, :, i])
+        im = self._im[:, :, i] + s * (self._im[:, :, i + 1] - self._im[:, :, i])
+        return Oe, re + 1j * im
+
+    def encounter_frequencies(self, U, psi, beta_wave):
+        """|w - w^2 U cos(beta) / g| (N x D, rad/s) of every component (as the RAO functions)."""
+        return self._at(U, psi, beta_wave)[0]
+
+    def response_amplitudes(self, U, psi, beta_wave):
+        """(encounter frequencies N x D, response amplitudes |RAO| Amp 6 x N x D) of every
+        component: which components dominate the response, and at which frequency."""
+        Oe, Z = self._at(U, psi, beta_wave)
+        return Oe, np.abs(Z) * self.Amp
+
+    def _phasors(self, Oe, t):
+        """Amp exp(i (w_e t + phase)) of every component (N x D): |Z| Amp cos(w_e t + arg Z +
+        phase) summed over the components is Re(sum Z times this), evaluated that way."""
+        return self.Amp * np.exp(1j * (Oe * t + self.phases))
+
+    def elevation(self, t, U, psi, beta_wave):
+        """Wave elevation (m) the vessel sees at time t (s), MSS waveElevation."""
+        Oe = self._at(U, psi, beta_wave)[0]
+        return float(np.sum(self.Amp * np.cos(Oe * t + self.phases)))
+
+    def force(self, t, U, psi, beta_wave):
+        """First-order wave loads tau_wave1 (6: N, N, N, N m, N m, N m) at time t (s), speed U
+        (m/s), heading psi (rad) and main wave direction beta_wave (rad, 0 = following sea
+        for psi = 0), MSS waveForceRAO (Fossen 2021, eq. 10.96)."""
+        Oe, Z = self._at(U, psi, beta_wave)
+        return np.real(np.sum(Z * self._phasors(Oe, t), axis=(1, 2)))
+
+    def motion(self, t, U, psi, beta_wave, rates=True):
+        """Wave-frequency motion (eta_WF, nu_WF, nudot_WF), 6 each (m, rad; per s; per s^2), MSS
+        waveMotionRAO (Fossen 2021, eq. 10.105); ``rates=False`` returns eta_WF only."""
+        Oe, Z = self._at(U, psi, beta_wave)
+        zp = Z * self._phasors(Oe, t)
+        eta = np.real(np.sum(zp, axis=(1, 2)))
+        if not rates:
+            return eta
+        izp = 1j * Oe * zp
+        return eta, np.real(np.sum(izp, axis=(1, 2))), np.real(np.sum(1j * Oe * izp,
+                                                                      axis=(1, 2)))

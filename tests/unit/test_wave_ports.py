@@ -1,0 +1,142 @@
+"""The wave ports (ship_sim.environment) against the MSS functions run under GNU Octave.
+
+Reference: tests/data/mss_env/shared_*.json.gz (MSS commit 736a3d1, LIBRARY/environment/,
+provenance in tests/data/README.md). Tolerance: relative 1e-12 of the largest magnitude of
+the compared vector plus an absolute floor of 1e-300 (Octave's interp1 and our interpolation
+round differently, about 1e-17 of a coefficient; values that underflow agree only absolutely).
+"""
+import gzip
+import json
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ship_sim.environment.wave_directional import wave_directional_spectrum
+from ship_sim.environment.wave_rao import RaoTable, WaveResponse, load_rao_table
+from ship_sim.environment.wave_spectra import (WaveSpectrumWarning, torset_spectrum,
+                                               wave_spectrum)
+
+# provenance: tests/data/README.md
+DATA = Path(__file__).resolve().parents[1] / 'data' / 'mss_env'
+RTOL, ATOL = 1e-12, 1e-300
+
+
+def _load(name):
+    with gzip.open(DATA / f'shared_{name}.json.gz', 'rt') as f:
+        return json.load(f)
+
+
+def _close(ours, ref):
+    ours, ref = np.ravel(np.asarray(ours, dtype=float)), np.ravel(np.asarray(ref, dtype=float))
+    assert ours.shape == ref.shape
+    tol = RTOL * np.max(np.abs(ref), initial=0.0) + ATOL
+    err = np.max(np.abs(ours - ref), initial=0.0)
+    assert err <= tol, f'max error {err:.3g} > {tol:.3g}'
+
+
+def _with_warnings(fn):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter('always')
+        out = fn()
+    assert all(issubclass(w.category, WaveSpectrumWarning) for w in caught)
+    return out, [str(w.message) for w in caught]
+
+
+SPECTRUM = _load('waveSpectrum')['cases']
+
+
+@pytest.mark.parametrize('case', SPECTRUM, ids=[str(c['id']) for c in SPECTRUM])
+def test_wave_spectrum_equals_mss(case):
+    i = case['inputs']
+    S, msgs = _with_warnings(lambda: wave_spectrum(i['spectrumType'], i['Parameter'], i['W']))
+    _close(S, case['outputs']['S'])
+    # Every message MSS printed is warned, and nothing else.
+    assert [m for m in msgs if m in case['stdout']] == msgs
+    assert bool(msgs) == bool(case['stdout'].strip())
+
+
+TORSET = _load('torsetSpectrum')['cases']
+
+
+@pytest.mark.parametrize('case', TORSET, ids=[str(c['id']) for c in TORSET])
+def test_torset_spectrum_equals_mss(case):
+    i = case['inputs']
+    S, msgs = _with_warnings(lambda: torset_spectrum(i['Hs'], i['wo'], i['W']))
+    _close(S, case['outputs']['S'])
+    assert bool(msgs) == bool(case['stdout'].strip())
+
+
+DIRECTIONAL = _load('waveDirectionalSpectrum')['cases']
+
+
+@pytest.mark.parametrize('case', DIRECTIONAL, ids=[str(c['id']) for c in DIRECTIONAL])
+def test_wave_directional_spectrum_equals_mss(case):
+    i, d = case['inputs'], case.get('random_draws', {})
+    args = (i['spectrumType'], i['Parameters'], i['numFreqIntervals'], i['omegaMax'])
+    kw = {'spreading': bool(i.get('spreadingFlag', False)), 'n_dir': i.get('numDirections', 16),
+          'u_mu': d.get('u_mu'), 'u_omega': d.get('u_omega'),
+          'rng': np.random.default_rng(0)}
+    if 'error' in case['outputs']:
+        with pytest.raises(ValueError, match='1.75'):
+            wave_directional_spectrum(*args, **kw)
+        return
+    out, _ = _with_warnings(lambda: wave_directional_spectrum(*args, **kw))
+    ref = case['outputs']
+    for key in ('S_M', 'Omega', 'Amp', 'S', 'M', 'mu'):
+        _close(getattr(out, key), ref[key])
+
+
+def _scenarios(name):
+    doc = _load(name)
+    return doc, [c for c in doc['cases'] if doc['scenarios'][c['scenario']]['vessel'] in
+                 ('s175', 'supply')]
+
+
+def _response(scenario, kind):
+    table = load_rao_table(scenario['vessel'], kind)
+    n_w = scenario['n_w']
+    table = RaoTable(w=table.w[:n_w], headings=table.headings, amp=table.amp[:, :n_w],
+                     phase=table.phase[:, :n_w], g=table.g, length=table.length, kind=kind,
+                     vessel=table.vessel)
+    assert table.g == scenario['g']
+    return WaveResponse(table, scenario['Omega'], scenario['mu'], scenario['Amp'],
+                        scenario['randomPhases'])
+
+
+FORCE_DOC, FORCE = _scenarios('waveForceRAO')
+MOTION_DOC, MOTION = _scenarios('waveMotionRAO')
+
+
+@pytest.mark.parametrize('case', FORCE, ids=[str(c['id']) for c in FORCE])
+def test_wave_force_rao_equals_mss(case):
+    resp = _response(FORCE_DOC['scenarios'][case['scenario']], 'force')
+    i = case['inputs']
+    call = (i['t'], i['U'], i['psi'], i['beta_wave'])
+    _close(resp.force(*call), case['outputs']['tau_wave1'])
+    _close(resp.elevation(*call), case['outputs']['waveElevation'])
+
+
+@pytest.mark.parametrize('case', MOTION, ids=[str(c['id']) for c in MOTION])
+def test_wave_motion_rao_equals_mss(case):
+    resp = _response(MOTION_DOC['scenarios'][case['scenario']], 'motion')
+    i = case['inputs']
+    eta, nu, nudot = resp.motion(i['t'], i['U'], i['psi'], i['beta_wave'])
+    for ours, key in ((eta, 'eta_WF'), (nu, 'nu_WF'), (nudot, 'nudot_WF')):
+        _close(ours, case['outputs'][key])
+
+
+def test_every_shared_case_is_used():
+    # The spheroid (spheroidRAO, an AUV) scenario of the force file is not ported (S-175 and
+    # supply vessel only); every other case is.
+    assert len(SPECTRUM) == 28 and len(TORSET) == 47 and len(DIRECTIONAL) == 7
+    assert len(MOTION) == 30 and len(FORCE) == 30
+
+
+def test_packaged_tables_are_the_mss_tables():
+    t = load_rao_table('s175', 'motion')
+    assert t.amp.shape == (6, 36, 36) and t.length == 175.0
+    assert np.allclose(np.rad2deg(t.headings), np.arange(0, 360, 10))
+    with pytest.raises(ValueError, match='vessels'):
+        load_rao_table('titanic')

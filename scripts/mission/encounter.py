@@ -7,9 +7,12 @@ the own ship's alteration (what the collision-avoidance test and README report).
 - ``alteration``: from the own vessel's ``colav_decision`` rows (ship_guidance.colav_io
   DECISION_COLUMNS): the first time the mode left 'nominal' and the largest course offset.
 - ``colav_messages``: the raw CDR bytes of the colav topics, to compare runs bit for bit.
+- ``target_tracks``: the tracks of a many-target topic (ais_node's ``/targets``), one per
+  child_frame_id, in the shape ``min_distance`` takes.
 """
 import math
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -74,4 +77,25 @@ def encounter_report(bag_dir, own_ns, target_ns):
     data = read_bag(bag_dir, namespaces=[f'/{own_ns}', f'/{target_ns}'])
     out = min_distance(data.vessels[f'/{own_ns}'], data.vessels[f'/{target_ns}'])
     out.update(alteration(decision_rows(bag_dir, own_ns)))
+    return out
+
+
+def target_tracks(bag_dir, topic='/targets'):
+    """{child_frame_id: track (t, x, y, yaw, u arrays, stamp order)} of the nav_msgs/Odometry
+    messages on ``topic`` ({} when the bag has none)."""
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+    from mission.bag import decode_odometry, quaternion_yaw
+    raws = {}
+    with AnyReader([Path(bag_dir)], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
+        conns = [c for c in reader.connections if c.topic == topic]
+        for conn, _t, raw in reader.messages(connections=conns):
+            name = reader.deserialize(raw, conn.msgtype).child_frame_id
+            raws.setdefault(name, []).append(bytes(raw))
+    out = {}
+    for name in sorted(raws):
+        o = decode_odometry(raws[name])
+        k = np.argsort(o['t'], kind='stable')
+        out[name] = SimpleNamespace(t=o['t'][k], x=o['x'][k], y=o['y'][k], u=o['u'][k],
+                                    yaw=quaternion_yaw(o['qx'], o['qy'], o['qz'], o['qw'])[k])
     return out

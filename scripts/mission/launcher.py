@@ -56,10 +56,16 @@ def light_odom_topics(scenario):
     return [f"/{t['name']}/odom" for t in scenario.light]
 
 
+AIS_NODE = ('ais_node', 'ship_guidance')
+#: ais_node runs graph-wide (no namespace): its topics as every colav vessel sees them.
+AIS_TARGETS, AIS_SYNC = '/targets', '/targets_sync'
+
+
 def record_ack_args(scenario):
     """The recorder's --ack arguments for every vessel (the first is the clock master, whose
-    acknowledgement also covers the light targets: traffic_node publishes them on its /clock)."""
-    light = light_odom_topics(scenario)
+    acknowledgement also covers the light targets and the AIS targets' per-step announcement:
+    traffic_node and ais_node publish them on its /clock)."""
+    light = light_odom_topics(scenario) + ([AIS_SYNC] if scenario.ais else [])
     return [a for i, spec in enumerate(scenario.vessels)
             for a in record_ack_arg(spec.namespace, i == 0, light if i == 0 else ())]
 
@@ -176,6 +182,14 @@ def check_scenario(scenario):
                     hint = f' (did you mean "{near[0]}"?)' if near else ''
                     raise ScenarioError(f'{where}{block}.{key}: {exe} has no parameter '
                                         f'{key!r}{hint}')
+    if scenario.ais is not None:
+        names = node_parameter_names(*reversed(AIS_NODE))
+        for key in scenario.ais:
+            if key not in names:
+                near = difflib.get_close_matches(str(key), sorted(names), n=1)
+                hint = f' (did you mean "{near[0]}"?)' if near else ''
+                raise ScenarioError(f'{scenario.file}: ais.{key}: ais_node has no parameter '
+                                    f'{key!r}{hint}')
     if platoon is not None:
         from mission.platoon import check_lead, check_stability
         check_lead(scenario)
@@ -300,8 +314,13 @@ def node_parameters(scenario, spec, index, record):
         others = [f'/{s.namespace}/odom' for s in scenario.vessels if s is not spec] + \
             light_odom_topics(scenario)
         # No node executes speed_factor_cmd yet: plan with course changes only unless asked.
-        params['colav_node'] = {**sim_time, 'target_topics': others or [''], 'has_shaft': False,
-                                'pairing': 'sequence' if lockstep else 'latest',
+        ais = {}
+        if scenario.ais is not None:   # the graph-wide ais_node's targets, waited for in lockstep
+            ais = {'targets_topic': AIS_TARGETS, 'targets_sync_topic': AIS_SYNC if lockstep else ''}
+        # No node executes speed_factor_cmd yet: plan with course changes only unless asked.
+        params['colav_node'] = {**sim_time, 'target_topics': others or [''],
+                                'has_shaft': False,
+                                'pairing': 'sequence' if lockstep else 'latest', **ais,
                                 **spec.colav_params}
     if spec.predecessor is None:
         params['guidance_node'] = {**sim_time, **spec.guidance_params}
@@ -314,6 +333,13 @@ def node_parameters(scenario, spec, index, record):
 def traffic_parameters(scenario):
     """traffic_node's parameters: the light targets as JSON text (ship_sim.light_traffic)."""
     return {'use_sim_time': True, 'targets': json.dumps(scenario.light)}
+
+
+def ais_parameters(scenario):
+    """ais_node's parameters: the scenario's `ais:` section on sim time; in lockstep it
+    publishes at every /clock step, each followed by targets_sync (ais_node)."""
+    return {'use_sim_time': True, 'publish_on_clock': scenario.stepping == 'lockstep',
+            **scenario.ais}
 
 
 def _wait_for_clock_subscriber(monitor, node_name, group, timeout_s=30.0):
@@ -472,6 +498,10 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             f = write_params(run, 'traffic', 'traffic_node', traffic_parameters(scenario))
             group.start('traffic/traffic_node', 'ship_sim', 'traffic_node',
                         ['--ros-args', '--params-file', f])
+        if scenario.ais is not None:
+            f = write_params(run, 'ais', 'ais_node', ais_parameters(scenario))
+            group.start('ais/ais_node', AIS_NODE[1], AIS_NODE[0],
+                        ['--ros-args', '--params-file', f])
         if record:
             from ship_sim.models import make_model
             # Each vessel's limit for mission.report (the instance's: some models set it in
@@ -491,6 +521,8 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         monitor.spin(1.0)
         if scenario.light:
             _wait_for_clock_subscriber(monitor, 'traffic_node', group)
+        if scenario.ais is not None and scenario.stepping == 'lockstep':
+            _wait_for_clock_subscriber(monitor, 'ais_node', group)
         simulators = {}
         if scenario.platoon is not None:   # every predecessor's simulator before its followers'
             from mission.platoon import start_order

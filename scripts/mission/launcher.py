@@ -301,6 +301,8 @@ def node_parameters(scenario, spec, index, record):
                        ('time_constant_s', 'current_time_constant'), ('seed', 'current_seed')):
         if key in cur:
             vessel[param] = cur[key]
+    if spec.colav_params is not None:   # colav_node's speed factor acts on the shaft
+        vessel['speed_factor_input'] = True
     vessel.update(spec.vessel_params)
     sim_time = {'use_sim_time': True}
     params = {
@@ -317,9 +319,11 @@ def node_parameters(scenario, spec, index, record):
         ais = {}
         if scenario.ais is not None:   # the graph-wide ais_node's targets, waited for in lockstep
             ais = {'targets_topic': AIS_TARGETS, 'targets_sync_topic': AIS_SYNC if lockstep else ''}
-        # No node executes speed_factor_cmd yet: plan with course changes only unless asked.
+        # vessel_node executes speed_factor_cmd on a shaft (tanker, container); the Mariner has
+        # none, so colav plans with course changes only there.
+        from ship_sim.models import make_model
         params['colav_node'] = {**sim_time, 'target_topics': others or [''],
-                                'has_shaft': False,
+                                'has_shaft': bool(make_model(spec.model).has_shaft),
                                 'pairing': 'sequence' if lockstep else 'latest', **ais,
                                 **spec.colav_params}
     if spec.predecessor is None:

@@ -1,8 +1,9 @@
 """Two-ship encounter figures from a run's bag: closest approach, the side it was passed on and
 the own ship's alteration (what the collision-avoidance test and README report).
 
-- ``min_distance``: the smallest range between the two odometry tracks, sample by sample (both
-  vessels step in lockstep on the same stamps), its time, and the relative bearing of the target
+- ``min_distance``: the smallest range between the two odometry tracks, at the own stamps (in
+  lockstep both step on the same stamps; otherwise the target is interpolated), its time, and
+  the relative bearing of the target
   from the own bow there (clockwise, deg): 180..360 means the target was on the own port side.
 - ``alteration``: from the own vessel's ``colav_decision`` rows (ship_guidance.colav_io
   DECISION_COLUMNS): the first time the mode left 'nominal' and the largest course offset.
@@ -20,15 +21,23 @@ COLAV_TOPICS = ('heading_cmd', 'heading_ref', 'colav_targets', 'colav_decision',
 
 
 def min_distance(own, target):
-    """dict: min_distance_m, t_min_s, bearing_at_min_deg (target from own bow, clockwise), side."""
-    common, i_own, i_tgt = np.intersect1d(own.t, target.t, return_indices=True)
-    dx = target.x[i_tgt] - own.x[i_own]
-    dy = target.y[i_tgt] - own.y[i_own]
+    """dict: min_distance_m, t_min_s, bearing_at_min_deg (target from own bow, clockwise), side;
+    None when the tracks share no time. At the own stamps within the target's time span, the
+    target's position interpolated linearly (exactly its samples where the stamps are shared, as
+    in lockstep)."""
+    t_own = np.asarray(own.t)
+    sel = np.flatnonzero((t_own >= target.t[0]) & (t_own <= target.t[-1])) if len(target.t) \
+        else np.zeros(0, dtype=int)
+    if not sel.size:
+        return None
+    t = t_own[sel]
+    dx = np.interp(t, target.t, target.x) - np.asarray(own.x)[sel]
+    dy = np.interp(t, target.t, target.y) - np.asarray(own.y)[sel]
     d = np.hypot(dx, dy)
     k = int(np.argmin(d))
     # ENU: bearing of the target (anticlockwise from east) minus the own yaw, turned clockwise.
-    rel = math.degrees(own.yaw[i_own][k] - math.atan2(dy[k], dx[k])) % 360.0
-    return {'min_distance_m': float(d[k]), 't_min_s': float(common[k]),
+    rel = math.degrees(np.asarray(own.yaw)[sel][k] - math.atan2(dy[k], dx[k])) % 360.0
+    return {'min_distance_m': float(d[k]), 't_min_s': float(t[k]),
             'bearing_at_min_deg': rel, 'side': 'port' if rel > 180.0 else 'starboard'}
 
 

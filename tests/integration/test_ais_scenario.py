@@ -11,8 +11,14 @@ ais_node on sim time, in lockstep.
   between reports) of the closed-form constant-velocity track.
 - COLREGs Rule 14: the own ship alters to starboard, apparently (Rule 8(b): at least 30 deg),
   and passes port to port beyond colav d_safe_m of the TRUE track; left alone they would meet.
+- A light target on timed waypoints (target_wp, far to the north) is at its closed-form
+  position (piecewise linear in time, on from its last leg after the last waypoint) and
+  heading at every step, stamped at the own steps; colav_node sees both targets.
+- metrics.json has both as `traffic` (source ais / light, closest approach to the own ship),
+  not as vessels.
 - The record is complete (/targets_sync is acknowledged every step) and a second run gives
-  identical metrics and colav messages (colav_node waits for each step's AIS targets).
+  identical metrics, colav messages and target odometry (colav_node waits for each step's AIS
+  targets).
 """
 import json
 import shlex
@@ -32,6 +38,7 @@ from harness import REPO_ROOT, run_to_duration
 
 SCENARIO = REPO_ROOT / 'scenarios' / 'head_on_ais_mariner.yaml'
 OWN = 'vessel_0'
+WAYPOINT_TARGET = 'target_wp'
 REPORT_PERIOD_S = 6.0
 
 
@@ -72,7 +79,8 @@ def test_own_ship_avoids_an_ais_target_head_on_identically_twice(launch):
     first = runs[0]
     metrics = json.loads((first / 'metrics.json').read_text())
     assert metrics['record']['complete'], metrics['record']
-    own = read_bag(first / 'bag', namespaces=[f'/{OWN}']).vessels[f'/{OWN}']
+    data = read_bag(first / 'bag', namespaces=[f'/{OWN}', f'/{WAYPOINT_TARGET}'])
+    own, wp = data.vessels[f'/{OWN}'], data.vessels[f'/{WAYPOINT_TARGET}']
     tracks = target_tracks(first / 'bag')
     assert list(tracks) == [f'ais_{mmsi}']
     ais = tracks[f'ais_{mmsi}']
@@ -105,9 +113,40 @@ def test_own_ship_avoids_an_ais_target_head_on_identically_twice(launch):
     assert not alt['last_resort']
     assert turn.min() <= -30.0, f'largest starboard turn {-turn.min():.1f} deg'
 
+    # The waypoint target: closed form at every step (legs straight between the waypoints,
+    # the last leg's velocity after the last one).
+    way = np.array(scenario['traffic'][WAYPOINT_TARGET]['light']['waypoints'])
+    assert len(wp.t) == n
+    np.testing.assert_array_equal(wp.t, own.t)
+    k = np.clip(np.searchsorted(way[:, 0], wp.t, side='right') - 1, 0, len(way) - 2)
+    frac = (wp.t - way[k, 0]) / (way[k + 1, 0] - way[k, 0])
+    np.testing.assert_allclose(wp.x, way[k, 1] + frac * (way[k + 1, 1] - way[k, 1]), atol=1e-6)
+    np.testing.assert_allclose(wp.y, way[k, 2] + frac * (way[k + 1, 2] - way[k, 2]), atol=1e-6)
+    leg_yaw = np.arctan2(np.diff(way[:, 2]), np.diff(way[:, 1]))
+    np.testing.assert_allclose(wp.yaw, leg_yaw[k], atol=1e-12)
+    n_targets = decision_rows(first / 'bag', OWN)[:, 5]
+    assert (n_targets == 2).all(), 'colav_node saw both targets at every decision'
+
+    traffic = metrics['traffic']
+    assert set(traffic) == {f'ais_{mmsi}', f'/{WAYPOINT_TARGET}'}
+    assert f'/{WAYPOINT_TARGET}' not in metrics['vessels']
+    assert (traffic[f'ais_{mmsi}']['source'], traffic[f'/{WAYPOINT_TARGET}']['source']) == \
+        ('ais', 'light')
+    close = traffic[f'ais_{mmsi}']['closest_approach'][f'/{OWN}']
+    assert abs(close['min_distance_m'] - enc['min_distance_m']) < tol
+    assert traffic[f'/{WAYPOINT_TARGET}']['closest_approach'][f'/{OWN}']['min_distance_m'] > \
+        2000.0
+
     second = runs[1]
     m2 = json.loads((second / 'metrics.json').read_text())
-    assert metrics['vessels'] == m2['vessels']
+    assert metrics['vessels'] == m2['vessels'] and metrics['traffic'] == m2['traffic']
+    data2 = read_bag(second / 'bag', namespaces=[f'/{WAYPOINT_TARGET}'])
+    wp2 = data2.vessels[f'/{WAYPOINT_TARGET}']
+    for a, b in ((wp.t, wp2.t), (wp.x, wp2.x), (wp.y, wp2.y), (wp.yaw, wp2.yaw)):
+        np.testing.assert_array_equal(a, b)
+    ais2 = target_tracks(second / 'bag')[f'ais_{mmsi}']
+    np.testing.assert_array_equal(ais.x, ais2.x)
+    np.testing.assert_array_equal(ais.y, ais2.y)
     msgs, msgs2 = colav_messages(first / 'bag', OWN), colav_messages(second / 'bag', OWN)
     for topic in ('heading_cmd', 'colav_targets', 'colav_decision'):
         assert msgs[topic] == msgs2[topic], topic

@@ -30,9 +30,9 @@ def test_ais_section_starts_ais_node_on_the_clock_and_wires_colav_and_the_record
     params, _ = node_parameters(sc, sc.vessels[0], 0, record=True)
     colav = params['colav_node']
     assert (colav['targets_topic'], colav['targets_sync_topic']) == (AIS_TARGETS, AIS_SYNC)
-    assert colav['target_topics'] == ['']          # no other vessel, no light target
+    assert colav['target_topics'] == ['/target_wp/odom']   # the light target, no other vessel
     ack = record_ack_args(sc)
-    assert ack[0] == '--ack' and ack[1].endswith(',' + AIS_SYNC)
+    assert ack[0] == '--ack' and ack[1].endswith(',/target_wp/odom,' + AIS_SYNC)
 
 
 def test_realtime_ais_is_timer_driven_and_not_waited_for(scenario_variant):

@@ -363,6 +363,29 @@ def _wait_for_clock_subscriber(monitor, node_name, group, timeout_s=30.0):
     raise MissionFailed(f'{node_name} did not subscribe /clock within {timeout_s:.0f} s')
 
 
+def _wait_for_odom_subscribers(monitor, spec, group, progress, timeout_s=30.0):
+    """Realtime: wait until the nodes of ``spec``'s namespace that follow its odom (guidance or
+    follower, which subscribe only once they hold the route, the autopilot, colav_node) have
+    subscribed, so its simulator, which does not wait for anyone in realtime, starts into a
+    graph that answers step 0. Without this, a node still starting (the last vessel's, on a
+    loaded machine) misses the first seconds of odom, which the record then counts as missing
+    answers. Gives up with a warning after ``timeout_s``."""
+    ns = f'/{spec.namespace}'
+    wanted = {exe for exe, _ in vessel_nodes(spec) if exe != 'route_node'}
+    end = time.monotonic() + timeout_s
+    while time.monotonic() < end:
+        infos = monitor.node.get_subscriptions_info_by_topic(f'{ns}/odom')
+        if wanted <= {i.node_name for i in infos if i.node_namespace == ns}:
+            return
+        if group.failed():
+            return                  # the run loop reports the dead process
+        monitor.spin(0.1)
+    infos = monitor.node.get_subscriptions_info_by_topic(f'{ns}/odom')
+    late = sorted(wanted - {i.node_name for i in infos if i.node_namespace == ns})
+    progress(f'  warning: {", ".join(late)} of {ns} not following {ns}/odom after '
+             f'{timeout_s:.0f} s; starting its simulator anyway (its first steps go unanswered)')
+
+
 def write_params(run, namespace, node, params):
     path = run / 'params' / f'{namespace}.{node}.yaml'
     path.write_text(yaml.safe_dump({'/**': {'ros__parameters': params}}, sort_keys=True))
@@ -536,6 +559,8 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             if spec.predecessor is not None and scenario.stepping == 'lockstep':
                 _wait_for_ready(simulators[spec.predecessor], spec.predecessor, vparams, monitor,
                                 group)
+            if scenario.stepping == 'realtime':
+                _wait_for_odom_subscribers(monitor, spec, group, progress)
             f = write_params(run, spec.namespace, 'vessel_node', vparams)
             simulators[spec.namespace] = group.start(
                 f'{spec.namespace}/vessel_node', 'ship_sim', 'vessel_node',

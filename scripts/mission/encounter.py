@@ -25,20 +25,29 @@ def min_distance(own, target):
     None when the tracks share no time. At the own stamps within the target's time span, the
     target's position interpolated linearly (exactly its samples where the stamps are shared, as
     in lockstep)."""
-    t_own = np.asarray(own.t)
-    sel = np.flatnonzero((t_own >= target.t[0]) & (t_own <= target.t[-1])) if len(target.t) \
-        else np.zeros(0, dtype=int)
+    sel, dx, dy = relative_positions(own, target)
     if not sel.size:
         return None
-    t = t_own[sel]
-    dx = np.interp(t, target.t, target.x) - np.asarray(own.x)[sel]
-    dy = np.interp(t, target.t, target.y) - np.asarray(own.y)[sel]
+    t = np.asarray(own.t)[sel]
     d = np.hypot(dx, dy)
     k = int(np.argmin(d))
     # ENU: bearing of the target (anticlockwise from east) minus the own yaw, turned clockwise.
     rel = math.degrees(np.asarray(own.yaw)[sel][k] - math.atan2(dy[k], dx[k])) % 360.0
     return {'min_distance_m': float(d[k]), 't_min_s': float(t[k]),
             'bearing_at_min_deg': rel, 'side': 'port' if rel > 180.0 else 'starboard'}
+
+
+def relative_positions(own, target):
+    """(indices of the own stamps within the target's time span, dx, dy): the target's ENU
+    position relative to the own ship there, the target interpolated linearly (exactly its
+    samples where the stamps are shared)."""
+    t_own = np.asarray(own.t)
+    if not len(target.t):
+        return np.zeros(0, dtype=int), np.zeros(0), np.zeros(0)
+    sel = np.flatnonzero((t_own >= target.t[0]) & (t_own <= target.t[-1]))
+    t = t_own[sel]
+    return (sel, np.interp(t, target.t, target.x) - np.asarray(own.x)[sel],
+            np.interp(t, target.t, target.y) - np.asarray(own.y)[sel])
 
 
 def alteration(decisions):

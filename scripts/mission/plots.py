@@ -196,19 +196,18 @@ def make_plots(vessels, out_dir, rudder_limit_rad=None, settle_s=None, traffic=N
 
 def plot_ranges(vessels, traffic, path):
     """Range (m) from every vessel to every target over time, at the vessel's stamps within
-    the target's time span (the target interpolated)."""
+    the target's time span (the target interpolated: mission.encounter.relative_positions)."""
+    from mission.encounter import relative_positions
     fig, ax = plt.subplots(figsize=(9, 4))
     t0 = _t0(vessels)
     styles = ('-', '--', ':', '-.')
     for colour, (ns, v) in zip(_colours(len(vessels)), vessels.items()):
         for i, (name, tr) in enumerate(traffic.items()):
-            sel = (v.t >= tr.t[0]) & (v.t <= tr.t[-1]) if len(tr.t) else np.zeros(len(v.t), bool)
-            if not sel.any():
+            sel, dx, dy = relative_positions(v, tr)
+            if not sel.size:
                 continue
-            t = v.t[sel]
-            d = np.hypot(np.interp(t, tr.t, tr.x) - v.x[sel], np.interp(t, tr.t, tr.y) - v.y[sel])
-            ax.plot(t - t0, d, styles[i % len(styles)], color=colour, lw=1.3,
-                    label=f'{_label(ns)} to {name}')
+            ax.plot(v.t[sel] - t0, np.hypot(dx, dy), styles[i % len(styles)], color=colour,
+                    lw=1.3, label=f'{_label(ns)} to {name}')
     ax.set_ylim(bottom=0.0)
     ax.set_xlabel('time (s)')
     ax.set_ylabel('range (m)')

@@ -337,15 +337,27 @@ def node_parameters(scenario, spec, index, record):
     return params, plan
 
 
-def traffic_parameters(scenario):
+def target_subscribers(scenario, record):
+    """Lockstep: the subscribers of every target topic of traffic_node and ais_node (the recorder,
+    each colav vessel's colav_node) they wait for before ~/ready (ship_sim.ros.ready); 0 in
+    realtime (nobody waits)."""
+    if scenario.stepping != 'lockstep':
+        return 0
+    return int(bool(record)) + sum(1 for s in scenario.vessels if s.colav_params is not None)
+
+
+def traffic_parameters(scenario, record=True):
     """traffic_node's parameters: the light targets as JSON text (ship_sim.light_traffic)."""
-    return {'use_sim_time': True, 'targets': json.dumps(scenario.light)}
+    return {'use_sim_time': True, 'targets': json.dumps(scenario.light),
+            'wait_subscribers': target_subscribers(scenario, record)}
 
 
-def ais_parameters(scenario):
+def ais_parameters(scenario, record=True):
     """ais_node's parameters: the scenario's `ais:` section on sim time; in lockstep it
     publishes at every /clock step, each followed by targets_sync (ais_node)."""
-    return {'use_sim_time': True, 'publish_on_clock': scenario.stepping == 'lockstep',
+    lockstep = scenario.stepping == 'lockstep'
+    return {'use_sim_time': True, 'publish_on_clock': lockstep,
+            **({'wait_subscribers': target_subscribers(scenario, record)} if lockstep else {}),
             **scenario.ais}
 
 
@@ -387,6 +399,33 @@ def _wait_for_odom_subscribers(monitor, spec, group, progress, timeout_s=30.0):
     late = sorted(wanted - {i.node_name for i in infos if i.node_namespace == ns})
     progress(f'  warning: {", ".join(late)} of {ns} not following {ns}/odom after '
              f'{timeout_s:.0f} s; starting its simulator anyway (its first steps go unanswered)')
+
+
+def _wait_for_ready_topic(monitor, node_name, group, timeout_s=60.0):
+    """Wait until ``node_name``'s latched ``/<node_name>/ready`` is true (ship_sim.ros.ready:
+    every target topic has its recorder and colav_node subscribers, as the publisher counts
+    them), so that no one misses step 0 of a lockstep run."""
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    from std_msgs.msg import Bool
+    got = []
+    qos = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    sub = monitor.node.create_subscription(Bool, f'/{node_name}/ready',
+                                           lambda m: got.append(m.data), qos)
+    try:
+        end = time.monotonic() + timeout_s
+        while not any(got):
+            dead = group.failed()
+            if dead:
+                p = dead[0]
+                raise MissionFailed(f'{p.label} exited with {_exit_status(p.returncode)}, its '
+                                    f'last line: {_last_line(p)} (log: {p.log_path})')
+            if time.monotonic() > end:
+                raise MissionFailed(f'{node_name}: its target topics did not get their '
+                                    f'subscribers (recorder, colav_node) within {timeout_s:.0f} s')
+            monitor.spin(0.1)
+    finally:
+        monitor.node.destroy_subscription(sub)
 
 
 def write_params(run, namespace, node, params):
@@ -525,11 +564,11 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
                              *node_remaps(spec, exe)])
             vessel_params.append((spec, params['vessel_node'], plan))
         if scenario.light:
-            f = write_params(run, 'traffic', 'traffic_node', traffic_parameters(scenario))
+            f = write_params(run, 'traffic', 'traffic_node', traffic_parameters(scenario, record))
             group.start('traffic/traffic_node', 'ship_sim', 'traffic_node',
                         ['--ros-args', '--params-file', f])
         if scenario.ais is not None:
-            f = write_params(run, 'ais', 'ais_node', ais_parameters(scenario))
+            f = write_params(run, 'ais', 'ais_node', ais_parameters(scenario, record))
             group.start('ais/ais_node', AIS_NODE[1], AIS_NODE[0],
                         ['--ros-args', '--params-file', f])
         if record:
@@ -551,8 +590,11 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         monitor.spin(1.0)
         if scenario.light:
             _wait_for_clock_subscriber(monitor, 'traffic_node', group)
+            if scenario.stepping == 'lockstep':
+                _wait_for_ready_topic(monitor, 'traffic_node', group)
         if scenario.ais is not None and scenario.stepping == 'lockstep':
             _wait_for_clock_subscriber(monitor, 'ais_node', group)
+            _wait_for_ready_topic(monitor, 'ais_node', group)
         simulators = {}
         if scenario.platoon is not None:   # every predecessor's simulator before its followers'
             from mission.platoon import start_order

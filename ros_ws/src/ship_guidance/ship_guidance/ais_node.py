@@ -22,6 +22,9 @@ Lockstep (`publish_on_clock`, as the launcher runs it): the targets of a step ar
 target of that stamp is out, and how many there were. One message per step, whatever the number
 of targets, so colav_node (`targets_sync_topic`) can wait until it holds every target up to its
 own stamp, and the recorder can acknowledge the step: the run stays deterministic and lossless.
+With `wait_subscribers`, `~/ready` (std_msgs/Bool, latched) turns true once `targets` and
+`targets_sync` have that many subscribers (ship_sim.ros.ready); the launcher starts the
+simulators only then, so neither the recorder nor a colav_node misses step 0.
 """
 import math
 import socket
@@ -37,6 +40,7 @@ from ship_guidance.ais import BAD_REASONS, STALE_AFTER_S, AisTracker, parse_repl
 from ship_sim.ros.conversions import make_odometry
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import STREAM
+from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
 
 COUNT_NAMES = ('decoded', 'ignored', 'pending_fragments', 'targets') + BAD_REASONS
@@ -80,6 +84,9 @@ class AisNode(Node):
                                   'stamped with it, each step followed by targets_sync '
                                   '(lockstep graphs); else every publish_period_s',
                                   read_only=True)
+        wait = p.declare('wait_subscribers', 0, 'with publish_on_clock: subscribers targets and '
+                         'targets_sync must have before ~/ready turns true (the launcher waits '
+                         'for it in lockstep)', lo=0, hi=1000, read_only=True)
         if not path and not port:
             raise ParameterError('file', message='give a replay file (file) or a UDP port '
                                  '(udp_port), or both')
@@ -118,6 +125,7 @@ class AisNode(Node):
             self.m_sync.layout.dim = [MultiArrayDimension(label=','.join(SYNC_NAMES),
                                                           size=len(SYNC_NAMES), stride=1)]
             self.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK_QOS)
+            self.ready = ReadyWhenMatched(self, lambda: (self.pub, self.pub_sync), wait)
         else:
             self.create_timer(period, self._tick)
         if self.sock is not None:

@@ -369,13 +369,18 @@ def _wait_for_clock_subscriber(monitor, node_name, group, timeout_s=30.0):
         infos = monitor.node.get_subscriptions_info_by_topic('/clock')
         if any(i.node_name == node_name for i in infos):
             return
-        dead = group.failed()
-        if dead:
-            p = dead[0]
-            raise MissionFailed(f'{p.label} exited with {_exit_status(p.returncode)}, its last '
-                                f'line: {_last_line(p)} (log: {p.log_path})')
+        _raise_if_failed(group)
         monitor.spin(0.1)
     raise MissionFailed(f'{node_name} did not subscribe /clock within {timeout_s:.0f} s')
+
+
+def _raise_if_failed(group):
+    """MissionFailed naming the first process of ``group`` that has exited, if any."""
+    dead = group.failed()
+    if dead:
+        p = dead[0]
+        raise MissionFailed(f'{p.label} exited with {_exit_status(p.returncode)}, its last '
+                            f'line: {_last_line(p)} (log: {p.log_path})')
 
 
 def _wait_for_odom_subscribers(monitor, spec, group, progress, timeout_s=30.0):
@@ -415,11 +420,7 @@ def _wait_for_ready_topic(monitor, node_name, group, timeout_s=60.0):
     try:
         end = time.monotonic() + timeout_s
         while not any(got):
-            dead = group.failed()
-            if dead:
-                p = dead[0]
-                raise MissionFailed(f'{p.label} exited with {_exit_status(p.returncode)}, its '
-                                    f'last line: {_last_line(p)} (log: {p.log_path})')
+            _raise_if_failed(group)
             if time.monotonic() > end:
                 raise MissionFailed(f'{node_name}: its target topics did not get their '
                                     f'subscribers (recorder, colav_node) within {timeout_s:.0f} s')

@@ -16,7 +16,7 @@ from pathlib import Path
 from mission import metrics
 from mission.bag import BagError
 from mission.integrity import summary_line
-from mission.report import analyse_bag
+from mission.report import analyse_bag, traffic_lines
 
 
 def main(argv=None):
@@ -59,6 +59,8 @@ def main(argv=None):
         print(f'{ns}: xte rms {_fmt(m.get("xte_rms_m"))} m, max {_fmt(m.get("xte_max_abs_m"))} m, '
               f'reward {_fmt(m.get("reward_gaussian_sum"))} @ {m.get("reward_step_s")} s, '
               f'time to complete {_fmt(m.get("time_to_complete_s"))} s{missing}')
+    for line in traffic_lines(result):
+        print(line)
     print(f'wrote {out / "metrics.json"}' + (f', {len(result.get("plots", []))} plots' if not args.no_plots else '')
           + f' and {out / "report.html"}')
     return 0

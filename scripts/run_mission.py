@@ -11,6 +11,7 @@ import argparse
 import sys
 
 from mission.launcher import MissionFailed, check_scenario, install_stop_handlers, run_scenario
+from mission.report import traffic_lines
 from mission.scenario import ScenarioError, load_scenario
 
 
@@ -57,6 +58,8 @@ def main(argv=None):
                                                   'reward', 'rudder_mean'))]
             print(f'{ns}: ' + ', '.join(f'{k} = {m[k]:.4g}' if isinstance(m[k], float)
                                        else f'{k} = {m[k]}' for k in sorted(keys)))
+        for line in traffic_lines(metrics):
+            print(line)
     return 0
 
 

@@ -4,8 +4,11 @@ For each vessel namespace: route_node, guidance_node, autopilot_node and, last, 
 (in lockstep it publishes step 0 only once its odom subscribers are all there). In a platoon
 (mission.platoon) a follower runs follower_node in place of guidance_node, steering at its
 predecessor's odom; every vessel_node is started after all the other nodes and waits for its
-own subscribers, which include the followers of that vessel. A recorder
-process writes every topic to an MCAP bag. The launcher's own rclpy node follows /clock,
+own subscribers, which include the followers of that vessel. Light targets get one
+traffic_node, a scenario's `ais:` section one graph-wide ais_node (both started before the
+simulators and, in lockstep, waited for until they follow /clock). In realtime a simulator waits
+for no one, so the launcher starts each only once its vessel's odom followers are there. A
+recorder process writes every topic to an MCAP bag. The launcher's own rclpy node follows /clock,
 cross-track errors and route completion to print progress and to decide when the run is over:
 every vessel has completed its route, or the simulators reached duration_s. A node that exits
 early fails the run: everything is stopped and the exit code is non-zero. Ctrl-C or SIGTERM
@@ -58,10 +61,16 @@ def light_odom_topics(scenario):
     return [f"/{t['name']}/odom" for t in scenario.light]
 
 
+AIS_NODE = ('ais_node', 'ship_guidance')
+#: ais_node runs graph-wide (no namespace): its topics as every colav vessel sees them.
+AIS_TARGETS, AIS_SYNC = '/targets', '/targets_sync'
+
+
 def record_ack_args(scenario):
     """The recorder's --ack arguments for every vessel (the first is the clock master, whose
-    acknowledgement also covers the light targets: traffic_node publishes them on its /clock)."""
-    light = light_odom_topics(scenario)
+    acknowledgement also covers the light targets and the AIS targets' per-step announcement:
+    traffic_node and ais_node publish them on its /clock)."""
+    light = light_odom_topics(scenario) + ([AIS_SYNC] if scenario.ais else [])
     return [a for i, spec in enumerate(scenario.vessels)
             for a in record_ack_arg(spec.namespace, i == 0, light if i == 0 else ())]
 
@@ -178,6 +187,14 @@ def check_scenario(scenario):
                     hint = f' (did you mean "{near[0]}"?)' if near else ''
                     raise ScenarioError(f'{where}{block}.{key}: {exe} has no parameter '
                                         f'{key!r}{hint}')
+    if scenario.ais is not None:
+        names = node_parameter_names(*reversed(AIS_NODE))
+        for key in scenario.ais:
+            if key not in names:
+                near = difflib.get_close_matches(str(key), sorted(names), n=1)
+                hint = f' (did you mean "{near[0]}"?)' if near else ''
+                raise ScenarioError(f'{scenario.file}: ais.{key}: ais_node has no parameter '
+                                    f'{key!r}{hint}')
     if platoon is not None:
         from mission.platoon import check_lead, check_stability
         check_lead(scenario)
@@ -290,6 +307,8 @@ def node_parameters(scenario, spec, index, record):
         if key in cur:
             vessel[param] = cur[key]
     vessel.update(spec.wave_params)
+    if spec.colav_params is not None:   # colav_node's speed factor acts on the shaft
+        vessel['speed_factor_input'] = True
     vessel.update(spec.vessel_params)
     sim_time = {'use_sim_time': True}
     params = {
@@ -304,8 +323,15 @@ def node_parameters(scenario, spec, index, record):
         others = [f'/{s.namespace}/odom' for s in scenario.vessels if s is not spec] + \
             light_odom_topics(scenario)
         # No node executes speed_factor_cmd yet: plan with course changes only unless asked.
-        params['colav_node'] = {**sim_time, 'target_topics': others or [''], 'has_shaft': False,
-                                'pairing': 'sequence' if lockstep else 'latest',
+        ais = {}
+        if scenario.ais is not None:   # the graph-wide ais_node's targets, waited for in lockstep
+            ais = {'targets_topic': AIS_TARGETS, 'targets_sync_topic': AIS_SYNC if lockstep else ''}
+        # vessel_node executes speed_factor_cmd on a shaft (tanker, container); the Mariner has
+        # none, so colav plans with course changes only there.
+        from ship_sim.models import make_model
+        params['colav_node'] = {**sim_time, 'target_topics': others or [''],
+                                'has_shaft': bool(make_model(spec.model).has_shaft),
+                                'pairing': 'sequence' if lockstep else 'latest', **ais,
                                 **spec.colav_params}
     if spec.predecessor is None:
         params['guidance_node'] = {**sim_time, **spec.guidance_params}
@@ -315,9 +341,28 @@ def node_parameters(scenario, spec, index, record):
     return params, plan
 
 
-def traffic_parameters(scenario):
+def target_subscribers(scenario, record):
+    """Lockstep: the subscribers of every target topic of traffic_node and ais_node (the recorder,
+    each colav vessel's colav_node) they wait for before ~/ready (ship_sim.ros.ready); 0 in
+    realtime (nobody waits)."""
+    if scenario.stepping != 'lockstep':
+        return 0
+    return int(bool(record)) + sum(1 for s in scenario.vessels if s.colav_params is not None)
+
+
+def traffic_parameters(scenario, record=True):
     """traffic_node's parameters: the light targets as JSON text (ship_sim.light_traffic)."""
-    return {'use_sim_time': True, 'targets': json.dumps(scenario.light)}
+    return {'use_sim_time': True, 'targets': json.dumps(scenario.light),
+            'wait_subscribers': target_subscribers(scenario, record)}
+
+
+def ais_parameters(scenario, record=True):
+    """ais_node's parameters: the scenario's `ais:` section on sim time; in lockstep it
+    publishes at every /clock step, each followed by targets_sync (ais_node)."""
+    lockstep = scenario.stepping == 'lockstep'
+    return {'use_sim_time': True, 'publish_on_clock': lockstep,
+            **({'wait_subscribers': target_subscribers(scenario, record)} if lockstep else {}),
+            **scenario.ais}
 
 
 def _wait_for_clock_subscriber(monitor, node_name, group, timeout_s=30.0):
@@ -328,13 +373,64 @@ def _wait_for_clock_subscriber(monitor, node_name, group, timeout_s=30.0):
         infos = monitor.node.get_subscriptions_info_by_topic('/clock')
         if any(i.node_name == node_name for i in infos):
             return
-        dead = group.failed()
-        if dead:
-            p = dead[0]
-            raise MissionFailed(f'{p.label} exited with {_exit_status(p.returncode)}, its last '
-                                f'line: {_last_line(p)} (log: {p.log_path})')
+        _raise_if_failed(group)
         monitor.spin(0.1)
     raise MissionFailed(f'{node_name} did not subscribe /clock within {timeout_s:.0f} s')
+
+
+def _raise_if_failed(group):
+    """MissionFailed naming the first process of ``group`` that has exited, if any."""
+    dead = group.failed()
+    if dead:
+        p = dead[0]
+        raise MissionFailed(f'{p.label} exited with {_exit_status(p.returncode)}, its last '
+                            f'line: {_last_line(p)} (log: {p.log_path})')
+
+
+def _wait_for_odom_subscribers(monitor, spec, group, progress, timeout_s=30.0):
+    """Realtime: wait until the nodes of ``spec``'s namespace that follow its odom (guidance or
+    follower, which subscribe only once they hold the route, the autopilot, colav_node) have
+    subscribed, so its simulator, which does not wait for anyone in realtime, starts into a
+    graph that answers step 0. Without this, a node still starting (the last vessel's, on a
+    loaded machine) misses the first seconds of odom, which the record then counts as missing
+    answers. Gives up with a warning after ``timeout_s``."""
+    ns = f'/{spec.namespace}'
+    wanted = {exe for exe, _ in vessel_nodes(spec) if exe != 'route_node'}
+    end = time.monotonic() + timeout_s
+    while time.monotonic() < end:
+        infos = monitor.node.get_subscriptions_info_by_topic(f'{ns}/odom')
+        if wanted <= {i.node_name for i in infos if i.node_namespace == ns}:
+            return
+        if group.failed():
+            return                  # the run loop reports the dead process
+        monitor.spin(0.1)
+    infos = monitor.node.get_subscriptions_info_by_topic(f'{ns}/odom')
+    late = sorted(wanted - {i.node_name for i in infos if i.node_namespace == ns})
+    progress(f'  warning: {", ".join(late)} of {ns} not following {ns}/odom after '
+             f'{timeout_s:.0f} s; starting its simulator anyway (its first steps go unanswered)')
+
+
+def _wait_for_ready_topic(monitor, node_name, group, timeout_s=60.0):
+    """Wait until ``node_name``'s latched ``/<node_name>/ready`` is true (ship_sim.ros.ready:
+    every target topic has its recorder and colav_node subscribers, as the publisher counts
+    them), so that no one misses step 0 of a lockstep run."""
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    from std_msgs.msg import Bool
+    got = []
+    qos = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    sub = monitor.node.create_subscription(Bool, f'/{node_name}/ready',
+                                           lambda m: got.append(m.data), qos)
+    try:
+        end = time.monotonic() + timeout_s
+        while not any(got):
+            _raise_if_failed(group)
+            if time.monotonic() > end:
+                raise MissionFailed(f'{node_name}: its target topics did not get their '
+                                    f'subscribers (recorder, colav_node) within {timeout_s:.0f} s')
+            monitor.spin(0.1)
+    finally:
+        monitor.node.destroy_subscription(sub)
 
 
 def write_params(run, namespace, node, params):
@@ -473,8 +569,12 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
                              *node_remaps(spec, exe)])
             vessel_params.append((spec, params['vessel_node'], plan))
         if scenario.light:
-            f = write_params(run, 'traffic', 'traffic_node', traffic_parameters(scenario))
+            f = write_params(run, 'traffic', 'traffic_node', traffic_parameters(scenario, record))
             group.start('traffic/traffic_node', 'ship_sim', 'traffic_node',
+                        ['--ros-args', '--params-file', f])
+        if scenario.ais is not None:
+            f = write_params(run, 'ais', 'ais_node', ais_parameters(scenario, record))
+            group.start('ais/ais_node', AIS_NODE[1], AIS_NODE[0],
                         ['--ros-args', '--params-file', f])
         if record:
             from ship_sim.models import make_model
@@ -495,6 +595,11 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         monitor.spin(1.0)
         if scenario.light:
             _wait_for_clock_subscriber(monitor, 'traffic_node', group)
+            if scenario.stepping == 'lockstep':
+                _wait_for_ready_topic(monitor, 'traffic_node', group)
+        if scenario.ais is not None and scenario.stepping == 'lockstep':
+            _wait_for_clock_subscriber(monitor, 'ais_node', group)
+            _wait_for_ready_topic(monitor, 'ais_node', group)
         simulators = {}
         if scenario.platoon is not None:   # every predecessor's simulator before its followers'
             from mission.platoon import start_order
@@ -504,6 +609,8 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             if spec.predecessor is not None and scenario.stepping == 'lockstep':
                 _wait_for_ready(simulators[spec.predecessor], spec.predecessor, vparams, monitor,
                                 group)
+            if scenario.stepping == 'realtime':
+                _wait_for_odom_subscribers(monitor, spec, group, progress)
             f = write_params(run, spec.namespace, 'vessel_node', vparams)
             simulators[spec.namespace] = group.start(
                 f'{spec.namespace}/vessel_node', 'ship_sim', 'vessel_node',

@@ -315,6 +315,21 @@ def vessel_metrics(t, x, y, yaw, *, xte=None, rudder=None, rudder_cmd=None, head
     return out
 
 
+def track_metrics(t, x, y):
+    """Metrics of a target's track (odometry only: a light or AIS target), JSON-able: duration,
+    samples, distance travelled and mean speed over ground."""
+    t, x, y = (np.asarray(a, dtype=float) for a in (t, x, y))
+    if t.size < 2:
+        return {'duration_s': None, 'start_time_s': _f(t[0]) if t.size else None,
+                'odom_samples': int(t.size), 'distance_travelled_m': 0.0,
+                'speed_mean_mps': None}
+    dist = float(np.sum(np.hypot(np.diff(x), np.diff(y))))
+    duration = float(t[-1] - t[0])
+    return {'duration_s': _f(duration), 'start_time_s': _f(t[0]), 'odom_samples': int(t.size),
+            'distance_travelled_m': _f(dist),
+            'speed_mean_mps': _f(dist / duration) if duration > 0 else None}
+
+
 # -- platoons ----------------------------------------------------------------------------------
 
 def gap_error_stats(t, gap_error, t_from):

@@ -5,9 +5,10 @@ namespace; one colour per vessel. Arrays are in SI units and radians; the plots 
 degrees (axis labels say so) because people read degrees. Headings are unwrapped for display so
 a turn through +-180 deg draws as a continuous line.
 
-Files: ``track.png`` (ENU track vs route, equal axes, start/end markers, heading arrows),
-``cross_track_error.png``, ``heading.png`` (yaw vs command), ``rudder.png`` (command and
-actual, with the limit lines).
+Files: ``track.png`` (ENU track vs route, equal axes, start/end markers, heading arrows; with
+traffic, the targets' tracks and time marks every 60 s on every track), ``cross_track_error.png``,
+``heading.png`` (yaw vs command), ``rudder.png`` (command and actual, with the limit lines),
+and with traffic ``range.png`` (range from every vessel to every target over time).
 """
 from pathlib import Path
 
@@ -43,11 +44,16 @@ def _shade_settle(ax, t0, settle_s):
         ax.axvspan(0.0, settle_s, color='0.9', zorder=0, label='settling (excluded)')
 
 
-def plot_track(vessels, path, arrows=20):
-    """Track vs route, equal axes; ``arrows`` heading arrows per vessel."""
+def plot_track(vessels, path, arrows=20, traffic=None):
+    """Track vs route, equal axes; ``arrows`` heading arrows per vessel; the ``traffic``
+    targets' tracks ({name: track with t, x, y}) thin and grey-toned, with time marks every
+    60 s on every track."""
+    traffic = traffic or {}
     fig, ax = plt.subplots(figsize=(8, 7))
     xs = [a for v in vessels.values() for a in (v.x, v.route.x if v.route is not None else [])]
     ys = [a for v in vessels.values() for a in (v.y, v.route.y if v.route is not None else [])]
+    xs += [tr.x for tr in traffic.values()]
+    ys += [tr.y for tr in traffic.values()]
     xs, ys = np.concatenate([np.ravel(a) for a in xs]), np.concatenate([np.ravel(a) for a in ys])
     arrow_len = 0.035 * max(np.ptp(xs) if xs.size else 0.0, np.ptp(ys) if ys.size else 0.0, 1.0)
     routes_drawn = []
@@ -68,6 +74,14 @@ def plot_track(vessels, path, arrows=20):
         k = np.arange(0, len(v.x), step)
         ax.quiver(v.x[k], v.y[k], arrow_len * np.cos(v.yaw[k]), arrow_len * np.sin(v.yaw[k]), color=colour,
                   angles='xy', scale_units='xy', scale=1.0, width=0.004, alpha=0.85, zorder=3)
+        if traffic:
+            _time_marks(ax, v, colour)
+    for colour, (name, tr) in zip(_colours(len(vessels) + len(traffic))[len(vessels):],
+                                  traffic.items()):
+        if len(tr.x):
+            ax.plot(tr.x, tr.y, '-', color=colour, lw=1.0, alpha=0.8, label=f'{name} (target)')
+            ax.plot(tr.x[-1], tr.y[-1], 's', color=colour, ms=6)
+            _time_marks(ax, tr, colour)
     ax.plot([], [], 'o', color='k', mfc='white', label='start')
     ax.plot([], [], 's', color='k', label='end')
     ax.set_aspect('equal', adjustable='datalim')
@@ -77,6 +91,19 @@ def plot_track(vessels, path, arrows=20):
     ax.grid(True, alpha=0.3)
     ax.legend(loc='best', fontsize=8)
     return _save(fig, path)
+
+
+TIME_MARK_S = 60.0
+
+
+def _time_marks(ax, track, colour):
+    """Dots on a track every TIME_MARK_S of its time (the same times on every track, so
+    where two ships were at once can be read off)."""
+    t = np.asarray(track.t)
+    if t.size < 2:
+        return
+    marks = np.arange(np.ceil(t[0] / TIME_MARK_S), np.floor(t[-1] / TIME_MARK_S) + 1) * TIME_MARK_S
+    ax.plot(np.interp(marks, t, track.x), np.interp(marks, t, track.y), '.', color=colour, ms=6)
 
 
 def plot_cross_track(vessels, path, settle_s=None):
@@ -153,11 +180,38 @@ def plot_rudder(vessels, path, limit_rad=None):
     return _save(fig, path)
 
 
-def make_plots(vessels, out_dir, rudder_limit_rad=None, settle_s=None):
-    """Write the four PNGs into ``out_dir`` (created); returns their paths."""
+def make_plots(vessels, out_dir, rudder_limit_rad=None, settle_s=None, traffic=None):
+    """Write the four PNGs into ``out_dir`` (created), and range.png when there is
+    ``traffic`` ({target name: track with t, x, y, yaw}); returns their paths."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    return [plot_track(vessels, out / 'track.png'),
-            plot_cross_track(vessels, out / 'cross_track_error.png', settle_s),
-            plot_heading(vessels, out / 'heading.png'),
-            plot_rudder(vessels, out / 'rudder.png', rudder_limit_rad)]
+    paths = [plot_track(vessels, out / 'track.png', traffic=traffic),
+             plot_cross_track(vessels, out / 'cross_track_error.png', settle_s),
+             plot_heading(vessels, out / 'heading.png'),
+             plot_rudder(vessels, out / 'rudder.png', rudder_limit_rad)]
+    if traffic:
+        paths.append(plot_ranges(vessels, traffic, out / 'range.png'))
+    return paths
+
+
+def plot_ranges(vessels, traffic, path):
+    """Range (m) from every vessel to every target over time, at the vessel's stamps within
+    the target's time span (the target interpolated: mission.encounter.relative_positions)."""
+    from mission.encounter import relative_positions
+    fig, ax = plt.subplots(figsize=(9, 4))
+    t0 = _t0(vessels)
+    styles = ('-', '--', ':', '-.')
+    for colour, (ns, v) in zip(_colours(len(vessels)), vessels.items()):
+        for i, (name, tr) in enumerate(traffic.items()):
+            sel, dx, dy = relative_positions(v, tr)
+            if not sel.size:
+                continue
+            ax.plot(v.t[sel] - t0, np.hypot(dx, dy), styles[i % len(styles)], color=colour,
+                    lw=1.3, label=f'{_label(ns)} to {name}')
+    ax.set_ylim(bottom=0.0)
+    ax.set_xlabel('time (s)')
+    ax.set_ylabel('range (m)')
+    ax.set_title('Range to each target')
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc='best', fontsize=8)
+    return _save(fig, path)

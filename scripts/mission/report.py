@@ -13,6 +13,14 @@ platoon's early finishers) on the last leg's extension, and how long depends on 
 timing. Metrics and plots cover start to completion, so identical lockstep runs give identical
 numbers; the record's ``bag_end_s`` and ``tail_after_finish_s`` say what was cut.
 
+Traffic: a namespace with odometry only (no route, rudder or heading command: a light target)
+and each target on ais_node's ``/targets`` (by child_frame_id) is no vessel: ``metrics['traffic']``
+holds per target its track metrics (mission.metrics.track_metrics, source ``light`` or ``ais``)
+and its closest approach to every vessel (mission.encounter.min_distance: distance, time,
+bearing, side), over the time the vessels' own records cover (their completion cut; so
+repeated lockstep runs give identical numbers). Plots: the targets' tracks join track.png, the
+range from every vessel to every target is range.png; the per-vessel panels leave them out.
+
 Platoons (``platoon`` = {namespace: predecessor namespace or None}, from the launcher):
 - times: only the clock master publishes /clock and the followers run behind it in sim time, so
   neither a /clock-based log time nor a wall time says when a follower's unstamped message was
@@ -33,6 +41,7 @@ Platoons (``platoon`` = {namespace: predecessor namespace or None}, from the lau
 import dataclasses
 import json
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -67,7 +76,10 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
               'record': record, 'vessels': {}}
     if data.recovered:
         result['recovered'] = data.recovered
+    traffic = _traffic_tracks(bag_dir, data)
     for ns, v in data.vessels.items():
+        if ns in traffic:
+            continue
         if len(v.t) < 2:
             result['vessels'][ns] = {'error': 'fewer than two odometry messages', 'missing_topics': v.missing}
             continue
@@ -92,12 +104,18 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
         rec['bag_end_s'] = metrics._f(bag_end[ns] - v.t[0])
         rec['tail_after_finish_s'] = metrics._f(bag_end[ns] - v.t[-1]) if ends[ns][0] is not None else 0.0
         result['vessels'][ns] = m
+    own = {ns: v for ns, v in data.vessels.items() if ns not in traffic}
+    if traffic:
+        traffic = _cut_traffic(traffic, own)
+        result['traffic'] = traffic_metrics(traffic, own)
     if platoon:
         result['platoon'] = platoon_metrics(result['vessels'], gaps, platoon, settle_s, ends)
     out.mkdir(parents=True, exist_ok=True)
     if make_pngs:
         settle_shown = next((m.get('settle_s') for m in result['vessels'].values() if m.get('settle_s')), None)
-        result['plots'] = [p.name for p in plots.make_plots(data.vessels, out, limits, settle_shown)]
+        result['plots'] = [p.name for p in plots.make_plots(own, out, limits, settle_shown,
+                                                            traffic={n: tr for n, (_, tr) in
+                                                                     traffic.items()})]
         if platoon:
             result['plots'] += [p.name for p in plot_platoon(gaps, result['platoon'], out, settle_shown)]
     result.update(extra or {})
@@ -106,6 +124,57 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
     if html:
         html_report.write_run_report(out, result, source_dir=bag_dir.resolve().parent)
     return result
+
+
+#: A vessel's topics besides odom: a namespace with none of them (odometry only) is a light
+#: target (traffic_node publishes nothing else).
+_VESSEL_TOPICS = ('route', 'rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_error', 'progress')
+
+
+def _traffic_tracks(bag_dir, data):
+    """{name: (source, track)} of the targets of a run: the namespaces with odometry only
+    ('light') and the targets on ais_node's /targets ('ais', mission.encounter.target_tracks)."""
+    from mission.encounter import target_tracks
+    out = {ns: ('light', v) for ns, v in data.vessels.items()
+           if all(t in v.missing for t in _VESSEL_TOPICS)}
+    if '/targets' in data.topics:
+        out.update((name, ('ais', tr)) for name, tr in target_tracks(bag_dir).items())
+    return out
+
+
+def _cut_traffic(traffic, own):
+    """The targets' tracks up to the last vessel's (completion-cut) record: a target has no
+    completion of its own, and the graph runs on for a time that varies with process timing."""
+    ends = [v.t[-1] for v in own.values() if len(v.t)]
+    if not ends:
+        return traffic
+    t_end = max(ends)
+    return {name: (source, SimpleNamespace(**{k: getattr(tr, k)[tr.t <= t_end]
+                                             for k in ('t', 'x', 'y', 'yaw')}))
+            for name, (source, tr) in traffic.items()}
+
+
+def traffic_metrics(traffic, own):
+    """{target: track metrics + source + closest_approach {vessel: min_distance dict}}."""
+    from mission.encounter import min_distance
+    result = {}
+    for name, (source, tr) in traffic.items():
+        m = {'source': source, **metrics.track_metrics(tr.t, tr.x, tr.y)}
+        m['closest_approach'] = {ns: min_distance(v, tr) for ns, v in own.items()
+                                 if len(v.t) and len(tr.t)}
+        result[name] = m
+    return result
+
+
+def traffic_lines(result):
+    """One console line per target of ``result['traffic']``: its closest approach to each
+    vessel."""
+    lines = []
+    for name, m in result.get('traffic', {}).items():
+        close = ', '.join(f"{ns} {c['min_distance_m']:.1f} m at {c['t_min_s']:.1f} s "
+                          f"({c['side']})" for ns, c in m['closest_approach'].items() if c)
+        lines.append(f"{name} ({m['source']} target): closest approach {close or 'none'}")
+    return lines
 
 
 def prepare_records(bag_dir, data, platoon=None):

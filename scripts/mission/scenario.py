@@ -35,6 +35,12 @@
                                              #   speed from (x_m, y_m) ENU at t = 0 (default 0/0)
       target_2:                              #   or timed waypoints [t_s, x_m, y_m] (ENU, times
         light: {waypoints: [[0, 0, 0], [600, 0, 4000]]}   # strictly increasing), straight legs
+    ais:                                     # optional: AIS targets from a replay file
+      file: ais/head_on_target.nmea          #   NMEA replay (ship_guidance.ais.parse_replay),
+                                             #   relative to this file, fed on sim time
+      origin_lat_deg: 63.4                   #   geodetic origin of the scenario's ENU frame
+      origin_lon_deg: 10.4
+      stale_after_s: 360.0                   #   any other ais_node parameter (config/ais.yaml)
 
 Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
@@ -54,6 +60,11 @@ them all in closed form and publishes `/<name>/odom` at every /clock step, stamp
 their odom topics join every colav vessel's `target_topics` and the clock master's record
 acknowledgement. They are in `Scenario.light` (the traffic_node's target list), not in
 `Scenario.vessels`.
+AIS targets (`ais:`): the launcher starts one ais_node (graph-wide: `/targets`) replaying `file`
+on sim time in the ENU frame of the origin; every colav vessel takes `/targets` as its
+targets_topic. In lockstep ais_node publishes at every /clock step followed by `/targets_sync`,
+which colav_node waits for (deterministic) and the clock master's record acknowledgement covers
+(lossless). `Scenario.ais` holds the ais_node parameters (file made absolute).
 
 A platoon (a string of vessels, each steering at its predecessor) is written as a `platoon:`
 section instead of `vessels:`; its schema and checks are in mission.platoon. Its vessels come out
@@ -75,7 +86,9 @@ from ship_planner.yaml_route_reader import Loader
 from ship_sim.frames import psi_to_yaw
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
-            'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic'}
+            'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais'}
+#: ais_node parameters the launcher sets itself (not allowed in a scenario's `ais:`).
+AIS_LAUNCHER_KEYS = {'use_sim_time', 'publish_on_clock'}
 VESSEL_KEYS = {'model', 'route', 'start', 'speed_mps', 'current', 'vessel', 'guidance',
                'autopilot', 'model_params', 'colav', 'waves'}
 TRAFFIC_KEYS = VESSEL_KEYS - {'colav'}
@@ -103,6 +116,8 @@ class Scenario:
     platoon: object = None   # mission.platoon.Platoon for a `platoon:` scenario
     #: light targets of `traffic:` as traffic_node's `targets` list (name + the `light` mapping)
     light: list = field(default_factory=list)
+    #: ais_node parameters of the `ais:` section (file absolute), None without one
+    ais: dict = None
     #: route file -> its parsed RoutePlan, filled once by mission.launcher.check_scenario and
     #: passed on to the nodes' parameters (a route file is parsed once per run by the launcher)
     routes: dict = field(default_factory=dict)
@@ -134,6 +149,8 @@ def load_scenario(path):
     lockstep_timeout = number(data, 'lockstep_timeout_s', path, 10.0, lo=0.1)
     need(not ('vessels' in data and 'platoon' in data), path, 'platoon',
           "give either 'vessels' (independent vessels) or 'platoon' (a string), not both")
+    need(not ('ais' in data and 'platoon' in data), path, 'ais',
+          'AIS targets are not supported beside a platoon')
     platoon = None
     light = []
     if 'platoon' in data:
@@ -155,6 +172,7 @@ def load_scenario(path):
             specs += _parse_vessels(full, 'traffic', TRAFFIC_KEYS, path, traffic=True)
     need(not ('traffic' in data and 'platoon' in data), path, 'traffic',
           'traffic is not supported beside a platoon')
+    ais = _parse_ais(data['ais'], path) if 'ais' in data else None
     return Scenario(
         file=path, name=data['name'], source=str(data.get('source', '')),
         description=str(data.get('description', '')),
@@ -163,7 +181,28 @@ def load_scenario(path):
         dt_s=number(data, 'dt_s', path, 0.1, lo=1e-3, hi=10.0),
         settle_s=number(data, 'settle_s', path, 0.0, lo=0.0),
         record=bool(data.get('record', True)),
-        lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light)
+        lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light,
+        ais=ais)
+
+
+def _parse_ais(ais, path):
+    """ais_node parameters of the `ais:` section: a replay file (relative to the scenario, made
+    absolute) and the geodetic origin are required; other keys are ais_node parameters, checked
+    by name in mission.launcher.check_scenario."""
+    need(isinstance(ais, dict), path, 'ais', 'a mapping (file, origin_lat_deg, origin_lon_deg, '
+         'other ais_node parameters)')
+    for key in sorted(set(ais) & AIS_LAUNCHER_KEYS):
+        need(False, path, f'ais.{key}', 'set by the launcher, not in a scenario')
+    need(isinstance(ais.get('file'), str) and ais['file'].strip(), path, 'ais.file',
+         'an AIS replay file (NMEA, relative to the scenario)')
+    file = (path.parent / ais['file']).resolve()
+    need(file.is_file(), path, 'ais.file', f'{file} is not a file')
+    out = dict(ais, file=str(file))
+    out['origin_lat_deg'] = number(ais, 'origin_lat_deg', path, None, lo=-89.0, hi=89.0,
+                                   where='ais.')
+    out['origin_lon_deg'] = number(ais, 'origin_lon_deg', path, None, lo=-180.0, hi=180.0,
+                                   where='ais.')
+    return out
 
 
 def _parse_light(entries, path):

@@ -39,8 +39,9 @@ def make_node():
 @pytest.fixture
 def scenario_variant(tmp_path):
     """variant(source, change) -> path of a copy of the scenario file ``source`` with
-    ``change(data)`` applied; every relative route is made absolute against the source's folder
-    (routes added by ``change`` too), so the copy reads the repository's route files."""
+    ``change(data)`` applied; every relative route (and the `ais:` replay file) is made absolute
+    against the source's folder (routes added by ``change`` too), so the copy reads the
+    repository's files."""
     import yaml
 
     def variant(source, change):
@@ -51,6 +52,9 @@ def scenario_variant(tmp_path):
             for entry in entries.values() if isinstance(entries, dict) else ():
                 if isinstance(entry, dict) and isinstance(entry.get('route'), str):
                     entry['route'] = str((source.parent / entry['route']).resolve())
+        ais = data.get('ais')
+        if isinstance(ais, dict) and isinstance(ais.get('file'), str) and ais['file']:
+            ais['file'] = str((source.parent / ais['file']).resolve())
         path = tmp_path / 'variant.yaml'
         path.write_text(yaml.safe_dump(data))
         return path

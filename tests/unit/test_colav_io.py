@@ -152,7 +152,8 @@ def test_colav_yaml_lists_exactly_the_node_parameters():
     declared = {name: default for name, default, *_ in colav_node.SCALARS}
     declared.update({name: default for name, default, _ in colav_node.LISTS})
     declared.update(method='sbmpc', decision_period_s=1.0, pairing='sequence', targets_topic='targets',
-                    target_stale_s=30.0, lockstep_target_timeout_s=10.0, has_shaft=True)
+                    target_stale_s=30.0, lockstep_target_timeout_s=10.0, has_shaft=True,
+                    targets_sync_topic='')
     assert set(listed) == set(declared)
     for key, value in listed.items():
         numeric = not isinstance(value, (str, bool)) and key != 'target_topics'

@@ -101,3 +101,36 @@ def test_traffic_beside_a_platoon_is_refused(scenario_variant):
         del d['vessels']
     with pytest.raises(ScenarioError, match=': (platoon|traffic)'):
         load_scenario(scenario_variant(HEAD_ON, change))
+
+
+def test_realtime_simulator_waits_for_the_nodes_that_follow_its_odom():
+    """Realtime: a vessel's simulator starts only once its guidance (subscribed after the route
+    came), autopilot and colav_node follow its odom; a node that never does is warned about."""
+    from types import SimpleNamespace
+
+    from mission.launcher import _wait_for_odom_subscribers
+    sc = load_scenario(HEAD_ON)
+    own = sc.vessels[0]
+    joined = []   # subscribers of /vessel_0/odom appear one per spin
+
+    class Monitor:
+        node = SimpleNamespace(get_subscriptions_info_by_topic=lambda topic: [
+            SimpleNamespace(node_name=n, node_namespace=ns) for n, ns in joined])
+
+        def spin(self, seconds):
+            pending = [('guidance_node', '/vessel_0'), ('autopilot_node', '/target_0'),
+                       ('autopilot_node', '/vessel_0'), ('colav_node', '/vessel_0')]
+            if len(joined) < len(pending):
+                joined.append(pending[len(joined)])
+
+    group = SimpleNamespace(failed=lambda: [])
+    said = []
+    _wait_for_odom_subscribers(Monitor(), own, group, said.append)
+    assert len(joined) == 4 and said == []     # waited for all three of its own namespace
+    joined[:] = [('guidance_node', '/vessel_0')]
+
+    class Stuck(Monitor):
+        def spin(self, seconds):
+            pass
+    _wait_for_odom_subscribers(Stuck(), own, group, said.append, timeout_s=0.05)
+    assert len(said) == 1 and 'autopilot_node, colav_node of /vessel_0' in said[0]

@@ -8,13 +8,23 @@ Inputs (either or both):
 - `udp_port` > 0: NMEA lines (one or more per datagram) on UDP `udp_address`:`udp_port`, the way
   OpenCPN, AIS-catcher and gpsd relay live AIS; stamped with the node's clock on arrival.
 
-Every `publish_period_s` of the node's clock it publishes each live target (ship_guidance.ais:
+Every `publish_period_s` of the node's clock (or, with `publish_on_clock`, at every /clock
+message, stamped exactly with it) it publishes each live target (ship_guidance.ais:
 dead-reckoned to now, dropped after `stale_after_s` without a report) as nav_msgs/Odometry on
 `targets`, ENU at the geodetic origin (`origin_lat_deg`, `origin_lon_deg`), frame_id `map`,
 child_frame_id `ais_<mmsi>`, orientation the true heading (else the COG), twist FLU from SOG
 and COG; with `per_target_topics` also on `targets/ais_<mmsi>/odom`. `ais_counts`
 (std_msgs/UInt64MultiArray, names in the layout's label) carries the counters. Bad input is
 counted by reason and warned about (throttled); it never stops the node.
+
+Lockstep (`publish_on_clock`, as the launcher runs it): the targets of a step are followed by one
+`targets_sync` (std_msgs/UInt64MultiArray ``[stamp_ns, targets]``, labels in the layout): every
+target of that stamp is out, and how many there were. One message per step, whatever the number
+of targets, so colav_node (`targets_sync_topic`) can wait until it holds every target up to its
+own stamp, and the recorder can acknowledge the step: the run stays deterministic and lossless.
+With `wait_subscribers`, `~/ready` (std_msgs/Bool, latched) turns true once `targets` and
+`targets_sync` have that many subscribers (ship_sim.ros.ready); the launcher starts the
+simulators only then, so neither the recorder nor a colav_node misses step 0.
 """
 import math
 import socket
@@ -22,16 +32,23 @@ import socket
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock as ClockMsg
 from std_msgs.msg import MultiArrayDimension, UInt64MultiArray
 
 from ship_guidance.ais import BAD_REASONS, STALE_AFTER_S, AisTracker, parse_replay
 from ship_sim.ros.conversions import make_odometry
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import STREAM
+from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
 
 COUNT_NAMES = ('decoded', 'ignored', 'pending_fragments', 'targets') + BAD_REASONS
+SYNC_NAMES = ('stamp_ns', 'targets')
 UDP_POLL_S = 0.02          # wall-clock period of the UDP poll
+NS_PER_S = 1_000_000_000
+#: /clock as the simulator publishes it (reliable): no step is lost between it and us.
+CLOCK_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
 
 
 def child_frame(mmsi):
@@ -63,6 +80,13 @@ class AisNode(Node):
                            'the node clock', lo=1e-3, hi=3600.0, unit='s', read_only=True)
         self.per_target = p.declare('per_target_topics', False, 'also publish each target on '
                                     'targets/ais_<mmsi>/odom', read_only=True)
+        self.on_clock = p.declare('publish_on_clock', False, 'publish at every /clock message, '
+                                  'stamped with it, each step followed by targets_sync '
+                                  '(lockstep graphs); else every publish_period_s',
+                                  read_only=True)
+        wait = p.declare('wait_subscribers', 0, 'with publish_on_clock: subscribers targets and '
+                         'targets_sync must have before ~/ready turns true (the launcher waits '
+                         'for it in lockstep)', lo=0, hi=1000, read_only=True)
         if not path and not port:
             raise ParameterError('file', message='give a replay file (file) or a UDP port '
                                  '(udp_port), or both')
@@ -85,7 +109,7 @@ class AisNode(Node):
             self.sock = sock
         self.tracker = AisTracker(lat0, lon0, stale)
         self.sim_time = self.get_parameter('use_sim_time').value
-        self.t_base = 0.0 if self.sim_time else self._now()
+        self.t_base = 0.0 if self.sim_time or self.on_clock else self._now()
         self.next_line = 0
         self.n_bad = 0
         self.live = set()
@@ -95,7 +119,15 @@ class AisNode(Node):
         self.m_counts = UInt64MultiArray()
         self.m_counts.layout.dim = [MultiArrayDimension(label=','.join(COUNT_NAMES),
                                                         size=len(COUNT_NAMES), stride=1)]
-        self.create_timer(period, self._tick)
+        if self.on_clock:
+            self.pub_sync = self.create_publisher(UInt64MultiArray, 'targets_sync', STREAM)
+            self.m_sync = UInt64MultiArray()
+            self.m_sync.layout.dim = [MultiArrayDimension(label=','.join(SYNC_NAMES),
+                                                          size=len(SYNC_NAMES), stride=1)]
+            self.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK_QOS)
+            self.ready = ReadyWhenMatched(self, lambda: (self.pub, self.pub_sync), wait)
+        else:
+            self.create_timer(period, self._tick)
         if self.sock is not None:
             self.create_timer(UDP_POLL_S, self._poll_udp,
                               clock=Clock(clock_type=ClockType.STEADY_TIME))
@@ -131,8 +163,17 @@ class AisNode(Node):
                 if line.strip():
                     self._feed(line, t)
 
-    def _tick(self):
-        now = self._now()
+    def _on_clock(self, msg):
+        stamp_ns = msg.clock.sec * NS_PER_S + msg.clock.nanosec
+        n = self._tick(stamp_ns / NS_PER_S, msg.clock)
+        self.m_sync.data = [stamp_ns, n]
+        self.pub_sync.publish(self.m_sync)
+
+    def _tick(self, now=None, stamp=None):
+        """Feed the replay lines due, publish the live targets at ``now`` (default: the node's
+        clock; stamped ``stamp``, a builtin_interfaces/Time, when given) and the counts; returns
+        the number of targets published."""
+        now = self._now() if now is None else now
         t = now - self.t_base
         replay = self.replay
         while self.next_line < len(replay) and replay[self.next_line][0] <= t:
@@ -151,6 +192,8 @@ class AisNode(Node):
             d = s.cog - s.psi
             msg = make_odometry(now, s.north, s.east, s.psi, s.sog * math.cos(d),
                                 s.sog * math.sin(d), 0.0, child_frame(s.mmsi))
+            if stamp is not None:
+                msg.header.stamp = stamp
             self.pub.publish(msg)
             if self.per_target:
                 pub = self.pubs.get(s.mmsi)
@@ -162,6 +205,7 @@ class AisNode(Node):
         self.m_counts.data = [sum(tr.decoded.values()), sum(tr.ignored.values()),
                               tr.pending_fragments, len(targets)] + [tr.bad[r] for r in BAD_REASONS]
         self.pub_counts.publish(self.m_counts)
+        return len(targets)
 
     def destroy_node(self):
         if self.sock is not None:

@@ -8,6 +8,9 @@
   a decision never sees a sample from the future, whatever order the messages arrived in.
   Lockstep targets (full vessels stepping with the own ship) must have a sample at or after t
   before a decision at t is taken (``waiting_for``).
+- ``SyncedSource``: a many-target topic whose publisher announces after each step how many
+  targets it published at that stamp (ais_node's ``targets_sync``): complete up to a stamp once
+  every announced message up to it has come, so a lockstep decision can wait for it.
 - ``DecisionSchedule``: a decision every ``period`` of sim time, on integer nanoseconds so the
   schedule is exact and identical on repeat.
 - ``command_yaw``: the ENU yaw command from the nominal one and the last decision: the nominal
@@ -36,7 +39,7 @@ ROLE_CODES = {'none': 0, colregs.GIVE_WAY: 1, colregs.STAND_ON: 2}
 MODE_CODES = {'nominal': 0, 'stand-on': 1, 'avoid': 2, 'last-resort': 3}
 #: colav_node's own parameters (config/colav.yaml lists them beside the decision's).
 NODE_KEYS = frozenset({'method', 'decision_period_s', 'pairing', 'targets_topic', 'target_topics',
-                       'target_stale_s', 'lockstep_target_timeout_s'})
+                       'target_stale_s', 'lockstep_target_timeout_s', 'targets_sync_topic'})
 DECISION_COLUMNS = ('t_s', 'mode', 'course_offset_rad', 'speed_multiplier', 'threat',
                     'n_targets')
 
@@ -128,6 +131,45 @@ class TargetTracks:
         for table in (self._stamps, self._states, self.last_heard):
             table.pop(name, None)
         self.lockstep.discard(name)
+
+
+class SyncedSource:
+    """Completeness of a many-target topic with per-step announcements (``[stamp, count]``).
+
+    Messages on one topic from one publisher arrive in order, and so do the announcements, but
+    the two topics are not ordered against each other: a stamp is complete once its
+    announcement has come and as many messages with that stamp as it announces, and every
+    announced stamp before it is complete too."""
+
+    def __init__(self):
+        self._received = {}      # stamp (ns) -> messages received with it, not yet complete
+        self._announced = []     # [(stamp ns, count)] in arrival (= stamp) order, not complete
+        self.complete_ns = None  # every message stamped at or before this has arrived
+
+    def received(self, t_ns):
+        self._received[t_ns] = self._received.get(t_ns, 0) + 1
+        self._advance()
+
+    def announced(self, t_ns, count):
+        self._announced.append((t_ns, count))
+        self._advance()
+
+    def _advance(self):
+        done = 0
+        for t_ns, count in self._announced:
+            if self._received.get(t_ns, 0) < count:
+                break
+            self._received.pop(t_ns, None)
+            self.complete_ns = t_ns
+            done += 1
+        del self._announced[:done]
+        if self.complete_ns is not None and self._received:   # messages of completed stamps
+            for t_ns in [t for t in self._received if t <= self.complete_ns]:
+                del self._received[t_ns]
+
+    def ready(self, t_ns):
+        """Whether every message stamped at or before ``t_ns`` has arrived."""
+        return self.complete_ns is not None and self.complete_ns >= t_ns
 
 
 class DecisionSchedule:

@@ -4,7 +4,9 @@ Subscribes `odom` (own ship, nav_msgs/Odometry ENU), `heading_ref` (std_msgs/Flo
 nominal ENU yaw: guidance_node's heading_cmd, remapped) and targets as nav_msgs/Odometry: the
 `targets_topic` (default `targets`, relative: the vessel namespace's; ais_node publishes every
 AIS target there, each named by its child_frame_id) and each of `target_topics` (full vessels
-stepping in lockstep, e.g. `/vessel_1/odom`; the topic names the target).
+stepping in lockstep, e.g. `/vessel_1/odom`; the topic names the target). With
+`targets_sync_topic` (ais_node's `targets_sync` with `publish_on_clock`, std_msgs/UInt64MultiArray
+``[stamp_ns, targets]``) the many-target topic is waited for too (colav_io.SyncedSource).
 Publishes, exactly once per own odom (`pairing` sequence, for lockstep: the n-th odom paired
 with the n-th heading_ref, as the autopilot pairs; latest, for realtime: with the last
 heading_ref, no waiting for lockstep targets, odom before the first heading_ref unanswered):
@@ -33,7 +35,7 @@ from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
-from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension
+from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension, UInt64MultiArray
 from visualization_msgs.msg import MarkerArray
 
 from ship_guidance import colav_io
@@ -107,6 +109,11 @@ class ColavRosNode(Node):
         self.targets_topic = p.declare('targets_topic', 'targets', 'topic of many targets, each '
                                        'named by child_frame_id (relative: in this namespace; '
                                        "'': none)", read_only=True)
+        self.sync_topic = p.declare('targets_sync_topic', '', 'announcements [stamp_ns, count] '
+                                    "of the targets_topic's steps (ais_node's targets_sync with "
+                                    "publish_on_clock): lockstep decisions wait until every "
+                                    "target up to their stamp has come ('': none)",
+                                    read_only=True)
         stale = p.declare('target_stale_s', 30.0, 'a target state older than this (sim time) is '
                           'not used', lo=0.0, hi=1e5, unit='s', read_only=True)
         self.wait_timeout = p.declare('lockstep_target_timeout_s', 10.0, 'wall time a decision '
@@ -133,6 +140,7 @@ class ColavRosNode(Node):
         self.params = params
         self.schedule = colav_io.DecisionSchedule(period)
         self.tracks = colav_io.TargetTracks(stale)
+        self.sync = colav_io.SyncedSource() if self.sync_topic and self.targets_topic else None
         self.lockstep_topics = topics
         self.pairer = SequencePairer()
         self.pending = []          # (odom NED, heading_ref) pairs not answered yet
@@ -155,6 +163,8 @@ class ColavRosNode(Node):
             self.create_subscription(Odometry, topic, self._lockstep_target(topic), STREAM)
         if self.targets_topic:
             self.create_subscription(Odometry, self.targets_topic, self._on_targets, STREAM)
+        if self.sync is not None:
+            self.create_subscription(UInt64MultiArray, self.sync_topic, self._on_sync, STREAM)
         self.create_subscription(Float64, 'heading_ref', self._on_ref, STREAM)
         self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
         self.create_timer(0.2, self._drain, clock=Clock(clock_type=ClockType.STEADY_TIME))
@@ -176,7 +186,15 @@ class ColavRosNode(Node):
 
     def _on_targets(self, msg):
         self._add_target(msg.child_frame_id, msg, lockstep=False)
+        if self.sync is not None:
+            self.sync.received(_stamp_ns(msg))
         self._drain()
+
+    def _on_sync(self, msg):
+        if len(msg.data) >= 2:
+            self.sync.announced(int(msg.data[0]), int(msg.data[1]))
+            self.warned.discard(self.sync_topic)
+            self._drain()
 
     def _add_target(self, name, msg, lockstep):
         o = odometry_to_ned(msg)
@@ -253,8 +271,10 @@ class ColavRosNode(Node):
         self.pub_markers.publish(colav_markers(t, own, targets, d, self.params.d_safe_m))
 
     def _targets_ready(self, t_ns):
-        missing = [n for n in self.tracks.waiting_for(t_ns, self.lockstep_topics)
-                   if n not in self.warned]
+        missing = self.tracks.waiting_for(t_ns, self.lockstep_topics)
+        if self.sync is not None and not self.sync.ready(t_ns):
+            missing.append(self.sync_topic)
+        missing = [n for n in missing if n not in self.warned]
         if not missing:
             return True
         now = time.monotonic()

@@ -7,6 +7,10 @@ body FLU with the body along the course (surge = speed, no sway, no yaw rate). c
 list these topics in its ``target_topics`` and stays deterministic in lockstep: one sample per
 simulator step, stamped at the step, computed in closed form from the clock time alone.
 
+Parameter ``wait_subscribers``: in lockstep, `~/ready` (std_msgs/Bool, latched) turns true once
+every target topic has that many subscribers (the recorder, the colav_nodes; ship_sim.ros.ready),
+and the launcher starts the simulators only then, so nobody misses step 0.
+
 Parameter ``targets``: the targets as JSON text (ROS 2 parameters carry no list of mappings),
 schema in ship_sim.light_traffic.parse_targets; a bad list is refused at start (exit 2, one
 line naming the target and the problem).
@@ -20,6 +24,7 @@ from ship_sim.light_traffic import parse_targets
 from ship_sim.ros.conversions import MAP_FRAME, base_link_frame, fill_odometry
 from ship_sim.ros.params import NodeParameters
 from ship_sim.ros.qos import STREAM
+from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
 
 #: /clock as the simulator publishes it (reliable): no step is lost between it and us.
@@ -43,6 +48,9 @@ class TrafficNode(Node):
                          'course_deg, speed_mps} or {name, waypoints: [[t_s, x_m, y_m], ...]} '
                          '(ENU; course clockwise from north)', check=_check_targets,
                          allowed='a JSON list of light targets', read_only=True)
+        wait = p.declare('wait_subscribers', 0, 'subscribers every target topic must have '
+                         'before ~/ready turns true (the launcher waits for it in lockstep)',
+                         lo=0, hi=1000, read_only=True)
         self.traffic = parse_targets(text)
         # /clock first: once the odom publishers are visible, the clock subscription exists.
         self._clock_sub = self.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK_QOS)
@@ -54,6 +62,7 @@ class TrafficNode(Node):
             msg.child_frame_id = base_link_frame(name)
             self._msgs.append(msg)
         self.steps = 0
+        self.ready = ReadyWhenMatched(self, lambda: self._pubs, wait)
         self.get_logger().info(f'{len(self.traffic)} light targets: '
                                f"{', '.join(self.traffic.names) or '(none)'}")
 

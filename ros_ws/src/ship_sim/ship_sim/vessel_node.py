@@ -15,6 +15,12 @@ ship_sim.ros.qos.STREAM = reliable, keep-last 100):
                                              wave-frequency motion (ship_sim.ros.waves)
   subscribes rudder_cmd  std_msgs/Float64    rudder command (rad, positive turns to port)
              shaft_cmd   std_msgs/Float64    shaft speed command (rpm), models with a shaft only
+             speed_factor_cmd std_msgs/Float64  with speed_factor_input: the shaft runs at
+                                             factor x shaft command (ship_sim.speed_factor);
+                                             in lockstep the k-th factor is awaited before
+                                             step k is advanced (a gate of window 0), so the
+                                             run stays deterministic; a model without a shaft
+                                             (Mariner) ignores it, with one info line
 
 One "step" of the node is one publish period 1/publish_rate, made of an integer number of
 integration steps dt. Step k publishes /clock, odom and rudder for sim time k/publish_rate.
@@ -67,6 +73,7 @@ from ship_sim.ros.qos import LATCHED, STREAM
 from ship_sim.ros.run import finish, run_node
 from ship_sim.ros.waves import WaveOdometry, declare_waves
 from ship_sim.simulator import VesselSimulator
+from ship_sim.speed_factor import scaled_shaft
 
 # Node parameter -> model constructor keyword, per model. 0 / '' means "model default" and is
 # not passed; a non-default value for a model without that keyword is refused.
@@ -189,6 +196,10 @@ class VesselNode(Node):
                                       'of a graph does)', read_only=True)
         self.max_steps = p.declare('max_steps', 0, 'end the run cleanly after this many steps '
                                    '(0 = run until stopped)', lo=0, hi=10**12, read_only=True)
+        self.speed_factor_input = p.declare(
+            'speed_factor_input', False, 'subscribe speed_factor_cmd (colav_node): the shaft '
+            'runs at factor x the shaft command (models with a shaft; lockstep: each step waits '
+            'for its factor)', read_only=True)
         c_speed = p.declare('current_speed', 0.0, 'ocean current mean speed', lo=0.0, hi=10.0,
                             unit='m/s', read_only=True)
         c_dir = p.declare('current_direction_deg', 0.0, 'direction the current flows towards, '
@@ -263,6 +274,7 @@ class VesselNode(Node):
 
     # -- topics -------------------------------------------------------------------------------
     def _make_topics(self):
+        self._speed_factor, self._speed_factor_ignored = 1.0, False
         self._odom_pub = self.create_publisher(Odometry, 'odom', STREAM)
         self._rudder_pub = self.create_publisher(Float64, 'rudder', STREAM)
         self._clock_pub = (self.create_publisher(ClockMsg, '/clock', CLOCK_QOS)
@@ -290,6 +302,7 @@ class VesselNode(Node):
                                                  self.record_window, needed_at_start=True),
                                         UInt64, self.record_topic,
                                         lambda g, msg: g.acknowledge(msg.data), CLOCK_QOS))
+            gates += self._speed_factor_gates()
             for topic in filter(None, (t.strip() for t in self.follower_topics.split(','))):
                 gates.append(self._gate(StepGate(f'follower {topic}', self.follower_window,
                                                  heard=0), Odometry, topic,
@@ -303,6 +316,36 @@ class VesselNode(Node):
                 command=self._rudder_cmd)
         self._t_last_cmd = self.sim.t        # realtime: sim time of the latest rudder_cmd
         self._centred = False
+        if self.speed_factor_input and self.mode == 'realtime':
+            self.create_subscription(Float64, 'speed_factor_cmd', self._on_speed_factor, STREAM)
+
+    # -- speed factor (colav_node's speed_factor_cmd) ---------------------------------------------
+    def _speed_factor_gates(self):
+        """Lockstep: speed_factor_cmd as a gate of window 0 (step k+1 goes out once the k-th
+        factor, the one for step k, has come), or a plain subscription for a model without a
+        shaft (ignored, logged once)."""
+        if not self.speed_factor_input:
+            return []
+        if not self.sim.model.has_shaft:
+            self.create_subscription(Float64, 'speed_factor_cmd', self._on_speed_factor, STREAM)
+            return []
+        return [self._gate(StepGate('speed_factor_cmd', 0, heard=0), Float64, 'speed_factor_cmd',
+                           self._on_speed_factor_step, STREAM)]
+
+    def _on_speed_factor_step(self, gate, msg):
+        self._on_speed_factor(msg)
+        gate.acknowledge(gate.acked + 1)
+
+    def _on_speed_factor(self, msg):
+        if not self.sim.model.has_shaft:
+            if not self._speed_factor_ignored:
+                self._speed_factor_ignored = True
+                self.get_logger().info(f'speed_factor_cmd ignored: {self.sim.model.name} has no '
+                                       'shaft input (its speed is set by the model, e.g. the '
+                                       "Mariner's U0)")
+            return
+        if self._finite(msg.data, 'speed_factor_cmd'):
+            self._speed_factor = msg.data
 
     def _publish(self):
         sim = self.sim
@@ -330,8 +373,9 @@ class VesselNode(Node):
         """One node step (n_sub integration steps) with the held commands. False if stopped."""
         sim = self.sim
         try:
+            shaft = scaled_shaft(self._shaft_cmd, self._speed_factor)
             for _ in range(self.n_sub):
-                sim.step(self._rudder_cmd, self._shaft_cmd)
+                sim.step(self._rudder_cmd, shaft)
         except ModelStateError as exc:
             self.get_logger().error(f'step {self._step_index()}: the model left its valid '
                                     f'domain, stopping: {exc}')

@@ -1,0 +1,1 @@
+"""Wind and wave environment of the plants: MSS environment functions and the disturbance fields."""

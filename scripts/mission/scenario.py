@@ -21,11 +21,14 @@
         # or absolute ENU: start: {x_m: 0, y_m: 0, yaw_deg: 90}
         speed_mps: 7.7175                    # optional initial speed (model default if absent)
         current: {speed_mps: 0.5, direction_deg: 90.0}   # towards, clockwise from north
+        wind: {speed_mps: 10.0, direction_deg: 270.0}   # optional, replaces the scenario's
         vessel: {...}                        # any further vessel_node parameters
         guidance: {law: ilos, lookahead_m: 800.0}         # guidance_node parameters
         autopilot: {controller: pd}                       # autopilot_node parameters
         colav: {method: sbmpc}               # optional: run colav_node (its parameters) between
                                              # guidance and autopilot, the other vessels as targets
+    wind: {speed_mps: 10.0, direction_deg: 270.0}   # optional: every vessel's wind (FROM,
+                                             # clockwise from north; mission.wind_block)
     traffic:                                 # optional: target vessels (same keys but `colav`):
       target_0: {model: mariner, route: routes/..., speed_mps: 7.7}   # full vessels, no avoidance
       target_1:                              # a light target: the one key `light`, either
@@ -68,15 +71,16 @@ import yaml
 from mission.fields import ScenarioError, need, number, unknown
 from mission.platoon import parse_platoon
 from mission.vessel_spec import parse_vessel
+from mission.wind_block import check_wind
 
 from ship_planner.route_data import TextFileError, read_text_file
 from ship_planner.yaml_route_reader import Loader
 from ship_sim.frames import psi_to_yaw
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
-            'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic'}
+            'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'wind'}
 VESSEL_KEYS = {'model', 'route', 'start', 'speed_mps', 'current', 'vessel', 'guidance',
-               'autopilot', 'model_params', 'colav'}
+               'autopilot', 'model_params', 'colav', 'wind'}
 TRAFFIC_KEYS = VESSEL_KEYS - {'colav'}
 STEPPING = ('lockstep', 'realtime')
 #: Most simulator steps a run may ask for (duration_s / dt_s): vessel_node's max_steps upper
@@ -154,6 +158,7 @@ def load_scenario(path):
             specs += _parse_vessels(full, 'traffic', TRAFFIC_KEYS, path, traffic=True)
     need(not ('traffic' in data and 'platoon' in data), path, 'traffic',
           'traffic is not supported beside a platoon')
+    _apply_scenario_wind(data, specs, path)
     return Scenario(
         file=path, name=data['name'], source=str(data.get('source', '')),
         description=str(data.get('description', '')),
@@ -163,6 +168,14 @@ def load_scenario(path):
         settle_s=number(data, 'settle_s', path, 0.0, lo=0.0),
         record=bool(data.get('record', True)),
         lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light)
+
+
+def _apply_scenario_wind(data, specs, path):
+    """The top-level `wind:` block becomes the wind of every vessel without its own."""
+    wind = check_wind(data.get('wind'), path, 'wind')
+    for spec in specs:
+        if not spec.wind and wind:
+            spec.wind = dict(wind)
 
 
 def _parse_light(entries, path):

@@ -4,6 +4,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from mission.fields import need, number
+from mission.wind_block import check_wind
 
 from ship_planner.route_data import MAX_COORDINATE_M
 
@@ -27,6 +28,8 @@ class VesselSpec:
     # `traffic` marks a target vessel of the scenario's `traffic:` section.
     colav_params: dict = None
     traffic: bool = False
+    # The wind (mission.wind_block): the vessel's own `wind:` block, else the scenario's.
+    wind: dict = field(default_factory=dict)
 
 
 def parse_vessel(ns, v, route, path, where):
@@ -53,4 +56,4 @@ def parse_vessel(ns, v, route, path, where):
     return VesselSpec(ns, v['model'], route, dict(start), speed,
                       dict(v.get('current') or {}), dict(v.get('vessel') or {}),
                       dict(v.get('guidance') or {}), dict(v.get('autopilot') or {}),
-                      colav_params=colav)
+                      colav_params=colav, wind=check_wind(v.get('wind'), path, where + 'wind'))

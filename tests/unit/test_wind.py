@@ -259,3 +259,29 @@ def test_tanker_drifts_downwind_to_the_sway_force_balance():
         v += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
     assert v == pytest.approx(v_pred, abs=1e-9)
     assert v_pred - v_calm > 0.02           # drifts downwind (to starboard) by a real amount
+
+
+@pytest.mark.parametrize('name', MSS_SHIPS)
+def test_batched_wind_agrees_with_single_vessels(name):
+    # Same equations on arrays and on floats; math.atan2 and numpy.arctan2 may differ in the
+    # last bit, so the paths agree to rounding (not bit for bit, unlike calm air).
+    psi = [0.3, 2.0, -2.5]
+    singles = [VesselSimulator(name, psi=q, wind=WindField(17.0, 4.0)) for q in psi]
+    batch = BatchSimulator(name, n=3, psi=np.array(psi), wind=WindField(17.0, 4.0))
+    for k in range(200):
+        batch.step(_rudder(k))
+        for s in singles:
+            s.step(_rudder(k))
+    np.testing.assert_allclose(batch.state, [s.state for s in singles], rtol=1e-9, atol=1e-9)
+    loads = batch.wind_loads()
+    for i, s in enumerate(singles):
+        np.testing.assert_allclose([c[i] for c in loads], s.wind_loads(), rtol=1e-9)
+
+
+@pytest.mark.parametrize('coefficients', ['blendermann94', 'isherwood72'])
+def test_float_path_of_the_wind_equals_the_array_path(coefficients):
+    p = WIND_PROFILES['mariner']
+    args = (7.0, 0.4, 0.5, 17.0, 4.0)
+    f = wind_disturbance(p, *args, coefficients)
+    a = wind_disturbance(p, *(np.array([x]) for x in args), coefficients)
+    np.testing.assert_allclose(f, [c[0] for c in a], rtol=1e-12)

@@ -193,9 +193,11 @@ class _SimulatorCore:
         still air's (ship_sim.environment.wind.wind_disturbance); zeros without wind."""
         if self.wind is None:
             return (self._zeros_like_batch(0.0), ) * 4
-        u, v, _ = self._velocity_ground()
-        return wind_disturbance(self.wind_profile, u, v, self.x[..., self.model.IPSI],
-                                self.wind.speed, self.wind.direction_from,
+        u, v, _ = self.velocity_ground()
+        psi, speed = self.x[..., self.model.IPSI], self.wind.speed
+        if self.x.ndim == 1:   # Python floats: the float path of wind_disturbance
+            psi, speed = float(psi), float(speed)
+        return wind_disturbance(self.wind_profile, u, v, psi, speed, self.wind.direction_from,
                                 self.wind_coefficients)
 
     def _current_ne(self):

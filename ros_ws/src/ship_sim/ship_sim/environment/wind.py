@@ -35,7 +35,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..current import _param, gauss_markov_step
-from .wind_coefficients import blendermann94, blendermann94_roll, isherwood72
+from ..models.math_backends import ARRAY_OPS, FLOAT_OPS
+from .wind_coefficients import (blendermann94_roll, blendermann94_terms, blendermann_row,
+                                isherwood72)
 
 COEFFICIENTS = ('blendermann94', 'isherwood72')
 
@@ -128,41 +130,60 @@ class WindField:
         return text
 
 
+def _relative_wind(ops, u, v, psi, speed, direction_from):
+    rel = direction_from - psi
+    u_rw = u + speed * ops.cos(rel)    # u - u_w with u_w = V cos(direction_from + pi - psi)
+    v_rw = v + speed * ops.sin(rel)
+    return ops.hypot(u_rw, v_rw), -ops.atan2(v_rw, u_rw)
+
+
 def relative_wind(u, v, psi, speed, direction_from):
     """(V_rw, gamma_rw): relative wind speed (m/s) and angle (rad, 0 = from ahead, + from port).
 
     u, v: body velocity over ground (m/s); psi heading (rad); speed, direction_from the wind
     (m/s, rad clockwise from north, where it comes from). Arrays broadcast.
     """
-    rel = direction_from - psi
-    u_rw = u + speed * np.cos(rel)    # u - u_w with u_w = V cos(direction_from + pi - psi)
-    v_rw = v + speed * np.sin(rel)
-    return np.hypot(u_rw, v_rw), -np.arctan2(v_rw, u_rw)
+    return _relative_wind(ARRAY_OPS, u, v, psi, speed, direction_from)
+
+
+def _loads(ops, p, V_rw, gamma_rw, coefficients):
+    # Angles outside [-pi, pi] wrapped into it; the others untouched (bit for bit).
+    gamma = ops.where(abs(gamma_rw) > math.pi, ops.atan2(ops.sin(gamma_rw), ops.cos(gamma_rw)),
+                      gamma_rw)
+    if coefficients == 'blendermann94':
+        sign = ops.sign(gamma)
+        X, Y, N, _, _, CK, _ = blendermann94_terms(ops, abs(gamma), V_rw, p.AFw, p.ALw, p.sH,
+                                                   p.sL, p.Loa, blendermann_row(p.blendermann_type))
+        return X, sign * Y, sign * blendermann94_roll(CK, V_rw, p.ALw, p.Loa), sign * N
+    if coefficients == 'isherwood72':
+        tau = isherwood72(gamma, V_rw, p.Loa, p.B, p.ALw, p.AFw, p.A_SS, p.S, p.C, p.M)[0]
+        return tau[..., 0], tau[..., 1], 0.0 * tau[..., 0], tau[..., 2]
+    raise ValueError(f'wind coefficients = {coefficients!r}; allowed: {", ".join(COEFFICIENTS)}')
+
+
+def wind_loads(profile, V_rw, gamma_rw, coefficients='blendermann94'):
+    """Body-frame wind loads (X, Y, K, N) in N and N m of a WindProfile (module docstring)."""
+    return _loads(ARRAY_OPS, profile, np.asarray(V_rw, dtype=float),
+                  np.asarray(gamma_rw, dtype=float), coefficients)
 
 
 def wind_disturbance(profile, u, v, psi, speed, direction_from, coefficients='blendermann94'):
     """Loads (X, Y, K, N) the wind adds to a ship moving at (u, v) over ground (module docstring).
 
-    Arguments as ``relative_wind``; arrays broadcast. Zero wind speed gives exact zeros.
+    Arguments as ``relative_wind``; arrays broadcast. Zero wind speed gives exact zeros. All
+    Python floats (one vessel, Blendermann): evaluated on floats, as the models' fast path
+    (the same arithmetic, so the same numbers as the array path).
     """
+    if coefficients == 'blendermann94' and all(
+            type(a) is float for a in (u, v, psi, speed, direction_from)):
+        ops = FLOAT_OPS
+        V_rw, g_rw = _relative_wind(ops, u, v, psi, speed, direction_from)
+        V_0, g_0 = _relative_wind(ops, u, v, psi, 0.0, 0.0)
+        wind = _loads(ops, profile, V_rw, g_rw, coefficients)
+        still = _loads(ops, profile, V_0, g_0, coefficients)
+        return tuple(a - b for a, b in zip(wind, still))
     V_rw, g_rw = relative_wind(u, v, psi, speed, direction_from)
     V_0, g_0 = relative_wind(u, v, psi, 0.0, 0.0)
     both = wind_loads(profile, np.stack(np.broadcast_arrays(V_rw, V_0)),
                       np.stack(np.broadcast_arrays(g_rw, g_0)), coefficients)
     return tuple(c[0] - c[1] for c in both)
-
-
-def wind_loads(profile, V_rw, gamma_rw, coefficients='blendermann94'):
-    """Body-frame wind loads (X, Y, K, N) in N and N m of a WindProfile (module docstring)."""
-    p = profile
-    gamma = np.angle(np.exp(1j * np.asarray(gamma_rw, dtype=float)))   # (-pi, pi]
-    if coefficients == 'blendermann94':
-        sign = np.sign(gamma)
-        tau, _, _, CK, _ = blendermann94(np.abs(gamma), V_rw, p.AFw, p.ALw, p.sH, p.sL, p.Loa,
-                                         p.blendermann_type)
-        K = sign * blendermann94_roll(CK, V_rw, p.ALw, p.Loa)
-        return tau[..., 0], sign * tau[..., 1], K, sign * tau[..., 2]
-    if coefficients == 'isherwood72':
-        tau = isherwood72(gamma, V_rw, p.Loa, p.B, p.ALw, p.AFw, p.A_SS, p.S, p.C, p.M)[0]
-        return tau[..., 0], tau[..., 1], np.zeros_like(tau[..., 0]), tau[..., 2]
-    raise ValueError(f'wind coefficients = {coefficients!r}; allowed: {", ".join(COEFFICIENTS)}')

@@ -34,6 +34,8 @@ blendermann94
 """
 import numpy as np
 
+from ..models.math_backends import ARRAY_OPS
+
 RHO_AIR = 1.224   # kg/m^3, MSS
 
 _DEG = np.arange(0.0, 181.0, 10.0)
@@ -168,21 +170,33 @@ def blendermann94(gamma_r, V_r, AFw, ALw, sH, sL, Loa, vessel_no):
     on the last axis as in ``isherwood72``; CK (roll) is returned but not part of tau, as in
     MSS (``blendermann94_roll`` gives the moment).
     """
+    X, Y, N, CX, CY, CK, CN = blendermann94_terms(ARRAY_OPS, np.asarray(gamma_r, dtype=float),
+                                                  V_r, AFw, ALw, sH, sL, Loa,
+                                                  blendermann_row(vessel_no))
+    return np.stack([X, Y, N], axis=-1), CX, CY, CK, CN
+
+
+def blendermann_row(vessel_no):
+    """(CD_t, CD_l_AF bow, CD_l_AF stern, delta, kappa) of a vessel type 1..17, as floats."""
     if not (isinstance(vessel_no, (int, np.integer)) and 1 <= vessel_no <= len(_BLENDERMANN)):
         raise ValueError(f'vessel_no = {vessel_no!r} is out of range; allowed: 1..'
                          f'{len(_BLENDERMANN)} (BLENDERMANN_TYPES)')
-    CDt, bow, stern, delta, kappa = _BLENDERMANN[vessel_no - 1]
-    gamma_r = np.asarray(gamma_r, dtype=float)
-    CDlAF = np.where(np.abs(gamma_r) <= np.pi / 2, bow, stern)
+    return tuple(float(c) for c in _BLENDERMANN[vessel_no - 1])
+
+
+def blendermann94_terms(ops, gamma_r, V_r, AFw, ALw, sH, sL, Loa, row):
+    """The arithmetic of blendermann94.m on floats or arrays (ship_sim.models.math_backends):
+    returns X, Y, N, CX, CY, CK, CN for the type's ``blendermann_row``."""
+    CDt, bow, stern, delta, kappa = row
+    CDlAF = ops.where(abs(gamma_r) <= np.pi / 2, bow, stern)
     CDl = CDlAF * AFw / ALw
-    den = 1 - 0.5 * delta * (1 - CDl / CDt) * np.sin(2 * gamma_r) ** 2
-    CX = -CDlAF * np.cos(gamma_r) / den
-    CY = CDt * np.sin(gamma_r) / den
+    den = 1 - 0.5 * delta * (1 - CDl / CDt) * ops.sin(2 * gamma_r) ** 2
+    CX = -CDlAF * ops.cos(gamma_r) / den
+    CY = CDt * ops.sin(gamma_r) / den
     CK = kappa * (sH / (ALw / Loa)) * CY
     CN = (sL / Loa - 0.18 * (gamma_r - np.pi / 2)) * CY
     q = 0.5 * RHO_AIR * V_r ** 2
-    tau = np.stack([q * CX * AFw, q * CY * ALw, q * CN * ALw * Loa], axis=-1)
-    return tau, CX, CY, CK, CN
+    return q * CX * AFw, q * CY * ALw, q * CN * ALw * Loa, CX, CY, CK, CN
 
 
 def blendermann94_roll(CK, V_r, ALw, Loa):

@@ -4,12 +4,12 @@ gust seed reach the plant as documented); a model without wind loads is refused 
 import math
 
 import pytest
-from nav_msgs.msg import Odometry
 
 from ship_sim.environment.wind import WindField
 from ship_sim.ros.conversions import make_odometry
 from ship_sim.simulator import VesselSimulator
-from std_msgs.msg import Float64
+
+from harness import answer_each_odom
 
 NS = '/vessel_0'
 N_STEPS = 300
@@ -40,14 +40,7 @@ def _expected():
 
 def _run(ros_graph, label):
     tn = ros_graph.test_node()
-    cmd = tn.publisher(f'{NS}/rudder_cmd', Float64)
-    out = Float64()
-
-    def answer(msg):
-        out.data = _command(len(odom) - 1)
-        cmd.publish(out)
-
-    odom = tn.subscribe(f'{NS}/odom', Odometry, callback=answer)
+    odom, cmd = answer_each_odom(tn, NS, _command)
     sim = ros_graph.start('ship_sim', 'vessel_node', namespace=NS, label=label,
                           params={'model': 'container', 'stepping_mode': 'lockstep',
                                   'initial_yaw_deg': 90.0, 'max_steps': N_STEPS,

@@ -146,10 +146,8 @@ def relative_wind(u, v, psi, speed, direction_from):
     return _relative_wind(ARRAY_OPS, u, v, psi, speed, direction_from)
 
 
-def _loads(ops, p, V_rw, gamma_rw, coefficients):
-    # Angles outside [-pi, pi] wrapped into it; the others untouched (bit for bit).
-    gamma = ops.where(abs(gamma_rw) > math.pi, ops.atan2(ops.sin(gamma_rw), ops.cos(gamma_rw)),
-                      gamma_rw)
+def _loads(ops, p, V_rw, gamma, coefficients):
+    # gamma in [-pi, pi] (relative_wind gives that; wind_loads wraps other angles).
     if coefficients == 'blendermann94':
         sign = ops.sign(gamma)
         X, Y, N, _, _, CK, _ = blendermann94_terms(ops, abs(gamma), V_rw, p.AFw, p.ALw, p.sH,
@@ -163,8 +161,10 @@ def _loads(ops, p, V_rw, gamma_rw, coefficients):
 
 def wind_loads(profile, V_rw, gamma_rw, coefficients='blendermann94'):
     """Body-frame wind loads (X, Y, K, N) in N and N m of a WindProfile (module docstring)."""
-    return _loads(ARRAY_OPS, profile, np.asarray(V_rw, dtype=float),
-                  np.asarray(gamma_rw, dtype=float), coefficients)
+    g = np.asarray(gamma_rw, dtype=float)
+    # Angles outside [-pi, pi] wrapped into it; the others untouched (bit for bit).
+    g = np.where(np.abs(g) > math.pi, np.arctan2(np.sin(g), np.cos(g)), g)
+    return _loads(ARRAY_OPS, profile, np.asarray(V_rw, dtype=float), g, coefficients)
 
 
 def wind_disturbance(profile, u, v, psi, speed, direction_from, coefficients='blendermann94'):

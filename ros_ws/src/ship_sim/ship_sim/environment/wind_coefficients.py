@@ -32,6 +32,8 @@ blendermann94
 - CK is returned; the roll moment K = 1/2 rho_a V_r^2 ALw Hm CK (Fossen 2021) is given by
   ``blendermann94_roll`` (MSS returns no roll load).
 """
+import functools
+
 import numpy as np
 
 from ..models.math_backends import ARRAY_OPS
@@ -176,6 +178,7 @@ def blendermann94(gamma_r, V_r, AFw, ALw, sH, sL, Loa, vessel_no):
     return np.stack([X, Y, N], axis=-1), CX, CY, CK, CN
 
 
+@functools.lru_cache(maxsize=None)
 def blendermann_row(vessel_no):
     """(CD_t, CD_l_AF bow, CD_l_AF stern, delta, kappa) of a vessel type 1..17, as floats."""
     if not (isinstance(vessel_no, (int, np.integer)) and 1 <= vessel_no <= len(_BLENDERMANN)):

@@ -71,7 +71,7 @@ import yaml
 from mission.fields import ScenarioError, need, number, unknown
 from mission.platoon import parse_platoon
 from mission.vessel_spec import parse_vessel
-from mission.wind_block import check_wind
+from mission.wind_block import check_wind, check_wind_model
 
 from ship_planner.route_data import TextFileError, read_text_file
 from ship_planner.yaml_route_reader import Loader
@@ -171,11 +171,13 @@ def load_scenario(path):
 
 
 def _apply_scenario_wind(data, specs, path):
-    """The top-level `wind:` block becomes the wind of every vessel without its own."""
+    """The top-level `wind:` block becomes the wind of every vessel without its own; a wind on a
+    model without wind loads is refused here, before anything starts."""
     wind = check_wind(data.get('wind'), path, 'wind')
     for spec in specs:
         if not spec.wind and wind:
             spec.wind = dict(wind)
+        check_wind_model(spec, path)
 
 
 def _parse_light(entries, path):

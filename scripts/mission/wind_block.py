@@ -46,6 +46,15 @@ def check_wind(block, path, where):
     return dict(block)
 
 
+def check_wind_model(spec, path):
+    """ScenarioError if a VesselSpec has a wind (speed or gusts) but its model no wind loads."""
+    from ship_sim.environment.wind import WIND_PROFILES
+    windy = spec.wind.get('speed_mps', 0.0) > 0.0 or spec.wind.get('gust_sd_mps', 0.0) > 0.0
+    need(not windy or spec.model in WIND_PROFILES, path, f'{spec.namespace}.wind',
+         f"model {spec.model!r} has no wind loads (only {', '.join(WIND_PROFILES)}); give "
+         'this vessel wind: {speed_mps: 0.0}')
+
+
 def wind_parameters(block):
     """vessel_node parameters of a checked wind block."""
     params = {NUMBERS[k][0]: float(v) for k, v in block.items() if k in NUMBERS}

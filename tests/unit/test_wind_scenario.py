@@ -67,3 +67,16 @@ def test_no_wind_block_leaves_the_parameters_alone():
 def test_bad_wind_block_is_refused_naming_the_key(scenario_variant, block, key):
     with pytest.raises(ScenarioError, match=key.replace('.', r'\.')):
         load_scenario(scenario_variant(FLAGSHIP, lambda d: d.update(wind=block)))
+
+
+def test_wind_on_a_model_without_wind_loads_is_refused_before_the_run(scenario_variant):
+    def change(d):
+        d['wind'] = {'speed_mps': 10.0}
+        next(iter(d['vessels'].values()))['model'] = 'nomoto1'
+    with pytest.raises(ScenarioError, match=r"vessel_0\.wind: model 'nomoto1' has no wind"):
+        load_scenario(scenario_variant(FLAGSHIP, change))
+
+    def calm(d):
+        change(d)
+        next(iter(d['vessels'].values()))['wind'] = {'speed_mps': 0.0}
+    assert load_scenario(scenario_variant(FLAGSHIP, calm)).vessels[0].model == 'nomoto1'

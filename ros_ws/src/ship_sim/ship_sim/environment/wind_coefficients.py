@@ -140,6 +140,14 @@ def _interp_rows(table, deg):
     return np.stack([np.interp(deg, _DEG, col) for col in table.T], axis=-1)
 
 
+def _series(coef, terms):
+    """coef[..., 0] + coef[..., 1] terms[0] + ..., summed left to right as MSS writes it."""
+    total = coef[..., 0]
+    for k, t in enumerate(terms, start=1):
+        total = total + coef[..., k] * t
+    return total
+
+
 def isherwood72(gamma_r, V_r, Loa, B, ALw, AFw, A_SS, S, C, M):
     """Isherwood (1972) wind loads and coefficients, MSS isherwood72.m.
 
@@ -152,13 +160,11 @@ def isherwood72(gamma_r, V_r, Loa, B, ALw, AFw, A_SS, S, C, M):
     a = _interp_rows(_ISHERWOOD_A, deg)
     b = _interp_rows(_ISHERWOOD_B, deg)
     c = _interp_rows(_ISHERWOOD_C, deg)
-    lat, front = 2 * ALw / Loa ** 2, 2 * AFw / B ** 2
-    CX = -(a[..., 0] + a[..., 1] * lat + a[..., 2] * front + a[..., 3] * (Loa / B)
-           + a[..., 4] * (S / Loa) + a[..., 5] * (C / Loa) + a[..., 6] * M)
-    CY = (b[..., 0] + b[..., 1] * lat + b[..., 2] * front + b[..., 3] * (Loa / B)
-          + b[..., 4] * (S / Loa) + b[..., 5] * (C / Loa) + b[..., 6] * A_SS / ALw)
-    CN = (c[..., 0] + c[..., 1] * lat + c[..., 2] * front + c[..., 3] * (Loa / B)
-          + c[..., 4] * (S / Loa) + c[..., 5] * (C / Loa))
+    # The regressors of Isherwood's formulas, in MSS's order (A6 multiplies M, B6 A_SS/ALw).
+    terms = [2 * ALw / Loa ** 2, 2 * AFw / B ** 2, Loa / B, S / Loa, C / Loa]
+    CX = -_series(a, terms + [M])
+    CY = _series(b, terms + [A_SS / ALw])
+    CN = _series(c, terms)
     q = 0.5 * RHO_AIR * V_r ** 2
     sign = np.sign(gamma_r)
     tau = np.stack([q * CX * AFw, q * CY * ALw * sign, q * CN * ALw * Loa * sign], axis=-1)

@@ -20,7 +20,7 @@ ship_sim.environment.wind_coefficients:
   |gamma_rw| and mirrored (Y, K, N odd in gamma_rw, X even). This knowingly departs from MSS,
   whose CN term -0.18 (gamma_r - pi/2) is not mirror-symmetric and would give a wind from
   starboard a yaw moment unlike the mirror image of the same wind from port.
-- 'isherwood72': gamma_rw wrapped to (-pi, pi] before the call (so the MSS sign quirk at
+- 'isherwood72': gamma_rw wrapped into [-pi, pi] before the call (so the MSS sign quirk at
   angles above 180 deg never applies); K = 0 (the method has none).
 
 What the plants get (``wind_disturbance``) is the load of the relative wind MINUS the load of

@@ -22,6 +22,7 @@ import importlib
 SECTIONS = {
     'models': ('models', 'run', 'single-vessel derivative and RK4 step cost per model'),
     'batched': ('batched', 'run', 'batched RK4 throughput (vessel-steps/s) for the MSS ships'),
+    'wind': ('wind', 'run', 'cost of the wind loads per simulator step, one vessel and batched'),
     'node_jitter': ('node_jitter', 'run', 'odom inter-arrival jitter of a realtime vessel_node'),
     'lockstep': ('lockstep', 'run', 'flagship graph in lockstep: real-time factor vs a bare '
                  'relay'),

@@ -34,6 +34,7 @@ from mission.domain import NoFreeDomain, lease_domain_id
 from mission.processes import INSTALL, REPO, ProcessGroup, install_env
 from mission.scenario import ScenarioError, start_pose
 from mission.waves import wave_filter_parameters
+from mission.wind_block import wind_meta, wind_parameters
 
 RECORDER = Path(__file__).resolve().parent / 'recorder.py'
 NODES = (('route_node', 'ship_planner'), ('guidance_node', 'ship_guidance'),
@@ -309,6 +310,7 @@ def node_parameters(scenario, spec, index, record):
     vessel.update(spec.wave_params)
     if spec.colav_params is not None:   # colav_node's speed factor acts on the shaft
         vessel['speed_factor_input'] = True
+    vessel.update(wind_parameters(spec.wind))
     vessel.update(spec.vessel_params)
     sim_time = {'use_sim_time': True}
     params = {
@@ -584,6 +586,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             for spec in scenario.vessels:
                 limit = float(make_model(spec.model).rudder_max)
                 meta += ['--meta', f'mission.rudder_limit_rad/{spec.namespace}={limit!r}']
+            meta += wind_meta(scenario.vessels)
             # A platoon's followers run behind the master's /clock: wall log times, which
             # mission.report maps onto each vessel's own odometry stamps.
             source = 'sim' if scenario.platoon is None else 'wall'

@@ -86,7 +86,7 @@ from mission.vessel_spec import parse_vessel
 PLATOON_KEYS = {'route', 'spacing_m', 'current', 'stability_margin', 'allow_unstable',
                 'predecessor_wait_s', 'vessels', 'waves'}
 VESSEL_KEYS = {'namespace', 'model', 'predecessor', 'spacing_m', 'start', 'speed_mps', 'current',
-               'vessel', 'guidance', 'autopilot', 'waves'}
+               'vessel', 'guidance', 'autopilot', 'waves', 'wind'}
 #: follower_node parameters the launcher sets from the platoon (a scenario must not).
 LAUNCHER_FOLLOWER_KEYS = {'predecessor_odom_topic': 'predecessor',
                           'spacing_m': 'spacing_m', 'stepping_mode': 'the scenario\'s stepping'}

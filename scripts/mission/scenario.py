@@ -22,11 +22,14 @@
         speed_mps: 7.7175                    # optional initial speed (model default if absent)
         current: {speed_mps: 0.5, direction_deg: 90.0}   # towards, clockwise from north
         waves: {hs_m: 3.0, direction_deg: 45.0}          # towards (mission.waves)
+        wind: {speed_mps: 10.0, direction_deg: 270.0}   # optional, replaces the scenario's
         vessel: {...}                        # any further vessel_node parameters
         guidance: {law: ilos, lookahead_m: 800.0}         # guidance_node parameters
         autopilot: {controller: pd}                       # autopilot_node parameters
         colav: {method: sbmpc}               # optional: run colav_node (its parameters) between
                                              # guidance and autopilot, the other vessels as targets
+    wind: {speed_mps: 10.0, direction_deg: 270.0}   # optional: every vessel's wind (FROM,
+                                             # clockwise from north; mission.wind_block)
     traffic:                                 # optional: target vessels (same keys but `colav`):
       target_0: {model: mariner, route: routes/..., speed_mps: 7.7}   # full vessels, no avoidance
       target_1:                              # a light target: the one key `light`, either
@@ -80,17 +83,19 @@ import yaml
 from mission.fields import ScenarioError, need, number, unknown
 from mission.platoon import parse_platoon
 from mission.vessel_spec import parse_vessel
+from mission.wind_block import check_wind, check_wind_model
 
 from ship_planner.route_data import TextFileError, read_text_file
 from ship_planner.yaml_route_reader import Loader
 from ship_sim.frames import psi_to_yaw
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
-            'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais'}
+            'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais',
+            'wind'}
 #: ais_node parameters the launcher sets itself (not allowed in a scenario's `ais:`).
 AIS_LAUNCHER_KEYS = {'use_sim_time', 'publish_on_clock'}
 VESSEL_KEYS = {'model', 'route', 'start', 'speed_mps', 'current', 'vessel', 'guidance',
-               'autopilot', 'model_params', 'colav', 'waves'}
+               'autopilot', 'model_params', 'colav', 'waves', 'wind'}
 TRAFFIC_KEYS = VESSEL_KEYS - {'colav'}
 STEPPING = ('lockstep', 'realtime')
 #: Most simulator steps a run may ask for (duration_s / dt_s): vessel_node's max_steps upper
@@ -173,6 +178,7 @@ def load_scenario(path):
     need(not ('traffic' in data and 'platoon' in data), path, 'traffic',
           'traffic is not supported beside a platoon')
     ais = _parse_ais(data['ais'], path) if 'ais' in data else None
+    _apply_scenario_wind(data, specs, path)
     return Scenario(
         file=path, name=data['name'], source=str(data.get('source', '')),
         description=str(data.get('description', '')),
@@ -203,6 +209,16 @@ def _parse_ais(ais, path):
     out['origin_lon_deg'] = number(ais, 'origin_lon_deg', path, None, lo=-180.0, hi=180.0,
                                    where='ais.')
     return out
+
+
+def _apply_scenario_wind(data, specs, path):
+    """The top-level `wind:` block becomes the wind of every vessel without its own; a wind on a
+    model without wind loads is refused here, before anything starts."""
+    wind = check_wind(data.get('wind'), path, 'wind')
+    for spec in specs:
+        if not spec.wind and wind:
+            spec.wind = dict(wind)
+        check_wind_model(spec, path)
 
 
 def _parse_light(entries, path):

@@ -5,6 +5,7 @@ from pathlib import Path
 
 from mission.fields import need, number
 from mission.waves import wave_parameters
+from mission.wind_block import check_wind
 
 from ship_planner.route_data import MAX_COORDINATE_M
 
@@ -30,6 +31,8 @@ class VesselSpec:
     traffic: bool = False
     # vessel_node's waves_* parameters from the `waves:` block (mission.waves)
     wave_params: dict = field(default_factory=dict)
+    # The wind (mission.wind_block): the vessel's own `wind:` block, else the scenario's.
+    wind: dict = field(default_factory=dict)
 
 
 def parse_vessel(ns, v, route, path, where):
@@ -57,4 +60,4 @@ def parse_vessel(ns, v, route, path, where):
     return VesselSpec(ns, v['model'], route, dict(start), speed,
                       dict(v.get('current') or {}), dict(v.get('vessel') or {}),
                       dict(v.get('guidance') or {}), dict(v.get('autopilot') or {}),
-                      colav_params=colav, wave_params=waves)
+                      colav_params=colav, wave_params=waves, wind=check_wind(v.get('wind'), path, where + 'wind'))

@@ -62,7 +62,7 @@ def wave_filter_parameters(wave_params, autopilot_params):
             autopilot_params.get('wave_filter_frequency') or \
             autopilot_params.get('wave_filter_peak_period'):
         return {}
-    from ship_sim.environment.encounter import vw2hs
+    from ship_sim.environment.sea_state_relations import vw2hs
     from ship_sim.environment.sea_state import pm_peak_frequency
     hs = wave_params.get('waves_hs') or float(vw2hs(wave_params.get('waves_wind_speed', 0.0)))
     if not hs:

@@ -331,3 +331,21 @@ def run_to_duration(launch, scenario, wall_timeout_s=150.0):
     info = yaml.safe_load((run_dir / 'run.json').read_text())
     assert info['outcome'] == 'duration reached', info
     return run_dir
+
+
+def answer_each_odom(tn, namespace, command):
+    """A lockstep controller in the test node: every odom of ``namespace`` is answered with a
+    rudder_cmd of ``command(k)`` for its step k (the k-th odom, 0-based). Returns (odom Inbox,
+    the rudder_cmd publisher)."""
+    from nav_msgs.msg import Odometry
+    from std_msgs.msg import Float64
+
+    cmd = tn.publisher(f'{namespace}/rudder_cmd', Float64)
+    out = Float64()
+
+    def answer(msg):
+        out.data = command(len(odom) - 1)   # this odom is step len(odom) - 1
+        cmd.publish(out)
+
+    odom = tn.subscribe(f'{namespace}/odom', Odometry, callback=answer)
+    return odom, cmd

@@ -22,6 +22,8 @@ from ship_sim.models import MODEL_NAMES
 from ship_sim.ros.conversions import make_odometry, msg_to_time, quaternion_to_yaw
 from ship_sim.simulator import VesselSimulator
 
+from harness import answer_each_odom
+
 NS = '/vessel_0'
 
 
@@ -145,14 +147,7 @@ def _expected_odoms(n_steps):
 
 def _lockstep_run(ros_graph, label):
     tn = ros_graph.test_node()
-    cmd = tn.publisher(f'{NS}/rudder_cmd', Float64)
-    out = Float64()
-
-    def answer(msg):
-        out.data = _command(len(odom) - 1)   # this odom is step len(odom) - 1
-        cmd.publish(out)
-
-    odom = tn.subscribe(f'{NS}/odom', Odometry, callback=answer)
+    odom, cmd = answer_each_odom(tn, NS, _command)
     clock = tn.subscribe('/clock', Clock)
     sim = ros_graph.start('ship_sim', 'vessel_node', namespace=NS, label=label,
                           params={'model': 'mariner', 'stepping_mode': 'lockstep',

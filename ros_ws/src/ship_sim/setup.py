@@ -20,7 +20,7 @@ setup(
     zip_safe=True,
     maintainer='Ship Navigation Maintainers',
     maintainer_email='maintainers@shipnav.org',
-    description=('Vessel plant models (Mariner, Esso tanker, container ship, Nomoto, NPS AUV II), ocean current, '
+    description=('Vessel plant models (Mariner, Esso tanker, container ship, Nomoto, NPS AUV II), ocean current, wind, '
                  'and the vessel simulator node.'),
     license='MIT',
     entry_points={

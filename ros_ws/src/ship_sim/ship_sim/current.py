@@ -92,10 +92,7 @@ class OceanCurrent:
         return vn, ve
 
     def _gm_step(self, x, x0, tc, q, dt):
-        # Exact discretisation of X_dot = -(X - X0)/T + w over dt.
-        phi = np.exp(-dt / tc)
-        sd = np.sqrt(0.5 * q * tc * (1.0 - phi * phi))
-        return x0 + phi * (x - x0) + sd * self._rng.standard_normal(self.shape)
+        return gauss_markov_step(x, x0, tc, q, dt, self._rng, self.shape)
 
     def advance(self, dt):
         """Advance the Gauss-Markov parts by dt seconds (no-op for a constant current)."""
@@ -110,6 +107,17 @@ class OceanCurrent:
             self.direction = self._gm_step(self.direction, self.direction_nominal,
                                            self.direction_time_constant,
                                            self.direction_noise, dt)
+
+
+def gauss_markov_step(x, x0, tc, q, dt, rng, shape=()):
+    """Exact discretisation over dt of X_dot = -(X - X0)/T + w, E[w w'] = q delta (see above).
+
+    Shared by the current and the wind gusts (ship_sim.environment.wind); ``rng`` a numpy
+    Generator, ``shape`` the shape of the independent processes.
+    """
+    phi = np.exp(-dt / tc)
+    sd = np.sqrt(0.5 * q * tc * (1.0 - phi * phi))
+    return x0 + phi * (x - x0) + sd * rng.standard_normal(shape)
 
 
 def add_current_to_kinematics(model, xdot, v_north, v_east):

@@ -1,7 +1,8 @@
 """Vessel simulators without ROS: one vessel (VesselSimulator) or N of one model (BatchSimulator).
 
 A simulator owns a plant model (ship_sim.models), its state, a fixed integration step dt (s),
-an optional ocean current (ship_sim.current.OceanCurrent) and the sim time. One ``step``:
+an optional ocean current (ship_sim.current.OceanCurrent), an optional wind
+(ship_sim.environment.wind.WindField) and the sim time. One ``step``:
 
 1. checks the commands: non-finite values raise ValueError (the state is never touched by
    them); the rudder command (rad, unified sign: positive turns to PORT, DESIGN.md) is
@@ -10,10 +11,15 @@ an optional ocean current (ship_sim.current.OceanCurrent) and the sim time. One 
    with a shaft) at [shaft_min, shaft_max]; it is held until the next shaft command;
 2. integrates the model one step of dt with the inputs held (MSS rk4.m: ``model.step`` where
    the model provides its fast path, else ship_sim.integrators.rk4_step on ``model.rhs``);
+   with wind, the wind loads (X, Y, K, N) at the start of the step (relative wind from the
+   velocity over ground, ship_sim.environment.wind.wind_disturbance) are held over the step
+   like the inputs and enter the model's own force equations (``loads``,
+   ship_sim.models.mss_ship); without wind the step is the same computation as before wind
+   existed, and a calm WindField (speed 0, no gusts) gives loads of exactly 0.0;
 3. adds the current's drift to the position: the model's velocity states are relative to the
    water and no model's derivative depends on its position, so this equals integrating the
    kinematics with the current added (Fossen 2011, Sec. 8.3; ship_sim.current), held over the
-   step; then the current is advanced by dt (Gauss-Markov part);
+   step; then the current and the wind are advanced by dt (Gauss-Markov parts);
 4. refuses a result outside the model's domain (``model.check_state`` -> ModelStateError; the
    previous state is kept), so bad numbers never enter the state.
 
@@ -33,6 +39,7 @@ import math
 
 import numpy as np
 
+from .environment.wind import wind_disturbance, wind_loads, wind_profile
 from .frames import wrap_angle
 from .integrators import rk4_step
 from .models import VesselModel, make_model
@@ -49,7 +56,8 @@ def _model_from(model, model_params):
 class _SimulatorCore:
     """What both simulators share: commands, one integration step, current, time, checks."""
 
-    def __init__(self, model, state, dt, current, shaft_cmd, t0):
+    def __init__(self, model, state, dt, current, shaft_cmd, t0, wind=None,
+                 wind_coefficients='blendermann94'):
         dt = float(dt)
         if not (math.isfinite(dt) and dt > 0.0):
             raise ValueError(f'dt = {dt!r} s is not allowed: a finite step > 0')
@@ -78,6 +86,14 @@ class _SimulatorCore:
         # The integration kernel: the model's own step (float fast path for one vessel) or RK4.
         step = getattr(m, 'step', None)
         self._integrate = step if step is not None else (lambda x, u, h: rk4_step(m.rhs, x, u, h))
+        self.wind = wind
+        self.wind_coefficients = wind_coefficients
+        if wind is not None:
+            if not m.takes_external_loads:
+                raise ValueError(f'wind: model {m.name!r} takes no external loads; use one of '
+                                 'mariner, tanker, container')
+            self.wind_profile = wind_profile(m.name)
+            wind_loads(self.wind_profile, 1.0, 0.0, wind_coefficients)   # checks the name
 
     # -- commands ------------------------------------------------------------------------------
     def _zeros_like_batch(self, value):
@@ -126,7 +142,10 @@ class _SimulatorCore:
                 raise ValueError(f'{m.name} has no shaft (got shaft_cmd={shaft_cmd!r})')
             shaft = self._check_shaft(shaft_cmd)
         u = m.inputs(rudder, shaft)
-        x = self._integrate(self.x, u, self.dt)
+        if self.wind is None:
+            x = self._integrate(self.x, u, self.dt)
+        else:
+            x = m.step(self.x, u, self.dt, loads=self.wind_loads())
         c = self.current
         if c is not None:
             vn, ve = c.velocity_ne()
@@ -140,6 +159,8 @@ class _SimulatorCore:
         self.shaft_command = shaft
         if c is not None:
             c.advance(self.dt)
+        if self.wind is not None:
+            self.wind.advance(self.dt)
         self.k += 1
 
     def step(self, rudder_cmd, shaft_cmd=None):
@@ -166,6 +187,18 @@ class _SimulatorCore:
     def state(self):
         """The model's native state (do not modify it in place)."""
         return self.x
+
+    def wind_loads(self):
+        """Wind loads (X, Y, K, N) in N, N m on the present state: the relative wind's minus
+        still air's (ship_sim.environment.wind.wind_disturbance); zeros without wind."""
+        if self.wind is None:
+            return (self._zeros_like_batch(0.0), ) * 4
+        u, v, _ = self.velocity_ground()
+        psi, speed = self.x[..., self.model.IPSI], self.wind.speed
+        if self.x.ndim == 1:   # Python floats: the float path of wind_disturbance
+            psi, speed = float(psi), float(speed)
+        return wind_disturbance(self.wind_profile, u, v, psi, speed, self.wind.direction_from,
+                                self.wind_coefficients)
 
     def _current_ne(self):
         if self.current is None:
@@ -198,11 +231,13 @@ class VesselSimulator(_SimulatorCore):
     ``state``: the model's native state; default ``model.initial_state(speed, north, east,
     psi, shaft)`` (straight running; NED, rad). ``shaft_cmd``: the held shaft command (rpm)
     until ``step`` gets one (default: the state's shaft speed). ``current``: an OceanCurrent
-    with shape () or None.
+    with shape () or None. ``wind``: a WindField with shape () or None (MSS ships only), with
+    ``wind_coefficients`` 'blendermann94' or 'isherwood72'.
     """
 
     def __init__(self, model, *, dt=0.1, state=None, north=0.0, east=0.0, psi=0.0, speed=None,
-                 shaft=None, shaft_cmd=None, current=None, t0=0.0, model_params=None):
+                 shaft=None, shaft_cmd=None, current=None, t0=0.0, model_params=None,
+                 wind=None, wind_coefficients='blendermann94'):
         model = _model_from(model, model_params or {})
         if state is None:
             state = model.initial_state(speed=speed, north=north, east=east, psi=psi,
@@ -213,7 +248,9 @@ class VesselSimulator(_SimulatorCore):
                              'use BatchSimulator for many')
         if current is not None and getattr(current, 'shape', ()) != ():
             raise ValueError('VesselSimulator needs a current of shape ()')
-        super().__init__(model, state, dt, current, shaft_cmd, t0)
+        if wind is not None and wind.shape != ():
+            raise ValueError('VesselSimulator needs a wind of shape ()')
+        super().__init__(model, state, dt, current, shaft_cmd, t0, wind, wind_coefficients)
 
     def pose_ned(self):
         """(north, east, psi): m, m, rad in [-pi, pi)."""
@@ -264,12 +301,13 @@ class BatchSimulator(_SimulatorCore):
     ``model.initial_state`` with per-vessel ``north``, ``east``, ``psi`` (scalars or length-N
     arrays) and one ``speed`` / ``shaft``. Commands to ``step`` are scalars (same for all) or
     length-N arrays. ``current``: an OceanCurrent of shape (N,) (independent currents) or ()
-    (one current shared by all), or None. Accessors return length-N arrays.
+    (one current shared by all), or None; ``wind``: a WindField likewise, with
+    ``wind_coefficients``. Accessors return length-N arrays.
     """
 
     def __init__(self, model, *, dt=0.1, states=None, n=None, north=0.0, east=0.0, psi=0.0,
                  speed=None, shaft=None, shaft_cmd=None, current=None, t0=0.0,
-                 model_params=None):
+                 model_params=None, wind=None, wind_coefficients='blendermann94'):
         model = _model_from(model, model_params or {})
         if states is None:
             if n is None:
@@ -287,7 +325,9 @@ class BatchSimulator(_SimulatorCore):
         if current is not None and getattr(current, 'shape', ()) not in ((), states.shape[:1]):
             raise ValueError(f'current shape {current.shape} does not match {states.shape[0]} '
                              'vessels')
-        super().__init__(model, states, dt, current, shaft_cmd, t0)
+        if wind is not None and wind.shape not in ((), states.shape[:1]):
+            raise ValueError(f'wind shape {wind.shape} does not match {states.shape[0]} vessels')
+        super().__init__(model, states, dt, current, shaft_cmd, t0, wind, wind_coefficients)
 
     @property
     def n(self):

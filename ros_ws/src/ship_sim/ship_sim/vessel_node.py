@@ -64,6 +64,7 @@ from rosgraph_msgs.msg import Clock as ClockMsg
 from std_msgs.msg import Bool, Float64, UInt64
 
 from ship_sim.current import OceanCurrent
+from ship_sim.environment.wind import COEFFICIENTS, WindField
 from ship_sim.frames import yaw_to_psi
 from ship_sim.models import MODEL_NAMES, ModelStateError, make_model
 from ship_sim.pacing import LockstepPacer, RealtimePacer, StepGate
@@ -112,7 +113,9 @@ class VesselNode(Node):
             f'{self.start[1]:.1f}) m, yaw {self.start[2]:.1f} deg, U {self.sim.speed_water():.3f}'
             ' m/s' + (f', shaft {self._shaft_cmd:g} rpm' if self._shaft_cmd is not None else '')
             + (f', current {self._current_text}' if self._current_text else '')
-            + (f'; {self._waves.describe()}' if self._waves is not None else ''))
+            + (f'; {self._waves.describe()}' if self._waves is not None else '')
+            + (f', wind {self._wind.describe()} ({self._wind_coefficients})'
+               if self._wind is not None else ''))
 
     # -- parameters and the simulator ---------------------------------------------------------
     def _declare_and_build(self):
@@ -215,6 +218,7 @@ class VesselNode(Node):
                          'Gauss-Markov variations', lo=1.0, hi=1e6, unit='s', read_only=True)
         c_seed = p.declare('current_seed', 0, 'random seed of the current variations (same '
                            'seed, same current)', lo=0, hi=2**31 - 1, read_only=True)
+        self._wind, self._wind_coefficients = _declare_wind(p)
 
         # Model.
         table = MODEL_KWARGS[model]
@@ -261,7 +265,8 @@ class VesselNode(Node):
         try:
             self.sim = VesselSimulator(
                 m, dt=dt, north=y0, east=x0, psi=float(yaw_to_psi(math.radians(yaw0))),
-                speed=speed0 or None, shaft=shaft or None, current=current)
+                speed=speed0 or None, shaft=shaft or None, current=current,
+                **self._wind_arguments(m))
         except (ValueError, ModelStateError) as exc:
             raise ParameterError('initial_speed', message=f'initial state of {model!r} (initial_'
                                  f'speed {speed0}, shaft_rpm {shaft}): {exc}') from None
@@ -271,6 +276,16 @@ class VesselNode(Node):
         self.start = (x0, y0, yaw0)
         self._rudder_cmd = 0.0
         self._shaft_cmd = self.sim.shaft_command
+
+    def _wind_arguments(self, model):
+        """VesselSimulator keywords for the wind; ParameterError if the model cannot take it."""
+        if self._wind is None:
+            return {}
+        if not model.takes_external_loads:
+            raise ParameterError('wind_speed', message=f'wind needs a model with wind loads '
+                                 f'(mariner, tanker, container), not {model.name!r}; set '
+                                 'wind_speed and wind_gust_sd to 0')
+        return {'wind': self._wind, 'wind_coefficients': self._wind_coefficients}
 
     # -- topics -------------------------------------------------------------------------------
     def _make_topics(self):
@@ -541,6 +556,29 @@ class VesselNode(Node):
             text += '; ' + self._pacer.summary()
         log.info(text)
         super().destroy_node()
+
+
+def _declare_wind(p):
+    """Declare the wind_* parameters; return (WindField or None when calm, coefficients)."""
+    speed = p.declare('wind_speed', 0.0, 'mean wind speed (0 and no gusts = no wind)', lo=0.0,
+                      hi=WindField.MAX_SPEED, unit='m/s', read_only=True)
+    direction = p.declare('wind_direction_deg', 0.0, 'direction the wind blows FROM, clockwise '
+                          'from north (meteorological: 0 = a north wind, blowing southwards)',
+                          lo=-360.0, hi=360.0, unit='deg', read_only=True)
+    gust_sd = p.declare('wind_gust_sd', 0.0, 'gusts: stationary standard deviation of the wind '
+                        'speed (Gauss-Markov; 0 = steady)', lo=0.0, hi=30.0, unit='m/s',
+                        read_only=True)
+    tc = p.declare('wind_time_constant', 60.0, "time constant of the gusts' Gauss-Markov "
+                   'process', lo=0.1, hi=1e6, unit='s', read_only=True)
+    seed = p.declare('wind_seed', 0, 'random seed of the gusts (same seed, same wind)', lo=0,
+                     hi=2**31 - 1, read_only=True)
+    coefficients = p.declare('wind_coefficients', 'blendermann94', 'wind load coefficients: '
+                             'Blendermann 1994 (with roll) or Isherwood 1972',
+                             choices=COEFFICIENTS, read_only=True)
+    if speed == 0.0 and gust_sd == 0.0:
+        return None, coefficients
+    return WindField(speed, math.radians(direction), gust_sd=gust_sd, time_constant=tc,
+                     seed=seed), coefficients
 
 
 def _substeps_problem(rate, dt):

@@ -1,1 +1,1 @@
-"""Environmental disturbances: ocean waves (and wind), pure numpy/scipy ports of MSS."""
+"""Wind and wave environment of the plants: MSS environment functions and the disturbance fields."""

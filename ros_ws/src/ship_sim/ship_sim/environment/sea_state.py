@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ship_sim.environment.encounter import G, hs2vw, vw2hs
+from ship_sim.environment.sea_state_relations import G, hs2vw, vw2hs
 from ship_sim.environment.wave_directional import SPECTRA, wave_directional_spectrum
 from ship_sim.environment.wave_rao import WaveResponse, load_rao_table
 

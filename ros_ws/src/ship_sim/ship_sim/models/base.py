@@ -57,6 +57,8 @@ class VesselModel(ABC):
     length = 1.0
     #: Source of the equations and parameters, for the docs and the node's start-up log.
     source = ''
+    #: True if rhs/step take external loads ``loads`` = (X, Y, K, N) (ship_sim.models.mss_ship).
+    takes_external_loads = False
 
     @property
     def n_states(self):

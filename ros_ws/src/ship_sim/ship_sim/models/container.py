@@ -19,6 +19,8 @@ Limits: |delta_c| <= 10 deg, |delta_dot| <= 5 deg/s, |n_c| <= 160 rpm; shaft tim
 n <= 0 and describes forward motion only, so -160 rpm left its domain within 5 s, and a 0 rpm
 command lets n decay towards 0, where it does too; 1 rpm keeps n > 0 and the ship coasting.
 Positive rudder turns to starboard, so the unified command (positive = port) maps with sign -1.
+External loads (X, Y, K, N) (ship_sim.models.mss_ship) enter X, Y, K, N in the prime
+system of container.m: forces / (1/2 rho L^2 U^2), moments / (1/2 rho L^3 U^2), rho = 1025.
 """
 import math
 
@@ -107,7 +109,7 @@ class Container(MssShip):
         super().__init__(rudder_max, rudder_rate_max)
 
     def _derivatives(self, ops, x_u, x_v, x_r, x_n, x_e, psi, x_p, phi, delta, x_n_rpm,
-                     delta_c, n_c_rpm):
+                     delta_c, n_c_rpm, loads=None):
         U = ops.sqrt(x_u ** 2 + x_v ** 2)
         W = _W_NUM / (rho * L ** 2 * U ** 2 / 2)
 
@@ -157,6 +159,13 @@ class Container(MssShip):
              + Nvvr * v2 * r + Nvrr * v * r2 + Nvvphi * v2 * phi
              + Nvphiphi * v * phi2 + Nrrphi * r2 * phi + Nrphiphi * r * phi2
              + (xR + aH * xH) * FN * cd)
+
+        if loads is not None:   # external loads in the prime system (module docstring)
+            q = 0.5 * rho * L ** 2 * U ** 2
+            X = X + loads[0] / q
+            Y = Y + loads[1] / q
+            K = K + loads[2] / (q * L)
+            N = N + loads[3] / (q * L)
 
         cpsi, spsi, cphi = ops.cos(psi), ops.sin(psi), ops.cos(phi)
         return (X * (U ** 2 / L) / m11,

@@ -18,6 +18,10 @@ Nondimensional coefficients are scaled with the current speed U = sqrt((U0 + u)^
 Limits: |delta_c| <= 40 deg, |delta_dot| <= 5 deg/s. The model has no propulsion input: its
 only straight-running speed is U0 (at about -1.108 deg of rudder, because of the asymmetry
 terms Y0, N0).
+External loads (X, Y, K, N) (ship_sim.models.mss_ship) enter X, Y, N in the prime system
+of the coefficients: X' = X / (1/2 rho L^2 U^2), N' = N / (1/2 rho L^3 U^2), rho = 1025
+kg/m^3 (mariner.m states no density; with it m' = 798e-5 gives the 17 045 t of SIMmariner.m).
+K is ignored (3 DOF).
 """
 import math
 
@@ -25,6 +29,7 @@ from .mss_ship import MssShip, rudder_servo
 
 L = 160.93           # length between perpendiculars (m)
 U0_DEFAULT = 7.7175  # nominal speed (m/s), 15 knots
+RHO = 1025.0         # water density of the prime system (kg/m^3), for external loads
 
 # Nondimensional mass, inertia and hydrodynamic derivatives (mariner.m).
 m = 798e-5
@@ -83,7 +88,7 @@ class Mariner(MssShip):
         #: Nominal speed (m/s) about which the surge state is a perturbation.
         self.U0 = U0
 
-    def _derivatives(self, ops, x_u, x_v, x_r, x_n, x_e, psi, delta, ui):
+    def _derivatives(self, ops, x_u, x_v, x_r, x_n, x_e, psi, delta, ui, loads=None):
         U0 = self.U0
         U = ops.sqrt((U0 + x_u) ** 2 + x_v ** 2)
 
@@ -108,6 +113,12 @@ class Mariner(MssShip):
         N = (Nv * v + Nr * r + Nvvv * v3 + Nvvr * v2 * r + Nvu * v * u + Nru * r * u
              + Nd * delta + Nddd * d3 + Nud * u * delta + Nuud * u2 * delta
              + Nvdd * v * d2 + Nvvd * v2 * delta + (N0 + N0u * u + N0uu * u2))
+
+        if loads is not None:   # external loads in the prime system (module docstring)
+            q = 0.5 * RHO * L ** 2 * U ** 2
+            X = X + loads[0] / q
+            Y = Y + loads[1] / q
+            N = N + loads[3] / (q * L)
 
         c, s = ops.cos(psi), ops.sin(psi)
         return (X * (U ** 2 / L) / m11,

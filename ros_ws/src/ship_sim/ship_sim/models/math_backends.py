@@ -29,6 +29,10 @@ def _float_where(cond, a, b):
     return a if cond else b
 
 
+def _float_sign(a):
+    return 1.0 if a > 0 else -1.0 if a < 0 else a   # 0.0, -0.0 and NaN as numpy.sign
+
+
 def _array_sat(a, lim):
     return np.minimum(np.maximum(a, -lim), lim)
 
@@ -42,8 +46,10 @@ class _Ops:
 
 #: Scalar backend: arguments and results are Python floats.
 FLOAT_OPS = _Ops(sin=math.sin, cos=math.cos, sqrt=math.sqrt, atan=math.atan,
-                 sat=_float_sat, where=_float_where)
+                 atan2=math.atan2, hypot=math.hypot, sat=_float_sat, where=_float_where,
+                 sign=_float_sign)
 
 #: Array backend: arguments are numpy arrays (or floats) that broadcast together.
 ARRAY_OPS = _Ops(sin=np.sin, cos=np.cos, sqrt=np.sqrt, atan=np.arctan,
-                 sat=_array_sat, where=np.where)
+                 atan2=np.arctan2, hypot=np.hypot, sat=_array_sat, where=np.where,
+                 sign=np.sign)

@@ -7,6 +7,13 @@ Source: Fossen, Marine Systems Simulator, github.com/cybergalactic/MSS, commit 7
   time constant (delta_dot = delta_c - delta) and that rate is clipped at ``rudder_rate_max``.
 - Derivatives are a pure function of (state, input); the state is the model's own (NED/FRD,
   SI units except shaft speed in rpm).
+- External loads (e.g. wind, ship_sim.environment.wind): ``loads`` = (X, Y, K, N), body-frame
+  surge and sway force (N) and roll and yaw moment (N m), is an optional extra argument of
+  ``rhs``, ``rhs_scalar`` and ``step``, held over a step like the input. Each model adds it
+  to its OWN force equations in their own scaling (the prime system of mariner.m and
+  container.m, the force per unit mass of tanker.m), so the loads act through the model's
+  inertia; models without roll ignore K. ``loads=None`` evaluates the MSS equations unchanged
+  (bit for bit).
 
 Each subclass writes its equations once, in ``_derivatives(ops, *state, *inputs)``, against
 the ``ops`` backends of ``math_backends``; this class evaluates them on arrays (``rhs``,
@@ -56,43 +63,55 @@ class MssShip(VesselModel):
             self.rudder_rate_max = _checked_limit('rudder_rate_max', rudder_rate_max, math.inf)
 
     # --- equations ------------------------------------------------------------------------
-    def _derivatives(self, ops, *args):
+    #: rhs, rhs_scalar and step take ``loads`` = (X, Y, K, N) external loads (module docstring).
+    takes_external_loads = True
+
+    def _derivatives(self, ops, *args, loads=None):
         """Native derivative components from state then input components (subclass)."""
         raise NotImplementedError
 
-    def rhs(self, x, u):
+    def rhs(self, x, u, loads=None):
         """MSS derivative on arrays: x (..., n_states), u (..., n_inputs) -> (..., n_states).
 
         Leading axes broadcast (e.g. N states with one shared input). No domain check here;
-        call ``check_state`` (states the MSS function rejects give NaN or nonsense).
+        call ``check_state`` (states the MSS function rejects give NaN or nonsense). ``loads``:
+        optional external loads (X, Y, K, N) in N and N m, each broadcasting like x's batch.
         """
         x = np.asarray(x, dtype=float)
         u = np.asarray(u, dtype=float)
         if x.shape[-1:] != (self.n_states,) or u.shape[-1:] != (self.n_inputs,):
             raise ValueError(f'{self.name}: expected x (..., {self.n_states}) and '
                              f'u (..., {self.n_inputs}), got {x.shape} and {u.shape}')
-        comps = self._derivatives(ARRAY_OPS, *np.moveaxis(x, -1, 0), *np.moveaxis(u, -1, 0))
+        comps = self._derivatives(ARRAY_OPS, *np.moveaxis(x, -1, 0), *np.moveaxis(u, -1, 0),
+                                  loads=loads)
         return np.stack(np.broadcast_arrays(*comps), axis=-1)
 
-    def rhs_scalar(self, x, u):
+    def rhs_scalar(self, x, u, loads=None):
         """Same derivative for one vessel on sequences of floats; returns a tuple of floats.
 
-        A state outside the model's domain raises ModelStateError (naming the quantity).
+        ``loads``: optional (X, Y, K, N) floats. A state outside the model's domain raises
+        ModelStateError (naming the quantity).
         """
         try:
-            return self._derivatives(FLOAT_OPS, *x, *u)
+            return self._derivatives(FLOAT_OPS, *x, *u, loads=loads)
         except (ArithmeticError, ValueError) as exc:  # division by zero, math domain error
             self.check_state(x, u)
             raise ModelStateError(f'{self.name}: equations failed at x={list(x)}, '
                                   f'u={list(u)}: {exc}') from exc
 
-    def step(self, x, u, h):
-        """One MSS RK4 step of length h (s), input held. 1-D x uses the float fast path."""
+    def step(self, x, u, h, loads=None):
+        """One MSS RK4 step of length h (s), input (and loads) held. 1-D x: float path."""
         x = np.asarray(x, dtype=float)
         u = np.asarray(u, dtype=float)
         if x.ndim == 1 and u.ndim == 1:
-            return np.array(rk4_step_floats(self.rhs_scalar, x.tolist(), u.tolist(), h))
-        return rk4_step(self.rhs, x, u, h)
+            if loads is None:
+                return np.array(rk4_step_floats(self.rhs_scalar, x.tolist(), u.tolist(), h))
+            loads = tuple(float(t) for t in loads)
+            return np.array(rk4_step_floats(lambda a, b: self.rhs_scalar(a, b, loads),
+                                            x.tolist(), u.tolist(), h))
+        if loads is None:
+            return rk4_step(self.rhs, x, u, h)
+        return rk4_step(lambda a, b: self.rhs(a, b, loads), x, u, h)
 
     # --- unified interface ----------------------------------------------------------------
     def _extra_inputs(self):

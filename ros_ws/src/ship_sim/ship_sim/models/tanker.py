@@ -23,6 +23,10 @@ stays > 0.
 Shallow-water terms scale with z = T/(h - T), never exactly zero
 (z = 0.0188 at h = 1000 m); Yuvz switches on for z >= 0.8 (h <= 41.5 m).
 Positive rudder turns to port, so the unified command maps with sign +1.
+External loads (X, Y, K, N) (ship_sim.models.mss_ship): tanker.m's gX, gY and gLN are
+forces and moment divided by the ship's mass (its surge equation is u_dot = gX / m11 with
+m11 = 1 - Xudot''), so the loads enter as X / m, Y / m and N / m with m = 225 500 t, the mass
+SIMtanker.m states. K is ignored (3 DOF).
 """
 import math
 
@@ -34,6 +38,7 @@ H_MIN = 18.5       # smallest water depth tanker.m accepts (m)
 t = 0.22           # thrust deduction
 Tm = 50.0          # shaft time constant (s)
 T = 18.46          # draft (m)
+MASS = 225.5e6     # kg (SIMtanker.m: 225 500 tonnes), for external loads
 
 cun = 0.605
 cnn = 38.2
@@ -94,7 +99,8 @@ class Tanker(MssShip):
     def _extra_inputs(self):
         return (self.h,)
 
-    def _derivatives(self, ops, u, v, r, x_n, x_e, psi, delta, x_n_rpm, delta_c, n_c_rpm, h):
+    def _derivatives(self, ops, u, v, r, x_n, x_e, psi, delta, x_n_rpm, delta_c, n_c_rpm, h,
+                     loads=None):
         n = x_n_rpm / 60          # rps
         n_c = n_c_rpm / 60        # rps
 
@@ -123,6 +129,11 @@ class Tanker(MssShip):
                + Nccbbd * cc * abs(beta) * beta * abs(delta) + L * NT * gT
                + L * Nurz * u * r * z + Nuvz * u * v * z + L * Nvrz * abs(v) * r * z
                + Nccbbdz * cc * abs(beta) * beta * abs(delta) * z)
+
+        if loads is not None:   # external loads per unit mass (module docstring)
+            gX = gX + loads[0] / MASS
+            gY = gY + loads[1] / MASS
+            gLN = gLN + loads[3] / MASS
 
         m11z = (m11 - Xudotz * z)
         m22z = (m22 - Yvdotz * z)

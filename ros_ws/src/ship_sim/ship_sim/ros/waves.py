@@ -14,7 +14,7 @@ import math
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension
 
 from ship_sim.environment.sea_state import SeaState, ShipWaves, rao_table_for
-from ship_sim.environment.encounter import vw2hs
+from ship_sim.environment.sea_state_relations import vw2hs
 from ship_sim.frames import psi_to_yaw
 from ship_sim.ros.conversions import fill_odometry
 from ship_sim.ros.params import ParameterError

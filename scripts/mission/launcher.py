@@ -38,6 +38,9 @@ FOLLOWER_NODES = (('route_node', 'ship_planner'), ('follower_node', 'ship_guidan
 COLAV_NODE = ('colav_node', 'ship_guidance')
 #: guidance_node's output is colav_node's nominal input on a vessel with collision avoidance.
 COLAV_REMAP = ['-r', 'heading_cmd:=heading_ref']
+DISPLAY_NODE = ('nav_display_node', 'ship_guidance')
+LIVE_VIEW = REPO / 'scripts' / 'live_view.py'
+LAYOUT = REPO / 'scripts' / 'live_view_layout.json'   # the Foxglove layout of a run
 
 
 RECORD_ACK = 'record_ack'  # per vessel namespace: the recorder's lockstep acknowledgement
@@ -267,6 +270,7 @@ def node_parameters(scenario, spec, index, record):
         'lockstep_odom_subscribers': odom_subscribers(scenario, spec, record)
         if scenario.platoon is None else scenario.platoon.odom_subscribers(spec.namespace, record),
     }
+    vessel['lockstep_odom_subscribers'] += viewer_odom_subscribers(scenario)
     if spec.traffic and lockstep:
         # A target never runs so far ahead that its odom queue overwrites a sample a colav_node
         # has not taken (the platoon predecessor's gate, on every colav vessel's odom).
@@ -309,6 +313,45 @@ def node_parameters(scenario, spec, index, record):
         from mission.platoon import follower_parameters
         params['follower_node'] = follower_parameters(scenario, spec)
     return params, plan
+
+
+def viewer_odom_subscribers(scenario):
+    """Odom subscribers of a vessel that only look: its nav_display_node. A lockstep simulator
+    counts every subscriber before step 0, so it is added to the count (else it could stand in
+    for a guidance node that has not subscribed yet). The live view subscribes nothing before
+    every vessel is ready (its --wait-ready)."""
+    return int(scenario.display is not None)
+
+
+def display_parameters(scenario, spec):
+    """nav_display_node's parameters of one vessel: its model, the scenario's `display:` keys,
+    and the NavSatFix origin from there, else from the first route file that has one."""
+    params = {'use_sim_time': True, 'model': spec.model, **scenario.display}
+    if 'origin_lat_deg' not in params:
+        for s in scenario.vessels:
+            plan = route_plan(scenario, s)
+            if plan.origin_lat_deg is not None:
+                params['origin_lat_deg'] = plan.origin_lat_deg
+                params['origin_lon_deg'] = plan.origin_lon_deg
+                break
+    return params
+
+
+def start_viewers(scenario, run, group, progress):
+    """Start every vessel's nav_display_node (unless `display: false`) and, with --live, the
+    live view (mission.live_view) serving the graph on 127.0.0.1:live_port."""
+    if scenario.display is not None:
+        exe, pkg = DISPLAY_NODE
+        for spec in scenario.vessels:
+            f = write_params(run, spec.namespace, exe, display_parameters(scenario, spec))
+            group.start(f'{spec.namespace}/{exe}', pkg, exe,
+                        ['--ros-args', '-r', f'__ns:=/{spec.namespace}', '--params-file', f])
+    if scenario.live_port is not None:
+        ready = [f'/{spec.namespace}/ready' for spec in scenario.vessels]
+        group.start_argv('live_view', [sys.executable, LIVE_VIEW, '--port',
+                                       str(scenario.live_port), '--wait-ready', *ready])
+        progress(f'live view: ws://127.0.0.1:{scenario.live_port} (Foxglove or Lichtblick: Open '
+                 f'connection -> Foxglove WebSocket; layout: {LAYOUT.relative_to(REPO)})')
 
 
 def traffic_parameters(scenario):
@@ -487,6 +530,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             group.start_argv('recorder', [sys.executable, RECORDER, run / 'bag', '--time-source',
                                           source, '--exclude', r'^/(rosout|parameter_events)$',
                                           *meta, *acks])
+        start_viewers(scenario, run, group, progress)
         monitor = Monitor(namespaces)
         monitor.spin(1.0)
         if scenario.light:

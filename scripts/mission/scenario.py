@@ -34,6 +34,10 @@
                                              #   speed from (x_m, y_m) ENU at t = 0 (default 0/0)
       target_2:                              #   or timed waypoints [t_s, x_m, y_m] (ENU, times
         light: {waypoints: [[0, 0, 0], [600, 0, 4000]]}   # strictly increasing), straight legs
+    display:                                 # optional: nav_display_node of every vessel (fix,
+      origin: {lat_deg: 59.9, lon_deg: 10.7} #   nav_markers); origin of the NavSatFix (default:
+      display_rate_hz: 2.0                   #   the first route's origin, else 0/0); rate and
+      trail_length_s: 600.0                  #   trail in sim time. `display: false`: no display
 
 Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
@@ -74,7 +78,9 @@ from ship_planner.yaml_route_reader import Loader
 from ship_sim.frames import psi_to_yaw
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
-            'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic'}
+            'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic',
+            'display'}
+DISPLAY_KEYS = {'origin', 'display_rate_hz', 'trail_length_s'}
 VESSEL_KEYS = {'model', 'route', 'start', 'speed_mps', 'current', 'vessel', 'guidance',
                'autopilot', 'model_params', 'colav'}
 TRAFFIC_KEYS = VESSEL_KEYS - {'colav'}
@@ -105,6 +111,10 @@ class Scenario:
     #: route file -> its parsed RoutePlan, filled once by mission.launcher.check_scenario and
     #: passed on to the nodes' parameters (a route file is parsed once per run by the launcher)
     routes: dict = field(default_factory=dict)
+    #: nav_display_node parameters of every vessel (`display:`), None for `display: false`
+    display: dict = field(default_factory=dict)
+    #: --live: the port of the live view (mission.live_view), None without (not a YAML key)
+    live_port: int = None
 
 
 def check_name(name, file):
@@ -162,7 +172,28 @@ def load_scenario(path):
         dt_s=number(data, 'dt_s', path, 0.1, lo=1e-3, hi=10.0),
         settle_s=number(data, 'settle_s', path, 0.0, lo=0.0),
         record=bool(data.get('record', True)),
-        lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light)
+        lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light,
+        display=_parse_display(data.get('display', {}), path))
+
+
+def _parse_display(d, path):
+    """nav_display_node parameters from `display:` (None for `display: false`)."""
+    if d is False:
+        return None
+    d = {} if d is True else d
+    need(isinstance(d, dict), path, 'display', f'false or a mapping, got {d!r}')
+    unknown(d, DISPLAY_KEYS, path, 'display.')
+    out = {key: number(d, key, path, None, lo=lo, where='display.')
+           for key, lo in (('display_rate_hz', 0.01), ('trail_length_s', 0.0)) if key in d}
+    if 'origin' in d:
+        o = d['origin']
+        need(isinstance(o, dict), path, 'display.origin', 'a mapping {lat_deg, lon_deg}')
+        unknown(o, {'lat_deg', 'lon_deg'}, path, 'display.origin.')
+        out['origin_lat_deg'] = number(o, 'lat_deg', path, None, lo=-89.0, hi=89.0,
+                                       where='display.origin.')
+        out['origin_lon_deg'] = number(o, 'lon_deg', path, None, lo=-180.0, hi=360.0,
+                                       where='display.origin.')
+    return out
 
 
 def _parse_light(entries, path):

@@ -270,7 +270,6 @@ def node_parameters(scenario, spec, index, record):
         'lockstep_odom_subscribers': odom_subscribers(scenario, spec, record)
         if scenario.platoon is None else scenario.platoon.odom_subscribers(spec.namespace, record),
     }
-    vessel['lockstep_odom_subscribers'] += viewer_odom_subscribers(scenario)
     if spec.traffic and lockstep:
         # A target never runs so far ahead that its odom queue overwrites a sample a colav_node
         # has not taken (the platoon predecessor's gate, on every colav vessel's odom).
@@ -505,6 +504,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         vessel_params = []
         for i, spec in enumerate(scenario.vessels):
             params, plan = node_parameters(scenario, spec, i, record)
+            params['vessel_node']['lockstep_odom_subscribers'] += viewer_odom_subscribers(scenario)
             for exe, pkg in vessel_nodes(spec):
                 f = write_params(run, spec.namespace, exe, params[exe])
                 group.start(f'{spec.namespace}/{exe}', pkg, exe,

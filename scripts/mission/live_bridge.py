@@ -22,9 +22,10 @@ Never in the graph's way:
 subscribed before all of them are true, so the bridge never counts as an odom subscriber that a
 lockstep simulator waits for before its step 0.
 
-Message log time: the graph's sim time (latest ``/clock``, subscribed while anything is) else
-wall time; the server also broadcasts that time (the protocol's ``time`` capability), so a
-client's clock and plots follow sim time.
+Message log time: the graph's sim time (latest ``/clock``, subscribed while anything is;
+messages before its first value are not forwarded) else, in a graph without /clock, wall time;
+the server also broadcasts that time (the protocol's ``time`` capability), so a client's clock
+and plots follow sim time.
 """
 import re
 import time
@@ -149,7 +150,12 @@ class LiveBridge:
                 last[topic] = seq
             if topic == CLOCK_TOPIC:
                 self._sim_ns = _clock_ns(data)
-            log(data, log_time=self._sim_ns if self._sim_ns is not None else time.time_ns())
+            if self._sim_ns is not None:
+                log(data, log_time=self._sim_ns)
+            elif self._clock_sub is None:   # a graph without /clock: wall time
+                log(data, log_time=time.time_ns())
+            else:                           # the first /clock is on its way: no time to give
+                return
             forwarded[topic] += 1
 
         self.subs[topic] = self.node.create_subscription(_message_class(msgtype), topic,

@@ -347,8 +347,14 @@ def start_viewers(scenario, run, group, progress):
                         ['--ros-args', '-r', f'__ns:=/{spec.namespace}', '--params-file', f])
     if scenario.live_port is not None:
         ready = [f'/{spec.namespace}/ready' for spec in scenario.vessels]
-        group.start_argv('live_view', [sys.executable, LIVE_VIEW, '--port',
-                                       str(scenario.live_port), '--wait-ready', *ready])
+        view = group.start_argv('live_view', [sys.executable, LIVE_VIEW, '--port',
+                                              str(scenario.live_port), '--wait-ready', *ready])
+        end = time.monotonic() + 30.0   # serving before step 0: a viewer sees the whole run
+        while 'live view: ws://' not in view.output():
+            if view.returncode is not None or time.monotonic() > end:
+                raise MissionFailed(f'live view did not start, its last line: '
+                                    f'{_last_line(view)} (log: {view.log_path})')
+            time.sleep(0.05)
         progress(f'live view: ws://127.0.0.1:{scenario.live_port} (Foxglove or Lichtblick: Open '
                  f'connection -> Foxglove WebSocket; layout: {LAYOUT.relative_to(REPO)})')
 

@@ -8,6 +8,8 @@ graph back) and `route` (nav_msgs/Path, reliable + transient_local). Publishes, 
   nav_markers   visualization_msgs/MarkerArray  hull outline at the true length and heading,
                 the vessel's name, the route, the wake trail of the last `trail_length_s`
                 (ship_guidance.ros.nav_display_msgs; targets and CPA points: colav_markers)
+  heading       std_msgs/Float64  the ship's ENU yaw (rad) from odom, for plot panels that
+                cannot take a yaw out of a quaternion (beside heading_cmd)
 The hull length is the model's length between perpendiculars (`model`) unless `length_m` > 0.
 """
 import math
@@ -16,6 +18,7 @@ from nav_msgs.msg import Odometry, Path
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import NavSatFix
+from std_msgs.msg import Float64
 from visualization_msgs.msg import MarkerArray
 
 from ship_guidance.nav_display import Throttle, Trail
@@ -55,6 +58,7 @@ class NavDisplayNode(Node):
         self.frame = base_link_frame(self.get_namespace())
         self.pub_fix = self.create_publisher(NavSatFix, 'fix', STREAM)
         self.pub_markers = self.create_publisher(MarkerArray, 'nav_markers', STREAM)
+        self.pub_heading = self.create_publisher(Float64, 'heading', STREAM)
         self.create_subscription(Path, 'route', self._on_route, LATCHED)
         self.create_subscription(Odometry, 'odom', self._on_odom, NEWEST, raw=True)
 
@@ -67,10 +71,12 @@ class NavDisplayNode(Node):
             return
         self.trail.add(o.east, o.north)
         stamp = time_to_msg(o.t)
+        yaw = float(psi_to_yaw(o.psi))
         self.pub_fix.publish(navsat_fix(stamp, self.frame, o.east, o.north, self.lat0, self.lon0))
-        self.pub_markers.publish(display_markers(
-            stamp, self.name, o.east, o.north, float(psi_to_yaw(o.psi)), self.length,
-            self.route_xy, list(self.trail.points)))
+        self.pub_heading.publish(Float64(data=yaw))
+        self.pub_markers.publish(display_markers(stamp, self.name, o.east, o.north, yaw,
+                                                 self.length, self.route_xy,
+                                                 list(self.trail.points)))
 
 
 def main(args=None):

@@ -91,3 +91,25 @@ def test_a_foxglove_client_receives_what_the_bag_records(launch):
     it = iter(ref)
     assert all(any(v == r for r in it) for v in got), 'rudder_cmd is not a subsequence of the bag'
     assert np.all(np.abs(got) <= np.radians(40.0) + 1e-12)   # the Mariner's rudder limit
+
+
+def test_a_slow_client_on_every_topic_never_holds_the_lockstep_run_back(launch):
+    """A client that reads one frame every 50 ms (far below the run's ~100 messages per sim
+    second at several times real time): the run still takes every step without a lockstep
+    timeout, the bag is complete, and the bridge reports what it forwarded and lost."""
+    port = _free_port()
+    run = launch(FLAGSHIP, '--duration', DURATION_S, '--live', '--live-port', port,
+                 '--wall-timeout', WALL_TIMEOUT_S)
+    client = FoxgloveClient(f'ws://127.0.0.1:{port}', connect_timeout_s=60.0, read_delay_s=0.05)
+    try:
+        code = run.wait(WALL_TIMEOUT_S + 20.0)
+    finally:
+        client.close()
+    assert code == 0, run.report()
+    assert 'record complete' in run.stdout(), run.report()
+    logs = run.run_dir() / 'logs'
+    vessel = (logs / 'vessel_0.vessel_node.log').read_text()
+    assert '0 lockstep timeouts' in vessel and '(deterministic run)' in vessel, vessel[-2000:]
+    assert len(client.channels) >= 10, sorted(client.channels)   # every topic advertised
+    view = (logs / 'live_view.log').read_text()
+    assert 'messages forwarded' in view and 'lost before the bridge' in view, view

@@ -325,7 +325,8 @@ def viewer_odom_subscribers(scenario):
 def display_parameters(scenario, spec):
     """nav_display_node's parameters of one vessel: its model, the scenario's `display:` keys,
     and the NavSatFix origin from there, else from the first route file that has one."""
-    params = {'use_sim_time': True, 'model': spec.model, **scenario.display}
+    # Stamped from odom only: no /clock subscription (a callback per step) is needed.
+    params = {'use_sim_time': False, 'model': spec.model, **scenario.display}
     if 'origin_lat_deg' not in params:
         for s in scenario.vessels:
             plan = route_plan(scenario, s)

@@ -29,7 +29,7 @@ def test_display_is_on_by_default_and_counts_as_an_odom_subscriber(tmp_path):
     sc = _variant(tmp_path, FLAGSHIP, None)
     assert sc.display == {} and viewer_odom_subscribers(sc) == 1
     spec = sc.vessels[0]
-    assert display_parameters(sc, spec) == {'use_sim_time': True, 'model': spec.model}
+    assert display_parameters(sc, spec) == {'use_sim_time': False, 'model': spec.model}
 
 
 def test_display_false_starts_nothing(tmp_path):

@@ -6,8 +6,8 @@ every topic of the graph in this ROS_DOMAIN_ID (or the ``--topics`` given) with 
 schema and forwards the CDR messages untouched (mission.live_bridge). Open it in Foxglove or
 Lichtblick with "Open connection" -> "Foxglove WebSocket" -> ws://127.0.0.1:8765, then import
 the layout scripts/live_view_layout.json. `scripts/run_mission.py --live` starts it with the
-run. It runs at the lowest CPU priority (``--nice``): on a busy machine the graph goes first
-and the view loses messages instead (counted). Prints ``live view: ws://HOST:PORT`` once
+run. Once serving it runs at a low CPU priority (``--nice``): on a busy machine the graph goes
+first and the view loses messages instead (counted). Prints ``live view: ws://HOST:PORT`` once
 serving, a status line every ``--status-period`` seconds while clients listen, and the totals
 at exit. Exit code 0 on Ctrl-C / SIGTERM, 2 for
 bad options, 1 if the port cannot be bound.
@@ -19,6 +19,20 @@ import time
 
 from mission.live_bridge import LiveBridge
 from mission.recorder import DEFAULT_EXCLUDE
+
+
+def lower_priority(n):
+    """Nice this process by ``n``. With the kernel's autogroup scheduling (on by default) a
+    nice value only ranks a process within its session, and the launcher starts every process
+    in its own session, so the session's autogroup is niced too when this process leads it (a
+    shell's session, when started by hand, is left alone)."""
+    os.nice(n)
+    if os.getsid(0) == os.getpid():
+        try:
+            with open('/proc/self/autogroup', 'w') as f:
+                f.write(str(n))
+        except OSError:
+            pass
 
 
 def main(argv=None):
@@ -35,15 +49,14 @@ def main(argv=None):
                     help='latched std_msgs/Bool topics that must all be true before anything '
                          'is subscribed (the launcher: every vessel\'s ready)')
     ap.add_argument('--status-period', type=float, default=10.0, help='s between status lines')
-    ap.add_argument('--nice', type=int, default=19, help='CPU niceness added to this process '
-                    '(default 19: the graph first; a starved bridge loses messages, counted)')
+    ap.add_argument('--nice', type=int, default=10, help='CPU niceness added once serving '
+                    '(default 10: the graph first; a starved bridge loses messages, counted)')
     args, ros_argv = ap.parse_known_args(argv)
     if not 0 <= args.port <= 65535:
         ap.error(f'--port must be in 0..65535, got {args.port}')
     if args.depth < 1 or args.backlog < 1:
         ap.error('--depth and --backlog must be >= 1')
 
-    os.nice(max(0, args.nice))
     import foxglove
     import rclpy
     from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
@@ -62,6 +75,7 @@ def main(argv=None):
     bridge = LiveBridge(node, context, topics=args.topics, exclude=args.exclude,
                         depth=args.depth, wait_ready=args.wait_ready)
     bridge.server = server
+    lower_priority(max(0, args.nice))   # after the start-up, which would crawl at a low priority
     print(f'live view: ws://{args.host}:{server.port}', flush=True)
     executor = SingleThreadedExecutor()
     executor.add_node(node)

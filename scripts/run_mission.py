@@ -26,6 +26,8 @@ def main(argv=None):
     ap.add_argument('--live', action='store_true', help='serve the topics to Foxglove / '
                     'Lichtblick while the run goes (scripts/live_view.py; README Live view)')
     ap.add_argument('--live-port', type=int, default=8765, help='port of --live (127.0.0.1)')
+    ap.add_argument('--live-nice', type=int, default=10, help='CPU niceness of --live once '
+                    'serving (0: it keeps up on a busy machine, at the graph\'s expense)')
     args = ap.parse_args(argv)
     try:
         scenario = load_scenario(args.scenario)
@@ -38,6 +40,7 @@ def main(argv=None):
             if not 0 <= args.live_port <= 65535:
                 raise ScenarioError(f'--live-port must be in 0..65535, got {args.live_port}')
             scenario.live_port = args.live_port
+            scenario.live_nice = max(0, args.live_nice)
         check_scenario(scenario)
     except ScenarioError as exc:
         print(f'run_mission: {exc}', file=sys.stderr)

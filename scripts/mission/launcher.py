@@ -349,7 +349,8 @@ def start_viewers(scenario, run, group, progress):
     if scenario.live_port is not None:
         ready = [f'/{spec.namespace}/ready' for spec in scenario.vessels]
         view = group.start_argv('live_view', [sys.executable, LIVE_VIEW, '--port',
-                                              str(scenario.live_port), '--wait-ready', *ready])
+                                              str(scenario.live_port), '--nice',
+                                              str(scenario.live_nice), '--wait-ready', *ready])
         end = time.monotonic() + 30.0   # serving before step 0: a viewer sees the whole run
         while 'live view: ws://' not in view.output():
             if view.returncode is not None or time.monotonic() > end:

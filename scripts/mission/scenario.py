@@ -115,6 +115,7 @@ class Scenario:
     display: dict = field(default_factory=dict)
     #: --live: the port of the live view (mission.live_view), None without (not a YAML key)
     live_port: int = None
+    live_nice: int = 10     #: --live-nice: the live view's CPU niceness once serving
 
 
 def check_name(name, file):

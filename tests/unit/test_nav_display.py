@@ -93,15 +93,17 @@ def test_trail_is_bounded_and_keeps_the_newest():
 
 
 def test_display_markers_carry_the_hull_route_and_trail():
-    from ship_guidance.ros.nav_display_msgs import display_markers, navsat_fix
+    from ship_guidance.ros.nav_display_msgs import display_markers, navsat_fix, route_marker
     from ship_sim.ros.conversions import time_to_msg
     from visualization_msgs.msg import Marker
     stamp = time_to_msg(12.5)
-    arr = display_markers(stamp, 'vessel_0', 10.0, 20.0, 0.3, 160.93,
-                          [(0.0, 0.0), (0.0, 1000.0)], [(0.0, 0.0), (5.0, 5.0), (10.0, 20.0)])
+    route = route_marker(time_to_msg(0.0), [(0.0, 0.0), (0.0, 1000.0)], 160.93)
+    arr = display_markers(stamp, 'vessel_0', 10.0, 20.0, 0.3, 160.93, route,
+                          [(0.0, 0.0), (5.0, 5.0), (10.0, 20.0)])
     by_ns = {m.ns: m for m in arr.markers}
     assert set(by_ns) == {'hull', 'label', 'route', 'trail'}
-    assert all(m.header.frame_id == 'map' and m.header.stamp == stamp for m in arr.markers)
+    assert all(m.header.frame_id == 'map' for m in arr.markers)
+    assert all(m.header.stamp == stamp for m in arr.markers if m.ns != 'route')
     hull = np.array([(p.x, p.y) for p in by_ns['hull'].points])
     assert np.allclose(hull, hull_outline(10.0, 20.0, 0.3, 160.93))
     assert by_ns['route'].type == Marker.LINE_STRIP and len(by_ns['route'].points) == 2

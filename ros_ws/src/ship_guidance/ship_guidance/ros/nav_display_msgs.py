@@ -42,10 +42,20 @@ def _strip(ns, stamp, rgba, width, points):
     return m
 
 
-def display_markers(stamp, name, x, y, yaw, length, route_xy, trail_xy):
-    """MarkerArray: hull at (x, y, yaw) of ``length`` m, its label, the route polyline
-    (``route_xy``, may be empty) and the trail (``trail_xy``), all ENU."""
-    width = max(1.0, length / 60.0)
+def line_width(length):
+    """Line width (m) of a vessel's markers: visible at chart scale, thin beside the hull."""
+    return max(1.0, length / 60.0)
+
+
+def route_marker(stamp, route_xy, length):
+    """The ``route`` LINE_STRIP (built once per route: a route has hundreds of poses)."""
+    return _strip('route', stamp, ROUTE_RGBA, line_width(length), route_xy)
+
+
+def display_markers(stamp, name, x, y, yaw, length, route, trail_xy):
+    """MarkerArray: hull at (x, y, yaw) of ``length`` m, its label, the ``route`` marker
+    (route_marker, or None) and the trail through ``trail_xy`` (ENU)."""
+    width = line_width(length)
     out = [_strip('hull', stamp, HULL_RGBA, width, hull_outline(x, y, yaw, length))]
     label = Marker(ns='label', id=0, type=Marker.TEXT_VIEW_FACING, action=Marker.ADD, text=name)
     label.header.frame_id = MAP_FRAME
@@ -56,8 +66,8 @@ def display_markers(stamp, name, x, y, yaw, length, route_xy, trail_xy):
     label.scale.z = length / 3.0
     label.color.r = label.color.g = label.color.b = label.color.a = 1.0
     out.append(label)
-    if len(route_xy) >= 2:
-        out.append(_strip('route', stamp, ROUTE_RGBA, width, route_xy))
+    if route is not None and len(route.points) >= 2:
+        out.append(route)
     if len(trail_xy) >= 2:
         out.append(_strip('trail', stamp, TRAIL_RGBA, width, trail_xy))
     return MarkerArray(markers=out)

@@ -71,6 +71,7 @@ def test_a_foxglove_client_receives_what_the_bag_records(launch):
     for _, data in bag[ODOM]:
         m = odom(data)
         bag_odom[(m.header.stamp.sec, m.header.stamp.nanosec)] = data
+    _check_display_topics(run.run_dir() / 'bag', odom)
     stamps = []
     for log_time, data in client.messages[ODOM]:
         m = odom(data)
@@ -93,6 +94,24 @@ def test_a_foxglove_client_receives_what_the_bag_records(launch):
     it = iter(ref)
     assert all(any(v == r for r in it) for v in got), 'rudder_cmd is not a subsequence of the bag'
     assert np.all(np.abs(got) <= np.radians(40.0) + 1e-12)   # the Mariner's rudder limit
+
+
+def _check_display_topics(bag, odom):
+    """nav_display_node in the bag: at most display_rate_hz (2) fixes per sim second, each at
+    the WGS-84 point of the odom of its stamp (flagship: no origin given, so 0/0)."""
+    from ship_guidance.nav_display import enu_to_geodetic
+    store = get_typestore(Stores.ROS2_JAZZY)
+    fixes = _bag_messages(bag, {'/vessel_0/fix'})['/vessel_0/fix']
+    assert 0 < len(fixes) <= 2 * DURATION_S + 1
+    poses = {}
+    for _, data in _bag_messages(bag, {ODOM})[ODOM]:
+        m = odom(data)
+        poses[(m.header.stamp.sec, m.header.stamp.nanosec)] = m.pose.pose.position
+    for _, data in fixes:
+        f = store.deserialize_cdr(data, 'sensor_msgs/msg/NavSatFix')
+        p = poses[(f.header.stamp.sec, f.header.stamp.nanosec)]
+        assert (f.latitude, f.longitude) == enu_to_geodetic(p.x, p.y, 0.0, 0.0)
+        assert f.header.frame_id == 'vessel_0/base_link'
 
 
 def test_a_slow_client_on_every_topic_never_holds_the_lockstep_run_back(launch):

@@ -14,6 +14,7 @@ graph back) and `route` (nav_msgs/Path, reliable + transient_local). Publishes, 
 The hull length is the model's length between perpendiculars (`model`) unless `length_m` > 0.
 """
 import math
+import struct
 
 from nav_msgs.msg import Odometry, Path
 from rclpy.node import Node
@@ -26,11 +27,13 @@ from ship_guidance.nav_display import Throttle, Trail
 from ship_guidance.ros.nav_display_msgs import display_markers, navsat_fix, route_marker
 from ship_sim.frames import psi_to_yaw
 from ship_sim.models import MODEL_NAMES, make_model
+from ship_sim.ros import odometry_cdr as cdr
 from ship_sim.ros.conversions import base_link_frame, odometry_to_ned, time_to_msg
 from ship_sim.ros.params import NodeParameters
 from ship_sim.ros.qos import LATCHED, STREAM
 from ship_sim.ros.run import run_node
 
+_STAMP = struct.Struct('<iI')   # builtin_interfaces/Time at the start of the CDR body
 NEWEST = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                     reliability=ReliabilityPolicy.BEST_EFFORT)
 
@@ -71,8 +74,17 @@ class NavDisplayNode(Node):
                                                      for ps in msg.poses], self.length)
 
     def _on_odom(self, data):
-        o = odometry_to_ned(data)
-        if not (self.throttle.due(o.t) and math.isfinite(o.north) and math.isfinite(o.east)):
+        # Most steps are not shown: read only the stamp of those (ship_sim.ros.odometry_cdr).
+        if data[:2] == cdr.XCDR1_LE:
+            sec, nanosec = _STAMP.unpack_from(data, cdr.HEADER_BYTES)
+            if not self.throttle.due(sec + 1e-9 * nanosec):
+                return
+            o = odometry_to_ned(data)
+        else:
+            o = odometry_to_ned(data)
+            if not self.throttle.due(o.t):
+                return
+        if not (math.isfinite(o.north) and math.isfinite(o.east)):
             return
         if self.trail_throttle.due(o.t):
             self.trail.add(o.east, o.north)

@@ -339,7 +339,7 @@ def display_parameters(scenario, spec):
 
 def start_viewers(scenario, run, group, progress):
     """Start every vessel's nav_display_node (unless `display: false`) and, with --live, the
-    live view (mission.live_view) serving the graph on 127.0.0.1:live_port."""
+    live view (scripts/live_view.py, mission.live_bridge) serving the graph on 127.0.0.1."""
     if scenario.display is not None:
         exe, pkg = DISPLAY_NODE
         for spec in scenario.vessels:
@@ -357,8 +357,9 @@ def start_viewers(scenario, run, group, progress):
                 raise MissionFailed(f'live view did not start, its last line: '
                                     f'{_last_line(view)} (log: {view.log_path})')
             time.sleep(0.05)
-        progress(f'live view: ws://127.0.0.1:{scenario.live_port} (Foxglove or Lichtblick: Open '
-                 f'connection -> Foxglove WebSocket; layout: {LAYOUT.relative_to(REPO)})')
+        url = view.output().split('live view: ', 1)[1].split()[0]   # the port, also when 0
+        progress(f'live view: {url} (Foxglove or Lichtblick: Open connection -> Foxglove '
+                 f'WebSocket; layout: {LAYOUT.relative_to(REPO)})')
 
 
 def traffic_parameters(scenario):

@@ -24,6 +24,11 @@ def main(argv=None):
     ap.add_argument('--duration', type=float, default=None, help='override duration_s')
     ap.add_argument('--stepping', choices=('lockstep', 'realtime'), default=None)
     ap.add_argument('--wall-timeout', type=float, default=None, help='fail after this many s')
+    ap.add_argument('--live', action='store_true', help='serve the topics to Foxglove / '
+                    'Lichtblick while the run goes (scripts/live_view.py; README Live view)')
+    ap.add_argument('--live-port', type=int, default=8765, help='port of --live (127.0.0.1)')
+    ap.add_argument('--live-nice', type=int, default=10, help='CPU niceness of --live once '
+                    'serving (0: it keeps up on a busy machine, at the graph\'s expense)')
     args = ap.parse_args(argv)
     try:
         scenario = load_scenario(args.scenario)
@@ -32,6 +37,11 @@ def main(argv=None):
             scenario.duration_s = args.duration
         if args.stepping:
             scenario.stepping = args.stepping
+        if args.live:
+            if not 0 <= args.live_port <= 65535:
+                raise ScenarioError(f'--live-port must be in 0..65535, got {args.live_port}')
+            scenario.live_port = args.live_port
+            scenario.live_nice = max(0, args.live_nice)
         check_scenario(scenario)
     except ScenarioError as exc:
         print(f'run_mission: {exc}', file=sys.stderr)

@@ -26,6 +26,8 @@ SECTIONS = {
     'node_jitter': ('node_jitter', 'run', 'odom inter-arrival jitter of a realtime vessel_node'),
     'lockstep': ('lockstep', 'run', 'flagship graph in lockstep: real-time factor vs a bare '
                  'relay'),
+    'live_view': ('live_view', 'run', 'flagship lockstep run with and without --live (the '
+                  'Foxglove live view), with and without a client'),
     'realtime_latency': ('realtime_latency', 'run', 'flagship graph in realtime: odom -> '
                          'rudder_cmd latency and missed steps'),
     'closed_loop_inprocess': ('closed_loop_inprocess', 'run',

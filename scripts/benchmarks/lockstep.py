@@ -145,13 +145,19 @@ def _domain_id():
     return lease_domain_id()
 
 
-def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL, handshake=True):
+def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL, handshake=True,
+              display=False, live=None):
     """The flagship graph in lockstep for ``steps`` steps; figures from the vessel node's log.
     ``overrides``: {executable: {parameter: value}} on top of the launcher's parameters;
     ``install``: the colcon install tree to run (A/B comparisons of two builds);
     ``handshake``: with ``record``, the recorder's lockstep acknowledgements (False: the
-    simulator does not wait for the recorder, which may then lose messages)."""
-    from mission.launcher import NODES, RECORDER, node_parameters, record_ack_arg, write_params
+    simulator does not wait for the recorder, which may then lose messages);
+    ``display``: also the vessel's nav_display_node, as the launcher starts it;
+    ``live``: also the live view (scripts/live_view.py, as ``--live`` starts it), None: not;
+    'idle': no client; 'client': a Foxglove protocol client subscribed to every topic (in this
+    process, mission.foxglove_client)."""
+    from mission.launcher import (DISPLAY_NODE, LIVE_VIEW, NODES, RECORDER, display_parameters,
+                                  node_parameters, record_ack_arg, write_params)
     from mission.scenario import load_scenario
     scenario = load_scenario(SCENARIO)
     scenario.stepping = 'lockstep'
@@ -165,16 +171,31 @@ def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL, h
         params[exe].update(extra)
     if not handshake:
         params['vessel_node']['lockstep_record_topic'] = ''
+    nodes = NODES
+    if display:
+        params[DISPLAY_NODE[0]] = display_parameters(scenario, spec)
+        params['vessel_node']['lockstep_odom_subscribers'] += 1
+        nodes = NODES + (DISPLAY_NODE,)
+    client = None
     group = ProcessGroup(install_env(domain_id=_domain_id(), install=install), run / 'logs')
     t_start = time.time()
     out = {'config': label, 'steps': steps, 'sim_time_s': steps * scenario.dt_s}
     try:
-        for exe, pkg in NODES + (('vessel_node', 'ship_sim'),):
+        for exe, pkg in nodes + (('vessel_node', 'ship_sim'),):
             if exe == 'vessel_node' and record:
                 group.start_argv('recorder', [sys.executable, RECORDER, run / 'bag',
                                               '--time-source', 'sim', '--exclude',
                                               r'^/(rosout|parameter_events)$',
                                               *(record_ack_arg(ns, True) if handshake else [])])
+            if exe == 'vessel_node' and live:
+                port = _free_port()
+                view = group.start_argv('live_view', [sys.executable, LIVE_VIEW, '--port',
+                                                      str(port), '--wait-ready', f'/{ns}/ready'])
+                _wait_for(lambda: 'live view: ws://' in view.output(), START_TIMEOUT_S, [view],
+                          'the live view')
+                if live == 'client':
+                    from mission.foxglove_client import FoxgloveClient
+                    client = FoxgloveClient(f'ws://127.0.0.1:{port}')
             f = write_params(run, ns, exe, params[exe])
             group.start_argv(f'{ns}/{exe}', [executable(pkg, exe, install), '--ros-args', '-r',
                                              f'__ns:=/{ns}', '--params-file', f])
@@ -183,6 +204,8 @@ def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL, h
                             stepping_timeout=max(120.0, steps * 0.05))
     finally:
         codes = group.stop()
+        if client is not None:
+            client.close()
     log = vessel.log_path.read_text(errors='replace')
     times = {m['msg']: float(m['t']) for m in _LOG_TIME.finditer(log)}
     t0 = next((t for msg, t in times.items() if msg.startswith('lockstep: publishing step 0')),
@@ -199,7 +222,17 @@ def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL, h
                load_1min=os.getloadavg()[0],
                lockstep_timeouts=int(m['n']) if m else None, log=str(vessel.log_path))
     out['cpu_s'] = cpu
+    if client is not None:
+        out['client_messages'] = sum(len(v) for v in client.messages.values())
+        out['client_error'] = client.error
     return out
+
+
+def _free_port():
+    import socket
+    with socket.socket() as s:
+        s.bind(('127.0.0.1', 0))
+        return s.getsockname()[1]
 
 
 def relay_run(steps, log_root, raw=True, install=INSTALL):

@@ -44,6 +44,9 @@ FOLLOWER_NODES = (('route_node', 'ship_planner'), ('follower_node', 'ship_guidan
 COLAV_NODE = ('colav_node', 'ship_guidance')
 #: guidance_node's output is colav_node's nominal input on a vessel with collision avoidance.
 COLAV_REMAP = ['-r', 'heading_cmd:=heading_ref']
+DISPLAY_NODE = ('nav_display_node', 'ship_guidance')
+LIVE_VIEW = REPO / 'scripts' / 'live_view.py'
+LAYOUT = REPO / 'scripts' / 'live_view_layout.json'   # the Foxglove layout of a run
 
 
 RECORD_ACK = 'record_ack'  # per vessel namespace: the recorder's lockstep acknowledgement
@@ -352,6 +355,54 @@ def target_subscribers(scenario, record):
     return int(bool(record)) + sum(1 for s in scenario.vessels if s.colav_params is not None)
 
 
+def viewer_odom_subscribers(scenario):
+    """Odom subscribers of a vessel that only look: its nav_display_node. A lockstep simulator
+    counts every subscriber before step 0, so it is added to the count (else it could stand in
+    for a guidance node that has not subscribed yet). The live view subscribes nothing before
+    every vessel is ready (its --wait-ready)."""
+    return int(scenario.display is not None)
+
+
+def display_parameters(scenario, spec):
+    """nav_display_node's parameters of one vessel: its model, the scenario's `display:` keys,
+    and the NavSatFix origin from there, else from the first route file that has one."""
+    # Stamped from odom only: no /clock subscription (a callback per step) is needed.
+    params = {'use_sim_time': False, 'model': spec.model, **scenario.display}
+    if 'origin_lat_deg' not in params:
+        for s in scenario.vessels:
+            plan = route_plan(scenario, s)
+            if plan.origin_lat_deg is not None:
+                params['origin_lat_deg'] = plan.origin_lat_deg
+                params['origin_lon_deg'] = plan.origin_lon_deg
+                break
+    return params
+
+
+def start_viewers(scenario, run, group, progress):
+    """Start every vessel's nav_display_node (unless `display: false`) and, with --live, the
+    live view (scripts/live_view.py, mission.live_bridge) serving the graph on 127.0.0.1."""
+    if scenario.display is not None:
+        exe, pkg = DISPLAY_NODE
+        for spec in scenario.vessels:
+            f = write_params(run, spec.namespace, exe, display_parameters(scenario, spec))
+            group.start(f'{spec.namespace}/{exe}', pkg, exe,
+                        ['--ros-args', '-r', f'__ns:=/{spec.namespace}', '--params-file', f])
+    if scenario.live_port is not None:
+        ready = [f'/{spec.namespace}/ready' for spec in scenario.vessels]
+        view = group.start_argv('live_view', [sys.executable, LIVE_VIEW, '--port',
+                                              str(scenario.live_port), '--nice',
+                                              str(scenario.live_nice), '--wait-ready', *ready])
+        end = time.monotonic() + 30.0   # serving before step 0: a viewer sees the whole run
+        while 'live view: ws://' not in view.output():
+            if view.returncode is not None or time.monotonic() > end:
+                raise MissionFailed(f'live view did not start, its last line: '
+                                    f'{_last_line(view)} (log: {view.log_path})')
+            time.sleep(0.05)
+        url = view.output().split('live view: ', 1)[1].split()[0]   # the port, also when 0
+        progress(f'live view: {url} (Foxglove or Lichtblick: Open connection -> Foxglove '
+                 f'WebSocket; layout: {LAYOUT.relative_to(REPO)})')
+
+
 def traffic_parameters(scenario, record=True):
     """traffic_node's parameters: the light targets as JSON text (ship_sim.light_traffic)."""
     return {'use_sim_time': True, 'targets': json.dumps(scenario.light),
@@ -564,6 +615,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         vessel_params = []
         for i, spec in enumerate(scenario.vessels):
             params, plan = node_parameters(scenario, spec, i, record)
+            params['vessel_node']['lockstep_odom_subscribers'] += viewer_odom_subscribers(scenario)
             for exe, pkg in vessel_nodes(spec):
                 f = write_params(run, spec.namespace, exe, params[exe])
                 group.start(f'{spec.namespace}/{exe}', pkg, exe,
@@ -594,6 +646,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             group.start_argv('recorder', [sys.executable, RECORDER, run / 'bag', '--time-source',
                                           source, '--exclude', r'^/(rosout|parameter_events)$',
                                           *meta, *acks])
+        start_viewers(scenario, run, group, progress)
         monitor = Monitor(namespaces)
         monitor.spin(1.0)
         if scenario.light:

@@ -119,6 +119,17 @@ def _load_msg_type(typestore, msgtype, prefixes=None):
             pending.append(missing.group(1))
 
 
+def message_definition(typestore, msgtype):
+    """The ROS 2 message definition text of ``msgtype`` ('pkg/msg/Name') with its dependencies
+    (the ``ros2msg`` schema of rosbag2's MCAP files and of the Foxglove WebSocket protocol),
+    from the typestore, else from the .msg files under AMENT_PREFIX_PATH (registered there)."""
+    try:
+        return typestore.generate_msgdef(msgtype, ros_version=2)[0]
+    except TypesysError:
+        _load_msg_type(typestore, msgtype)
+        return typestore.generate_msgdef(msgtype, ros_version=2)[0]
+
+
 class BagWriter:
     """A rosbag2 bag being written: topics, CDR messages with ns timestamps, counts.
 
@@ -153,11 +164,7 @@ class BagWriter:
         """
         if topic in self._connections:
             return self._connections[topic]
-        try:
-            msgdef, _ = self.typestore.generate_msgdef(msgtype, ros_version=2)
-        except TypesysError:
-            _load_msg_type(self.typestore, msgtype)
-            msgdef, _ = self.typestore.generate_msgdef(msgtype, ros_version=2)
+        msgdef = message_definition(self.typestore, msgtype)
         rihs01 = rihs01 or self.typestore.hash_rihs01(msgtype)
         with self._lock:
             conn = self._writer.add_connection(topic, msgtype, msgdef=msgdef, rihs01=rihs01,

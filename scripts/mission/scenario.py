@@ -44,6 +44,10 @@
       origin_lat_deg: 63.4                   #   geodetic origin of the scenario's ENU frame
       origin_lon_deg: 10.4
       stale_after_s: 360.0                   #   any other ais_node parameter (config/ais.yaml)
+    display:                                 # optional: nav_display_node of every vessel (fix,
+      origin: {lat_deg: 59.9, lon_deg: 10.7} #   nav_markers); origin of the NavSatFix (default:
+      display_rate_hz: 2.0                   #   the first route's origin, else 0/0); rate and
+      trail_length_s: 600.0                  #   trail in sim time. `display: false`: no display
 
 Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
@@ -91,9 +95,10 @@ from ship_sim.frames import psi_to_yaw
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais',
-            'wind'}
+            'wind', 'display'}
 #: ais_node parameters the launcher sets itself (not allowed in a scenario's `ais:`).
 AIS_LAUNCHER_KEYS = {'use_sim_time', 'publish_on_clock'}
+DISPLAY_KEYS = {'origin', 'display_rate_hz', 'trail_length_s'}
 VESSEL_KEYS = {'model', 'route', 'start', 'speed_mps', 'current', 'vessel', 'guidance',
                'autopilot', 'model_params', 'colav', 'waves', 'wind'}
 TRAFFIC_KEYS = VESSEL_KEYS - {'colav'}
@@ -126,6 +131,11 @@ class Scenario:
     #: route file -> its parsed RoutePlan, filled once by mission.launcher.check_scenario and
     #: passed on to the nodes' parameters (a route file is parsed once per run by the launcher)
     routes: dict = field(default_factory=dict)
+    #: nav_display_node parameters of every vessel (`display:`), None for `display: false`
+    display: dict = field(default_factory=dict)
+    #: --live: the port of the live view (mission.live_view), None without (not a YAML key)
+    live_port: int = None
+    live_nice: int = 10     #: --live-nice: the live view's CPU niceness once serving
 
 
 def check_name(name, file):
@@ -188,7 +198,7 @@ def load_scenario(path):
         settle_s=number(data, 'settle_s', path, 0.0, lo=0.0),
         record=bool(data.get('record', True)),
         lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light,
-        ais=ais)
+        ais=ais, display=_parse_display(data.get('display', {}), path))
 
 
 def _parse_ais(ais, path):
@@ -219,6 +229,26 @@ def _apply_scenario_wind(data, specs, path):
         if not spec.wind and wind:
             spec.wind = dict(wind)
         check_wind_model(spec, path)
+
+
+def _parse_display(d, path):
+    """nav_display_node parameters from `display:` (None for `display: false`)."""
+    if d is False:
+        return None
+    d = {} if d is True else d
+    need(isinstance(d, dict), path, 'display', f'false or a mapping, got {d!r}')
+    unknown(d, DISPLAY_KEYS, path, 'display.')
+    out = {key: number(d, key, path, None, lo=lo, where='display.')
+           for key, lo in (('display_rate_hz', 0.01), ('trail_length_s', 0.0)) if key in d}
+    if 'origin' in d:
+        o = d['origin']
+        need(isinstance(o, dict), path, 'display.origin', 'a mapping {lat_deg, lon_deg}')
+        unknown(o, {'lat_deg', 'lon_deg'}, path, 'display.origin.')
+        out['origin_lat_deg'] = number(o, 'lat_deg', path, None, lo=-89.0, hi=89.0,
+                                       where='display.origin.')
+        out['origin_lon_deg'] = number(o, 'lon_deg', path, None, lo=-180.0, hi=360.0,
+                                       where='display.origin.')
+    return out
 
 
 def _parse_light(entries, path):

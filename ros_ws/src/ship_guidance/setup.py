@@ -27,6 +27,7 @@ setup(
             'follower_node = ship_guidance.follower_node:main',
             'ais_node = ship_guidance.ais_node:main',
             'colav_node = ship_guidance.colav_node:main',
+            'nav_display_node = ship_guidance.nav_display_node:main',
         ],
     },
 )

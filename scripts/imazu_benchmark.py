@@ -142,6 +142,7 @@ def main(argv=None):
         w.writerows(rows)
     summary = summarise(per_run, results, args, walls)
     (out / 'summary.json').write_text(json.dumps(summary, indent=1))
+    (out / 'table.md').write_text(markdown_tables(summary, cases))
     if not args.no_plots:
         from imazu.plots import case_figure, summary_figure
         refs = {ship: results[(ship, None, None)] for ship in args.ships}
@@ -202,6 +203,31 @@ def summarise(per_run, results, args, walls):
             'methods': args.methods, 'runs': len(results), 'run_wall_s_mean': sum(walls) / len(walls),
             'decisions': decisions, 'decision_ms_mean': 1e3 * decide_s / max(decisions, 1),
             'load_average_1min': os.getloadavg()[0], 'cpus': os.cpu_count()}
+
+
+def markdown_tables(summary, cases):
+    """Markdown: the totals per ship and method, then per case 'min distance m / rule score'
+    in each ship/method column (what the README's Imazu table shows)."""
+    groups = summary['groups']
+    lines = ['| ship / method | runs | collisions | near misses | below r_min | min distance m | '
+             'rule score (all) | rule score (cases 1-4) | path deviation m (mean) | '
+             'time lost s (mean) |', '|' + '---|' * 10]
+    for key, g in groups.items():
+        lines.append(f'| {key} | {g["runs"]} | {g["collisions"]} | {g["near_misses"]} | '
+                     f'{g["below_safe"]} | {g["min_distance_m"]:.0f} | {g["rule_score_mean"]:.3f} | '
+                     f'{_num(g["rule_score_single_target_mean"]):.3f} | '
+                     f'{g["path_deviation_m_mean"]:.0f} | {g["time_lost_s_mean"]:.1f} |')
+    keys = list(groups)
+    lines += ['', '| case | targets (own view) | ' + ' | '.join(keys) + ' |',
+              '|' + '---|' * (len(keys) + 2)]
+    for c in summary['cases']:
+        sits = ', '.join(t['colregs'] for t in cases[c]['targets'])
+        cells = []
+        for k in keys:
+            v = groups[k]['cases'].get(c) or groups[k]['cases'].get(str(c))
+            cells.append('' if v is None else f'{v["min_distance_m"]:.0f} / {v["rule_score"]:.2f}')
+        lines.append(f'| {c} | {sits} | ' + ' | '.join(cells) + ' |')
+    return '\n'.join(lines) + '\n'
 
 
 def _mean(xs):

@@ -116,30 +116,42 @@ def main(argv=None):
     print(f'Imazu benchmark: {len(args.cases)} cases x {len(args.ships)} ships x '
           f'{len(args.methods)} methods + {len(args.ships)} no-traffic runs = {len(tasks)} runs of '
           f'{args.duration:g} s sim, {args.jobs} processes -> {out}', flush=True)
-    results, walls = {}, []
+    results, walls, per_run = {}, [], {}
+    params = EvaluationParams()
+    csv_file = open(out / 'results.csv', 'w', newline='')
+    writer = None
+
+    def score(key):
+        """Evaluate a finished run once its ship's reference is in; rows go to the CSV at once
+        (an interrupted benchmark keeps what it has finished)."""
+        nonlocal writer
+        ship, method, c = key
+        run = evaluate(results[key], results[(ship, None, None)], cases[c])
+        per_run[(c, ship, method)] = run
+        rows = rows_of(c, ship, method, run, results[key])
+        if writer is None:
+            writer = csv.DictWriter(csv_file, fieldnames=list(rows[0]))
+            writer.writeheader()
+        writer.writerows(rows)
+        csv_file.flush()
+
     t0 = time.perf_counter()
-    with multiprocessing.get_context('fork').Pool(args.jobs) as pool:
+    with csv_file, multiprocessing.get_context('fork').Pool(args.jobs) as pool:
         for i, (key, result, wall) in enumerate(pool.imap_unordered(_run, tasks), 1):
             results[key] = result
             walls.append(wall)
+            ship, method, c = key
+            if method is None:
+                for other in [k for k in results if k[0] == ship and k[1] is not None]:
+                    score(other)
+            elif (ship, None, None) in results:
+                score(key)
             elapsed = time.perf_counter() - t0
             eta = elapsed / i * (len(tasks) - i)
             print(f'\r  {i}/{len(tasks)} runs, {elapsed:.0f} s elapsed, ~{eta:.0f} s left   ',
                   end='', flush=True)
     print()
-    params = EvaluationParams()
-    rows, per_run = [], {}
-    for c in args.cases:
-        for ship in args.ships:
-            for method in args.methods:
-                r = results[(ship, method, c)]
-                run = evaluate(r, results[(ship, None, None)], cases[c])
-                per_run[(c, ship, method)] = run
-                rows += rows_of(c, ship, method, run, r)
-    with open(out / 'results.csv', 'w', newline='') as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    per_run = {k: per_run[k] for k in sorted(per_run)}
     summary = summarise(per_run, results, args, walls)
     (out / 'summary.json').write_text(json.dumps(summary, indent=1))
     (out / 'table.md').write_text(markdown_tables(summary, cases))

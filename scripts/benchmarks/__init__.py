@@ -34,6 +34,7 @@ SECTIONS = {
                               'flagship loop with the pure modules in one process (no ROS)'),
     'colav': ('colav', 'run', 'one collision-avoidance decision with 10 targets (SB-MPC, VO)'),
     'waves': ('waves', 'run', 'per-step cost of the wave-frequency motion and the wave filter'),
+    'imazu': ('imazu', 'run', 'Imazu benchmark runs in process: time per run, decisions/s'),
     'controllers': ('controllers', 'run', "Martinsen and Lekkas 2018's Table I: classical controllers vs the "
                     'learned policy on curved paths'),
 }

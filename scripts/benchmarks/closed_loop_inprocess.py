@@ -42,6 +42,13 @@ QUICK_REPEATS = 2
 
 def build_loop(scenario_file=SCENARIO):
     """(sim, guidance, autopilot, dt) as the flagship scenario's nodes would build them."""
+    scenario = load_scenario(scenario_file)
+    return build_vessel(scenario, scenario.vessels[0])
+
+
+def build_vessel(scenario, spec):
+    """(sim, guidance, autopilot controller, dt) of one vessel of a loaded scenario, built as
+    its vessel_node, guidance_node and autopilot_node build them."""
     from ship_autopilot.gains import (FUZZY_SCALING_PARAMETERS, build_autopilot,
                                       heading_loop_design)
     from ship_guidance.guidance import Guidance
@@ -52,16 +59,20 @@ def build_loop(scenario_file=SCENARIO):
     from ship_sim.models import make_model
     from ship_sim.simulator import VesselSimulator
 
-    scenario = load_scenario(scenario_file)
-    spec = scenario.vessels[0]
+    from ship_sim.vessel_node import MODEL_KWARGS
+
     route = load_route(spec.route_file).route
     x, y, yaw = start_pose(spec, route)
-    model = make_model(spec.model)
+    table = MODEL_KWARGS[spec.model]
+    model = make_model(spec.model, **{table[k]: v for k, v in spec.vessel_params.items()
+                                      if k in table and v})
     cur = spec.current
     current = (OceanCurrent(cur.get('speed_mps', 0.0), math.radians(cur.get('direction_deg', 0.0)))
                if cur else None)
-    sim = VesselSimulator(model, dt=scenario.dt_s, north=y, east=x, psi=float(yaw_to_psi(yaw)),
-                          speed=spec.speed, current=current)
+    # the start yaw travels to vessel_node in degrees (mission.launcher.node_parameters)
+    psi = float(yaw_to_psi(math.radians(math.degrees(yaw))))
+    sim = VesselSimulator(model, dt=scenario.dt_s, north=y, east=x, psi=psi, speed=spec.speed,
+                          current=current)
     g = spec.guidance_params
     stability = {}
     if all(k in g for k in ('autopilot_zeta', 'autopilot_omega_n', 'speed')):

@@ -300,3 +300,22 @@ def test_parameters_validate_and_the_config_lists_every_field():
     # the Nomoto constants: T, and the steady turn rate K delta_max of the full rudder
     nomoto = OwnShipModel.from_nomoto(0.0587, 28.0, math.radians(40.0))
     assert nomoto == OwnShipModel()
+
+
+@pytest.mark.parametrize('method', METHODS)
+def test_avoidance_holds_its_anchor_while_the_nominal_drifts_back(method):
+    # LOS guidance turns the nominal back towards the track as the ship leaves it; the command
+    # must not follow (it would shrink the alteration): the scenarios stay offsets from the
+    # nominal of the first avoiding decision until the threat is gone.
+    col = make_colav(method, ship=SHIP)
+    head_on = [_target_on_collision_course(180.0, 480.0, name='ho')]
+    first = col.decide(0.0, OWN, head_on, 0.0, 1.0)
+    assert first.mode == 'avoid' and first.course_offset > 0.0
+    assert first.course == pytest.approx(first.scenario_offset)
+    drifted = col.decide(1.0, OWN, head_on, math.radians(-10.0), 1.0)
+    # same states, same anchor, no change cost for the same scenario: the same command
+    assert drifted.course == first.course
+    assert drifted.course_offset == pytest.approx(first.course + math.radians(10.0))
+    # no threat: back to the nominal as given, the anchor dropped
+    clear = col.decide(2.0, OWN, [], math.radians(-10.0), 1.0)
+    assert clear.mode == 'nominal' and clear.course == math.radians(-10.0) and col.anchor is None

@@ -22,7 +22,14 @@ and role (ship_guidance.colregs). The steps:
 4. Otherwise the method (ship_guidance.sbmpc or ship_guidance.velocity_obstacles) picks a
    scenario; ties go to the first in a fixed order: the larger speed multiplier first, then
    offsets 0, +15, -15, +30, ... deg (smaller first, starboard before port).
-5. Last resort: when no scenario keeps every target beyond ``collision_m``, hard starboard (the
+5. Anchor: the scenarios are offsets from the nominal course at the moment the avoidance began,
+   held until no threat is left (or the ship stands on). Guidance's nominal is not a fixed
+   course: line-of-sight guidance steers back towards the track as the ship leaves it, so an
+   offset added to the current nominal would shrink as the ship turns away (a 30 deg
+   alteration became about 25 deg over ground, and the method kept raising the offset to make up
+   for it). The decision's ``course_offset`` is the command relative to the nominal given now
+   (what colav_node adds to heading_ref), ``scenario_offset`` the chosen scenario's.
+6. Last resort: when no scenario keeps every target beyond ``collision_m``, hard starboard (the
    largest offset) and, where a shaft exists, stop (the smallest multiplier). Never a freeze.
 
 Courses are NED (rad, clockwise from north); a positive offset turns to starboard.
@@ -36,6 +43,7 @@ from ship_guidance.colav_params import ColavParams
 from ship_guidance.cpa import cpa, velocity
 from ship_guidance.own_ship_prediction import (OwnShipModel, predict_own, predict_targets,
                                                segment_min_distance, time_grid)
+from ship_sim.frames import wrap_angle
 
 
 @dataclass(frozen=True)
@@ -71,11 +79,12 @@ class Decision:
     course: float            # commanded course (rad, NED)
     speed_factor: float
     mode: str                # 'nominal' (no threat), 'stand-on', 'avoid' or 'last-resort'
-    course_offset: float     # of the chosen scenario (rad, + starboard)
+    course_offset: float     # course minus the nominal course given (rad, + starboard, wrapped)
     speed_multiplier: float  # of the chosen scenario (x nominal speed factor)
     threat: bool             # whether any target was a threat
     targets: tuple           # TargetAssessment per target, in input order
     cost: float | None = None
+    scenario_offset: float = 0.0   # the chosen scenario's offset from the anchor (rad)
 
 
 GIVE_WAY_CODES = (colregs.OVERTAKING, colregs.HEAD_ON, colregs.CROSSING_GIVE_WAY)
@@ -124,8 +133,9 @@ class CollisionAvoidance:
         self.reset()
 
     def reset(self):
-        """Forget the previous decision (the change penalty's reference)."""
+        """Forget the previous decision (the change penalty's reference) and the anchor."""
         self.last_offset, self.last_multiplier = 0.0, 1.0
+        self.anchor = None
 
     def _latch(self, targets, codes, threat):
         """Situation codes with each threat's code as it was when it became one."""
@@ -142,7 +152,8 @@ class CollisionAvoidance:
         depends only on the states)."""
         del t
         targets = tuple(targets)
-        sc = self.scenarios(own_state, targets, nominal_course, nominal_speed_factor)
+        base = nominal_course if self.anchor is None else self.anchor
+        sc = self.scenarios(own_state, targets, base, nominal_speed_factor)
         assessments = self._assess(own_state, targets, sc)
         if sc is None or not sc.threat.any():
             self.reset()
@@ -159,11 +170,14 @@ class CollisionAvoidance:
             mode, cost = 'last-resort', None
         off, mult = float(sc.offsets[k]), float(sc.multipliers[k])
         self.last_offset, self.last_multiplier = off, mult
-        if off == 0.0 and mult == 1.0:
+        if off == 0.0 and mult == 1.0 and self.anchor is None:
             return Decision(nominal_course, nominal_speed_factor, mode, 0.0, 1.0, True, assessments,
                             cost)
-        return Decision(float(sc.chi_c[k]), mult * nominal_speed_factor, mode, off, mult, True,
-                        assessments, cost)
+        self.anchor = base
+        course = float(sc.chi_c[k])
+        return Decision(course, mult * nominal_speed_factor, mode,
+                        float(wrap_angle(course - nominal_course)), mult, True, assessments, cost,
+                        off)
 
     # --- shared pieces -------------------------------------------------------------------
 

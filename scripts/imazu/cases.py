@@ -1,0 +1,24 @@
+"""The 22 Imazu (1987) encounters at the project's scale (imazu22_cases.json, beside this file).
+
+Each case: the own ship at (0, 0) NED on course 000 at 12 kn and one to three targets holding
+course and speed; left alone, every ship reaches the point 4 NM ahead after 20 min. The file is
+the chosen variant of each case from the project's reference set (its source string says which;
+geometry after Sawada et al. 2021, scaled 2/3).
+"""
+import json
+from pathlib import Path
+
+FILE = Path(__file__).with_name('imazu22_cases.json')
+#: The single-target cases (head-on, crossing give-way, overtaking, crossing stand-on).
+SINGLE = (1, 2, 3, 4)
+
+
+def load_cases():
+    """{case number: {'own': {...}, 'targets': [{name, north_m, east_m, course_deg, speed_mps,
+    colregs}, ...]}} with target names in lower case (ts1, ts2, ...: scenario namespaces)."""
+    data = json.loads(FILE.read_text())
+    out = {}
+    for c in data['cases']:
+        targets = [{**t, 'name': t['name'].lower()} for t in c['targets']]
+        out[int(c['case'])] = {'own': c['own'], 'targets': targets}
+    return out

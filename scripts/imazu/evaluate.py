@@ -1,0 +1,38 @@
+"""Score a RunResult with ship_guidance.colav_evaluation against the ship's no-traffic run."""
+from ship_guidance.colav_evaluation import Track, evaluate_run
+
+
+def track(result, rows=None):
+    rows = result.own if rows is None else rows
+    return Track.of(result.t, rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3])
+
+
+def evaluate(result, reference, case):
+    """evaluate_run of one run; each target's situation is the case's (the encounter as designed,
+    own ship's view at t = 0), the same as the classification of the first sample."""
+    situations = {t['name']: t['colregs'] for t in case['targets']}
+    targets = {n: track(result, rows) for n, rows in result.targets.items()}
+    return evaluate_run(track(result), targets, track(reference), situations=situations)
+
+
+def rows_of(case_no, ship, method, run, result):
+    """CSV rows, one per target, with the run's figures repeated."""
+    modes = [d[1] for d in result.decisions]
+    base = {'case': case_no, 'ship': ship, 'method': method,
+            'run_min_distance_m': round(run['min_distance_m'], 1),
+            'path_deviation_m': round(run['path_deviation_m'], 1),
+            'time_lost_s': round(run['time_lost_s'], 1), 'run_rule_score': round(run['rule_score'], 3),
+            'last_resort_decisions': modes.count('last-resort'),
+            'decisions': len(modes),
+            'decision_ms': round(1e3 * result.decision_wall_s / max(len(modes), 1), 3)}
+    out = []
+    for name, v in run['targets'].items():
+        out.append({**base, 'target': name, 'situation': v['situation'], 'role': v['role'],
+                    'min_distance_m': round(v['min_distance_m'], 1), 't_min_s': round(v['t_min_s'], 1),
+                    'collision': int(v['collision']), 'near_miss': int(v['near_miss']),
+                    'below_safe': int(v['below_safe']), 'rule_score': round(v['rule_score'], 3),
+                    'penalties': ' '.join(sorted(v['penalties'])),
+                    'manoeuvre_start_s': '' if v['manoeuvre_start_s'] is None
+                    else round(v['manoeuvre_start_s'], 1),
+                    'max_departure_deg': round(v['max_departure_deg'], 1)})
+    return out

@@ -1,0 +1,196 @@
+"""One Imazu case on an MSS plant, closed loop in one process (no ROS), as the node graph runs it.
+
+``case_scenario`` writes the case as a scenario (own ship on a straight route through its Imazu
+track, `colav:` with the ship's own-ship model, every target a `traffic:` light target holding
+course and speed); ``run_scenario`` runs a scenario's first vessel with the objects the nodes
+build from it, in the order lockstep runs them, each step:
+
+    vessel_node  VesselSimulator.nav_state -> Odometry (fill_odometry)
+    guidance     odometry_to_ned -> Guidance.update -> heading_cmd (ENU yaw)
+    traffic_node LightTraffic.state at the /clock time -> each target's Odometry
+    colav_node   at its decision period: colav_io.ship_state / target_state ->
+                 CollisionAvoidance.decide; colav_io.command_yaw -> heading_cmd
+    autopilot    HeadingSteering.decode / update -> rudder_cmd
+    vessel_node  VesselSimulator.step(rudder)
+
+with the messages' own arithmetic (the odometry round trip, the stamps in nanoseconds), so the
+graph in lockstep computes the same numbers (tests/integration/test_imazu_graph.py).
+
+Targets never avoid (light targets): where a case's target should give way to the own ship,
+it does not, the own ship stands on until Rule 17(b) and then acts; targets may pass through
+each other (only own ship - target distances are judged).
+"""
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+#: Sim time of a run: the meeting is at 1200 s; the rest shows the return to the route.
+DURATION_S = 2000.0
+SHIPS = ('mariner', 'tanker', 'container')
+METHODS = ('sbmpc', 'vo')
+#: Guidance of every run: LOS (no integral: a cross-track integral winds up against the
+#: avoidance offset), the look-ahead a few ship lengths.
+GUIDANCE = {'law': 'los', 'lookahead_m': 1000.0}
+ROUTE_LENGTH_M = 40000.0
+
+
+def own_ship_model(ship, speed_mps):
+    """colav_node's own-ship model keys for ``ship`` at ``speed_mps``: the identified Nomoto
+    model (ship_autopilot/data/nomoto_gains.yaml, nondimensional K', T') scaled to this speed
+    (K = K' U / L, T = T' L / U), the turn rate capped at K times the rudder limit."""
+    from ship_autopilot.gains import nomoto_gains
+    g = nomoto_gains(ship)
+    K = g['K_nd'] * speed_mps / g['length_m']
+    T = g['T_nd'] * g['length_m'] / speed_mps
+    return {'course_time_constant_s': float(T),
+            'max_turn_rate': float(K * math.radians(g['rudder_max_deg']))}
+
+
+def case_scenario(number, case, ship, method=None, duration_s=DURATION_S, colav=None):
+    """(scenario dict, route dict) of Imazu case ``number`` with ``ship`` as own ship; method
+    None: no colav and no traffic (the reference run)."""
+    own = case['own']
+    c = math.radians(own['course_deg'])
+    x0, y0 = own['east_m'], own['north_m']
+    route = {'name': 'imazu_own_route', 'frame': 'enu',
+             'source': 'Straight route through the Imazu own-ship track (scripts/imazu)',
+             'waypoints': [{'x_m': x0, 'y_m': y0, 'name': 'start'},
+                           {'x_m': x0 + ROUTE_LENGTH_M * math.sin(c),
+                            'y_m': y0 + ROUTE_LENGTH_M * math.cos(c), 'name': 'end'}]}
+    vessel = {'model': ship, 'route': 'route.yaml', 'speed_mps': own['speed_mps'],
+              'guidance': dict(GUIDANCE), 'autopilot': {'controller': 'pd'}}
+    if ship == 'mariner':   # no propeller: it runs straight only at its nominal speed U0
+        vessel['vessel'] = {'U0': own['speed_mps']}
+    name = f'imazu{number:02d}_{ship}_{method or "none"}'
+    scenario = {'name': name,
+                'source': 'Imazu (1987) encounter set, geometry after Sawada et al. 2021 (scaled '
+                          '2/3: 12 kn, every ship at one point 4 NM ahead after 20 min)',
+                'description': f'Imazu case {number}, own ship {ship}, '
+                               f'{"colav " + method if method else "no traffic (reference)"}',
+                'duration_s': float(duration_s), 'stepping': 'lockstep', 'dt_s': 0.1,
+                'vessels': {'vessel_0': vessel}}
+    if method is not None:
+        vessel['colav'] = {'method': method, **own_ship_model(ship, own['speed_mps']),
+                           **(colav or {})}
+        scenario['traffic'] = {t['name']: {'light': {
+            'x_m': t['east_m'], 'y_m': t['north_m'], 'course_deg': t['course_deg'],
+            'speed_mps': t['speed_mps']}} for t in case['targets']}
+    return scenario, route
+
+
+def write_scenario(scenario, route, directory):
+    """Write ``<name>.yaml`` and its route (route.yaml) into ``directory``; the scenario path."""
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    (directory / 'route.yaml').write_text(yaml.safe_dump(route, sort_keys=False))
+    path = directory / f'{scenario["name"]}.yaml'
+    path.write_text('# Imazu benchmark case, written by scripts/imazu_benchmark.py\n'
+                    + yaml.safe_dump(scenario, sort_keys=False))
+    return path
+
+
+@dataclass
+class RunResult:
+    """Tracks (own and per target: t, north, east, course, speed over ground, NED) and the
+    colav decisions [t, mode, course_offset, speed_multiplier] of one run."""
+    t: np.ndarray
+    own: np.ndarray                          # (N, 4): north, east, course, speed
+    targets: dict = field(default_factory=dict)   # name -> (N, 4)
+    decisions: list = field(default_factory=list)
+    heading: np.ndarray = None               # (N,) own heading (rad NED)
+    decision_wall_s: float = 0.0
+
+
+COLAV_NODE_KEYS = {'method', 'decision_period_s', 'targets_topic', 'target_stale_s',
+                   'lockstep_target_timeout_s', 'pairing', 'target_topics', 'has_shaft'}
+
+
+def build_colav(colav_params, has_shaft=False):
+    """(CollisionAvoidance, decision period s) as colav_node builds them from its parameters
+    (the launcher sets has_shaft False: no node acts on the speed factor yet)."""
+    from ship_guidance.colav_methods import make_colav
+    from ship_guidance.colav_params import ColavParams
+    from ship_guidance.own_ship_prediction import OwnShipModel
+    ship_keys = {'course_time_constant_s', 'max_turn_rate', 'speed_time_constant_s',
+                 'speed_at_factor_one_mps'}
+    values = dict(colav_params)
+    method = values.pop('method', 'sbmpc')
+    period = float(values.pop('decision_period_s', 1.0))
+    params = ColavParams.from_dict({k: v for k, v in values.items()
+                                    if k not in ship_keys | COLAV_NODE_KEYS})
+    ship = OwnShipModel.from_dict({**{k: float(values[k]) for k in ship_keys if k in values},
+                                   'has_shaft': has_shaft})
+    return make_colav(method, params, ship), period
+
+
+def run_scenario(path, progress=None):
+    """RunResult of the scenario's first vessel (see the module docstring)."""
+    import time
+
+    from benchmarks.closed_loop_inprocess import build_vessel
+    from mission.scenario import load_scenario
+
+    from ship_autopilot.steering import HeadingSteering
+    from ship_guidance import colav_io
+    from ship_sim.frames import psi_to_yaw, yaw_to_psi
+    from ship_sim.light_traffic import make_traffic
+    from ship_sim.ros.conversions import make_odometry, odometry_to_ned
+
+    scenario = load_scenario(path)
+    spec = scenario.vessels[0]
+    sim, guidance, controller, dt = build_vessel(scenario, spec)
+    steer = HeadingSteering(controller)
+    colav, schedule = None, None
+    if spec.colav_params is not None:
+        colav, period = build_colav(spec.colav_params)
+        schedule = colav_io.DecisionSchedule(period)
+    traffic = make_traffic(scenario.light) if scenario.light else None
+    names = sorted(traffic.names) if traffic else []
+    order = [traffic.names.index(n) for n in names] if traffic else []
+    steps = int(round(scenario.duration_s / dt)) + 1
+    t_out = np.empty(steps)
+    own = np.empty((steps, 4))
+    heading = np.empty(steps)
+    tgt = {n: np.empty((steps, 4)) for n in names}
+    decisions, decision = [], None
+    t_prev, wall = None, 0.0
+    child = f'{spec.namespace}/base_link'
+    for k in range(steps):
+        o = odometry_to_ned(make_odometry(*sim.nav_state(), child))
+        state = colav_io.ship_state(o.north, o.east, o.psi, o.u, o.v)
+        t_out[k] = o.t
+        own[k] = state.north, state.east, state.course, state.speed
+        heading[k] = o.psi
+        dt_g = 0.0 if t_prev is None else o.t - t_prev
+        out = guidance.update(o.north, o.east, o.psi, max(dt_g, 0.0), t=o.t)
+        t_prev = o.t
+        ref = float(psi_to_yaw(out.heading_cmd))
+        cmd = ref
+        if traffic is not None:
+            t_ns = colav_io.to_ns(o.t)
+            north, east, course, speed = traffic.state(t_ns / colav_io.NS_PER_S)
+            targets = []
+            for n, i in zip(names, order):
+                m = odometry_to_ned(make_odometry(t_ns / colav_io.NS_PER_S, north[i], east[i],
+                                                  course[i], speed[i], 0.0, 0.0, n))
+                tg = colav_io.target_state(n, m.north, m.east, m.psi, m.u, m.v)
+                targets.append(tg)
+                tgt[n][k] = tg.north, tg.east, tg.course, tg.speed
+            if colav is not None:
+                if schedule.due(t_ns):
+                    schedule.decided(t_ns)
+                    c0 = time.perf_counter()
+                    decision = colav.decide(o.t, state, targets, float(yaw_to_psi(ref)), 1.0)
+                    wall += time.perf_counter() - c0
+                    decisions.append((o.t, decision.mode, decision.course_offset,
+                                      decision.speed_multiplier))
+                cmd = colav_io.command_yaw(ref, decision)
+        rudder = steer.update(o.t, o.psi, o.r, steer.decode(cmd))
+        if progress is not None and k % 5000 == 0:
+            progress(k, steps)
+        if k + 1 < steps:
+            sim.step(rudder)
+    return RunResult(t_out, own, tgt, decisions, heading, wall)

@@ -1,0 +1,267 @@
+#!/usr/bin/env python3
+"""The Imazu benchmark on the MSS plants: 22 encounters x own ships x colav methods, in process.
+
+    .venv/bin/python scripts/imazu_benchmark.py [--quick] [--cases 1,2,5] [--ships tanker]
+        [--methods sbmpc] [--jobs 2] [--duration 2000] [--out runs] [--no-plots]
+        [--scenario-out DIR]
+
+Each run (scripts/imazu/runner.py): the own ship (mariner, tanker or container) at 12 kn on a
+straight route through its Imazu track, the case's targets as light targets holding course and
+speed (not avoiding), colav_node's decision core at its decision period, the same objects and
+order as the node graph in lockstep. Plus one run per ship without traffic, the reference of
+path deviation, time lost and the manoeuvre detection. Scored by
+ship_guidance.colav_evaluation (doc/colav_benchmark.md).
+
+Writes runs/imazu-<UTC stamp>/: results.csv (one row per run and target), summary.json (per
+ship and method, per case), case_NN.png (tracks with 5-minute marks and range to each target,
+every ship x method), summary.png. ``--quick``: cases 1-4 (the single-target ones) on the
+mariner, both methods. ``--scenario-out DIR``: write each selected case as a scenario YAML
+(scripts/run_mission.py DIR/<name>.yaml runs it through the node graph) and stop.
+"""
+import argparse
+import csv
+import json
+import multiprocessing
+import os
+import sys
+import time
+from datetime import datetime, timezone
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / 'scripts'))
+
+from imazu.cases import SINGLE, load_cases  # noqa: E402
+from imazu.runner import DURATION_S, METHODS, SHIPS, case_scenario, write_scenario  # noqa: E402
+
+
+def _ints(text):
+    return [int(v) for v in text.split(',') if v.strip()]
+
+
+def _names(choices):
+    def parse(text):
+        out = [v.strip() for v in text.split(',') if v.strip()]
+        bad = [v for v in out if v not in choices]
+        if bad:
+            raise argparse.ArgumentTypeError(f'unknown {bad}; choose from {", ".join(choices)}')
+        return out
+    return parse
+
+
+def parse_args(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('--quick', action='store_true', help='cases 1-4, mariner, both methods')
+    ap.add_argument('--cases', type=_ints, help='case numbers, e.g. 1,2,5 (default all 22)')
+    ap.add_argument('--ships', type=_names(SHIPS), help=f'own ships (default {",".join(SHIPS)})')
+    ap.add_argument('--methods', type=_names(METHODS), help=f'default {",".join(METHODS)}')
+    ap.add_argument('--jobs', type=int, default=2, help='worker processes (default 2)')
+    ap.add_argument('--duration', type=float, default=DURATION_S, help='sim time per run, s')
+    ap.add_argument('--out', type=Path, default=ROOT / 'runs', help='parent of the run folder')
+    ap.add_argument('--no-plots', action='store_true')
+    ap.add_argument('--scenario-out', type=Path, help='write the scenarios here and stop')
+    args = ap.parse_args(argv)
+    cases = load_cases()
+    if args.quick:
+        args.cases = args.cases or list(SINGLE)
+        args.ships = args.ships or ['mariner']
+    args.cases = args.cases or sorted(cases)
+    bad = [c for c in args.cases if c not in cases]
+    if bad:
+        ap.error(f'no Imazu case {bad}; cases are 1-22')
+    args.ships = args.ships or list(SHIPS)
+    args.methods = args.methods or list(METHODS)
+    if args.jobs < 1:
+        ap.error('--jobs must be >= 1')
+    return args, cases
+
+
+def _run(task):
+    """Worker: (key, RunResult) of one scenario written into a temporary folder."""
+    import tempfile
+
+    from imazu.runner import run_scenario
+    key, scenario, route = task
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.perf_counter()
+        result = run_scenario(write_scenario(scenario, route, tmp))
+        return key, result, time.perf_counter() - t0
+
+
+def main(argv=None):
+    args, cases = parse_args(argv)
+    if args.scenario_out:
+        n = 0
+        for c in args.cases:
+            for ship in args.ships:
+                for method in args.methods:
+                    sc, route = case_scenario(c, cases[c], ship, method, args.duration)
+                    write_scenario(sc, route, args.scenario_out)
+                    n += 1
+        print(f'{n} scenarios in {args.scenario_out}: run one with '
+              f'.venv/bin/python scripts/run_mission.py {args.scenario_out}/<name>.yaml')
+        return 0
+    from imazu.evaluate import evaluate, rows_of
+
+    from ship_guidance.colav_evaluation import EvaluationParams
+
+    first = min(cases)
+    tasks = [((ship, None, None), *case_scenario(first, cases[first], ship, None, args.duration))
+             for ship in args.ships]
+    tasks += [((ship, method, c), *case_scenario(c, cases[c], ship, method, args.duration))
+              for c in args.cases for ship in args.ships for method in args.methods]
+    stamp = datetime.now(timezone.utc).strftime('%Y%m%d-%H%M%S')
+    out = args.out / f'imazu-{stamp}'
+    out.mkdir(parents=True, exist_ok=True)
+    print(f'Imazu benchmark: {len(args.cases)} cases x {len(args.ships)} ships x '
+          f'{len(args.methods)} methods + {len(args.ships)} no-traffic runs = {len(tasks)} runs of '
+          f'{args.duration:g} s sim, {args.jobs} processes -> {out}', flush=True)
+    results, walls, per_run = {}, [], {}
+    params = EvaluationParams()
+    csv_file = open(out / 'results.csv', 'w', newline='')
+    writer = None
+
+    def score(key):
+        """Evaluate a finished run once its ship's reference is in; rows go to the CSV at once
+        (an interrupted benchmark keeps what it has finished)."""
+        nonlocal writer
+        ship, method, c = key
+        run = evaluate(results[key], results[(ship, None, None)], cases[c])
+        per_run[(c, ship, method)] = run
+        rows = rows_of(c, ship, method, run, results[key])
+        if writer is None:
+            writer = csv.DictWriter(csv_file, fieldnames=list(rows[0]))
+            writer.writeheader()
+        writer.writerows(rows)
+        csv_file.flush()
+
+    t0 = time.perf_counter()
+    with csv_file, multiprocessing.get_context('fork').Pool(args.jobs) as pool:
+        for i, (key, result, wall) in enumerate(pool.imap_unordered(_run, tasks), 1):
+            results[key] = result
+            walls.append(wall)
+            ship, method, c = key
+            if method is None:
+                for other in [k for k in results if k[0] == ship and k[1] is not None]:
+                    score(other)
+            elif (ship, None, None) in results:
+                score(key)
+            elapsed = time.perf_counter() - t0
+            eta = elapsed / i * (len(tasks) - i)
+            print(f'\r  {i}/{len(tasks)} runs, {elapsed:.0f} s elapsed, ~{eta:.0f} s left   ',
+                  end='', flush=True)
+    print()
+    per_run = {k: per_run[k] for k in sorted(per_run)}
+    summary = summarise(per_run, results, args, walls)
+    (out / 'summary.json').write_text(json.dumps(summary, indent=1))
+    (out / 'table.md').write_text(markdown_tables(summary, cases))
+    if not args.no_plots:
+        from imazu.plots import case_figure, summary_figure
+        refs = {ship: results[(ship, None, None)] for ship in args.ships}
+        for c in args.cases:
+            runs = {(ship, m): results[(ship, m, c)] for ship in args.ships for m in args.methods}
+            case_figure(out / f'case_{c:02d}.png', c, runs, refs, params)
+        run_rows = [{'case': c, 'ship': s, 'method': m, 'run_min_distance_m': v['min_distance_m'],
+                     'run_rule_score': v['rule_score']} for (c, s, m), v in per_run.items()]
+        summary_figure(out / 'summary.png', run_rows, params)
+    print_table(summary)
+    latest = args.out / 'imazu-latest'
+    if latest.is_symlink() or not latest.exists():
+        if latest.is_symlink():
+            latest.unlink()
+        latest.symlink_to(out.name)
+    print(f'written: {out}/results.csv, summary.json' + ('' if args.no_plots else
+                                                          ', case_NN.png, summary.png'))
+    return 0
+
+
+def summarise(per_run, results, args, walls):
+    """summary.json: per (ship, method) totals and per case figures; the decision cost."""
+    groups = {}
+    for (c, ship, method), run in per_run.items():
+        g = groups.setdefault(f'{ship}/{method}', {'runs': 0, 'collisions': 0, 'near_misses': 0,
+                                                   'below_safe': 0, 'min_distance_m': float('inf'),
+                                                   'scores': [], 'single_scores': [],
+                                                   'deviation': [], 'time_lost': [], 'cases': {}})
+        g['runs'] += 1
+        g['collisions'] += run['collisions']
+        g['near_misses'] += run['near_misses']
+        g['below_safe'] += run['below_safe']
+        g['min_distance_m'] = min(g['min_distance_m'], run['min_distance_m'])
+        g['scores'].append(run['rule_score'])
+        if c in SINGLE:
+            g['single_scores'].append(run['rule_score'])
+        g['deviation'].append(run['path_deviation_m'])
+        g['time_lost'].append(run['time_lost_s'])
+        g['cases'][c] = {'min_distance_m': round(run['min_distance_m'], 1),
+                         'collisions': run['collisions'], 'near_misses': run['near_misses'],
+                         'rule_score': round(run['rule_score'], 3),
+                         'path_deviation_m': round(run['path_deviation_m'], 1),
+                         'time_lost_s': round(run['time_lost_s'], 1),
+                         'penalties': {n: sorted(v['penalties']) for n, v in run['targets'].items()
+                                       if v['penalties']}}
+    out = {}
+    for key, g in sorted(groups.items()):
+        out[key] = {'runs': g['runs'], 'collisions': g['collisions'],
+                    'near_misses': g['near_misses'], 'below_safe': g['below_safe'],
+                    'min_distance_m': round(g['min_distance_m'], 1),
+                    'rule_score_mean': _mean(g['scores']),
+                    'rule_score_single_target_mean': _mean(g['single_scores']),
+                    'path_deviation_m_mean': _mean(g['deviation']),
+                    'time_lost_s_mean': _mean(g['time_lost']), 'cases': g['cases']}
+    decisions = sum(len(r.decisions) for r in results.values())
+    decide_s = sum(r.decision_wall_s for r in results.values())
+    return {'groups': out, 'duration_s': args.duration, 'cases': args.cases, 'ships': args.ships,
+            'methods': args.methods, 'runs': len(results), 'run_wall_s_mean': sum(walls) / len(walls),
+            'decisions': decisions, 'decision_ms_mean': 1e3 * decide_s / max(decisions, 1),
+            'load_average_1min': os.getloadavg()[0], 'cpus': os.cpu_count()}
+
+
+def markdown_tables(summary, cases):
+    """Markdown: the totals per ship and method, then per case 'min distance m / rule score'
+    in each ship/method column (what the README's Imazu table shows)."""
+    groups = summary['groups']
+    lines = ['| ship / method | runs | collisions | near misses | below r_min | min distance m | '
+             'rule score (all) | rule score (cases 1-4) | path deviation m (mean) | '
+             'time lost s (mean) |', '|' + '---|' * 10]
+    for key, g in groups.items():
+        lines.append(f'| {key} | {g["runs"]} | {g["collisions"]} | {g["near_misses"]} | '
+                     f'{g["below_safe"]} | {g["min_distance_m"]:.0f} | {g["rule_score_mean"]:.3f} | '
+                     f'{_num(g["rule_score_single_target_mean"]):.3f} | '
+                     f'{g["path_deviation_m_mean"]:.0f} | {g["time_lost_s_mean"]:.1f} |')
+    keys = list(groups)
+    lines += ['', '| case | targets (own view) | ' + ' | '.join(keys) + ' |',
+              '|' + '---|' * (len(keys) + 2)]
+    for c in summary['cases']:
+        sits = ', '.join(t['colregs'] for t in cases[c]['targets'])
+        cells = []
+        for k in keys:
+            v = groups[k]['cases'].get(c) or groups[k]['cases'].get(str(c))
+            cells.append('' if v is None else f'{v["min_distance_m"]:.0f} / {v["rule_score"]:.2f}')
+        lines.append(f'| {c} | {sits} | ' + ' | '.join(cells) + ' |')
+    return '\n'.join(lines) + '\n'
+
+
+def _mean(xs):
+    return round(sum(xs) / len(xs), 3) if xs else None
+
+
+def _num(x):
+    return float('nan') if x is None else x
+
+
+def print_table(summary):
+    print(f'{"ship/method":20s} {"runs":>4s} {"coll":>4s} {"nm":>3s} {"<rmin":>5s} '
+          f'{"min d m":>8s} {"score":>6s} {"1-tgt":>6s} {"dev m":>7s} {"lost s":>7s}')
+    for key, g in summary['groups'].items():
+        print(f'{key:20s} {g["runs"]:4d} {g["collisions"]:4d} {g["near_misses"]:3d} '
+              f'{g["below_safe"]:5d} {g["min_distance_m"]:8.0f} {g["rule_score_mean"]:6.3f} '
+              f'{_num(g["rule_score_single_target_mean"]):6.3f} '
+              f'{g["path_deviation_m_mean"]:7.0f} {g["time_lost_s_mean"]:7.1f}')
+    print(f'mean run {summary["run_wall_s_mean"]:.1f} s wall, {summary["decisions"]} decisions at '
+          f'{summary["decision_ms_mean"]:.2f} ms each (load {summary["load_average_1min"]:.1f} on '
+          f'{summary["cpus"]} CPUs)')
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())

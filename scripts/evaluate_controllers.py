@@ -34,6 +34,8 @@ Setup (the same for every controller):
   (psi_c += 2 zeta U kappa / omega_n), look-ahead d ship lengths. (k, d) per ship come from
   ``--tune``: a grid search on the training environment's curve pool (learning.env, other
   curves and starts than this table's), never on the evaluation path; TUNED holds its result.
+  'ilos_lead' = the same with integral LOS (sigma = U0 / 4) for the steady drift of a current,
+  tuned by the same procedure (``--tune --tune-controller ilos_lead``; TUNED_ILOS).
 
 Metrics per run: cumulative Gaussian (mean over starts), mean and max |e| (m), mean |e| over the
 last 500 s (settled), rudder activity = mean |d delta / dt| of the actual rudder (deg/s) and
@@ -61,14 +63,20 @@ ROOT = Path(__file__).resolve().parent.parent
 
 MODELS = ('mariner', 'container', 'tanker')
 CURRENTS = (0.0, 0.9)
-CONTROLLERS = ('los', 'ilos', 'fuzzy_pid', 'los_lead', 'policy')
+CONTROLLERS = ('los', 'ilos', 'fuzzy_pid', 'los_lead', 'ilos_lead', 'policy')
 LABELS = {'los': 'LOS + PD', 'ilos': 'ILOS + PD', 'fuzzy_pid': 'LOS + fuzzy PID',
-          'los_lead': 'LOS + fast PD + turn-rate lead', 'policy': 'DDPG policy (ours)'}
+          'los_lead': 'LOS + fast PD + turn-rate lead',
+          'ilos_lead': 'ILOS + fast PD + turn-rate lead', 'policy': 'DDPG policy (ours)'}
+#: The tuned loops ('los_lead', 'ilos_lead'): fast PD + turn-rate lead, plain or integral LOS.
+LEAD_CONTROLLERS = ('los_lead', 'ilos_lead')
 #: 'los_lead' tuning per ship: (omega_n in units of U / L, look-ahead in ship lengths), chosen by
 #: ``--tune`` (grid TUNE_GRID, mean Gaussian over the training pool's curves; see TUNE_* below;
 #: the tanker's optimum lay at the grid's longest look-ahead, so it was searched further with
 #: ``--tune --models tanker --grid 1,1.5,2/3.5,5,7``).
 TUNED = {'mariner': (2.5, 1.0), 'container': (2.5, 1.5), 'tanker': (1.5, 3.5)}
+#: 'ilos_lead' tuning per ship, by the same ``--tune`` procedure (``--tune --tune-controller
+#: ilos_lead``).
+TUNED_ILOS = {'mariner': (2.5, 1.0), 'container': (2.5, 1.5), 'tanker': (1.5, 3.5)}
 TUNE_GRID = {'omega_n_nd': (1.0, 1.5, 2.5, 3.5), 'lookahead_L': (0.75, 1.0, 1.5, 2.5, 3.5)}
 TUNE_STARTS, TUNE_SEED = 4, 7
 #: Martinsen and Lekkas 2018 Table I: (model, current) -> cumulative Gaussian reward.
@@ -89,9 +97,12 @@ def start_states(k, seed=2024):
              'current_direction': rng.uniform(-math.pi, math.pi)} for _ in range(k)]
 
 
-def run(model, route, controller, starts, current, duration, policy_file=None, tuning=None):
+def run(model, route, controller, starts, current, duration, policy_file=None, tuning=None,
+        current_field=None):
     """Simulate every start with one controller; returns per-start metric arrays.
-    ``tuning``: (omega_n_nd, lookahead_L) for 'los_lead' instead of TUNED."""
+    ``tuning``: (omega_n_nd, lookahead_L) for 'los_lead' / 'ilos_lead' instead of TUNED /
+    TUNED_ILOS. ``current_field``: a ship_sim.current.OceanCurrent of shape (len(starts),)
+    advanced every step (a varying current) instead of the constant one of the starts."""
     k = len(starts)
     env = PathFollowingBatch(model, k, EnvConfig(mode='straight', sim_dt=SIM_DT,
                                                  control_dt=SIM_DT), routes=[route])
@@ -99,11 +110,12 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
     m = env.model
     gains = autopilot_gains(m.name)
     speed, length = env.speed0, env.length
-    law = 'ilos' if controller == 'ilos' else 'los'
+    law = 'ilos' if controller in ('ilos', 'ilos_lead') else 'los'
     lookahead, zeta, omega_n, lead = (LOOKAHEAD_SHIP_LENGTHS * length, gains['zeta'],
                                       gains['omega_n'], False)
-    if controller == 'los_lead':
-        omega_n_nd, lookahead_L = tuning or TUNED[m.name]
+    if controller in LEAD_CONTROLLERS:
+        omega_n_nd, lookahead_L = tuning or (TUNED if controller == 'los_lead'
+                                             else TUNED_ILOS)[m.name]
         omega_n, lookahead, lead = omega_n_nd * speed / length, lookahead_L * length, True
     guides = [Guidance(route, law, lookahead, integral_gain=speed / 4.0, zeta=zeta,
                        omega_n=omega_n, speed=speed, curvature_lead=lead) for _ in range(k)]
@@ -112,7 +124,7 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
         steering = [LearnedSteering(policy) for _ in range(k)]
         features = PathFeatures((k,))
         control_dt = policy.control_dt
-    elif controller == 'los_lead':
+    elif controller in LEAD_CONTROLLERS:
         nomoto = nomoto_gains(m.name)
         k1, k2 = pd_gains(nomoto['a'], nomoto['b'], omega_n=omega_n, zeta=zeta)
         autopilot = build_autopilot('pd', {'k1': k1, 'k2': k2}, m.rudder_max, m.rudder_rate_max)
@@ -148,11 +160,15 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
         else:
             psi_c = np.array([o.heading_cmd for o in outs])
             cmd = np.asarray(autopilot.update(psi, env.x[:, m.IR], psi_c, SIM_DT))
+        if current_field is not None:
+            env.current[:, 0], env.current[:, 1] = current_field.velocity_ne()
+            current_field.advance(SIM_DT)
         ok = env.integrate(cmd, 1)
         if not ok.all():
             raise RuntimeError(f'{model}/{controller}: state left the model domain')
     settle = abs_e[n_steps // 2:]
     return {'gaussian': gauss, 'mean_abs_e': abs_e.mean(0), 'max_abs_e': abs_e.max(0),
+            'rms_e': np.sqrt(np.mean(abs_e ** 2, axis=0)),
             'mean_abs_e_settled': settle.mean(0),
             'rudder_rate_deg_s': np.degrees(np.abs(np.diff(rudder, axis=0)).mean(0) / SIM_DT),
             'mean_abs_rudder_deg': np.degrees(np.abs(rudder).mean(0))}
@@ -177,24 +193,29 @@ def _task(args):
 
 
 def _tune_task(args):
-    model, tuning, i = args
+    model, tuning, i, controller = args
     rng = np.random.default_rng(TUNE_SEED + i)
     env = PathFollowingBatch(model, 1, EnvConfig(n_routes=1), seed=TUNE_SEED + i)
     start = env.sample_starts(1)[0]
     start['current_speed'] = CURRENTS[i % len(CURRENTS)]
     start['along'] = rng.uniform(0.0, 500.0)
-    r = run(model, env.routes[0], 'los_lead', [dict(start, route=0)], start['current_speed'],
-            1000.0, tuning=tuning)
+    try:
+        r = run(model, env.routes[0], controller, [dict(start, route=0)],
+                start['current_speed'], 1000.0, tuning=tuning)
+    except ValueError as exc:   # a grid point beyond the loop's stability limit
+        if 'stability limit' not in str(exc):
+            raise
+        return -math.inf
     return float(r['gaussian'][0])
 
 
-def tune(models, jobs=1, grid=None):
-    """Grid search of 'los_lead' (omega_n_nd, lookahead_L) per ship on TUNE_STARTS curves of the
-    training pool (learning.env, seeds TUNE_SEED + i; currents alternate 0 / 0.9 m/s);
-    returns {model: {'best': (k, d), 'scores': {"k/d": mean Gaussian}}}."""
+def tune(models, jobs=1, grid=None, controller='los_lead'):
+    """Grid search of a tuned loop's (omega_n_nd, lookahead_L) ('los_lead' or 'ilos_lead') per
+    ship on TUNE_STARTS curves of the training pool (learning.env, seeds TUNE_SEED + i; currents
+    alternate 0 / 0.9 m/s); returns {model: {'best': (k, d), 'scores': {"k/d": mean Gaussian}}}."""
     g = grid or TUNE_GRID
     grid = [(k, d) for k in g['omega_n_nd'] for d in g['lookahead_L']]
-    tasks = [(m, g, i) for m in models for g in grid for i in range(TUNE_STARTS)]
+    tasks = [(m, g, i, controller) for m in models for g in grid for i in range(TUNE_STARTS)]
     if jobs > 1:
         import multiprocessing
         with multiprocessing.Pool(jobs) as pool:
@@ -204,13 +225,13 @@ def tune(models, jobs=1, grid=None):
     out = {}
     for m in models:
         table = {}
-        for (tm, g, _), sc in zip(tasks, scores):
+        for (tm, g, _, _), sc in zip(tasks, scores):
             if tm == m:
                 table.setdefault(g, []).append(sc)
         means = {g: float(np.mean(v)) for g, v in table.items()}
         best = max(means, key=means.get)
-        out[m] = {'best': best, 'scores': {f'{k:g}/{d:g}': round(v, 1)
-                                           for (k, d), v in means.items()}}
+        out[m] = {'best': best, 'scores': {f'{k:g}/{d:g}': round(v, 1) if math.isfinite(v)
+                                           else 'unstable' for (k, d), v in means.items()}}
         print(f'{m:9s} best omega_n = {best[0]:g} U/L, look-ahead {best[1]:g} L: '
               f'{means[best]:.0f}  ({out[m]["scores"]})', flush=True)
     return out
@@ -277,6 +298,9 @@ def main(argv=None):
     p.add_argument('--tune', action='store_true',
                    help="grid-search the 'los_lead' tuning on the training curve pool, print "
                         'it (paste into TUNED) and write <out>_tuning.json; no evaluation')
+    p.add_argument('--tune-controller', default='los_lead', choices=LEAD_CONTROLLERS,
+                   help='with --tune: the loop to tune (default %(default)s; paste ilos_lead '
+                        'into TUNED_ILOS)')
     p.add_argument('--grid', default=None, metavar='K1,K2/D1,D2',
                    help='with --tune: omega_n values (U/L) / look-aheads (L) instead of TUNE_GRID')
     args = p.parse_args(argv)
@@ -291,10 +315,12 @@ def main(argv=None):
             ks, ds = args.grid.split('/')
             grid = {'omega_n_nd': tuple(float(k) for k in ks.split(',')),
                     'lookahead_L': tuple(float(d) for d in ds.split(','))}
-        tuned = tune(models, args.jobs, grid)
-        out = Path(args.out + '_tuning.json')
+        tuned = tune(models, args.jobs, grid, args.tune_controller)
+        suffix = '' if args.tune_controller == 'los_lead' else f'_{args.tune_controller}'
+        out = Path(args.out + f'_tuning{suffix}.json')
         out.parent.mkdir(parents=True, exist_ok=True)
-        out.write_text(json.dumps({'grid': grid, 'starts': TUNE_STARTS, 'seed': TUNE_SEED,
+        out.write_text(json.dumps({'controller': args.tune_controller, 'grid': grid,
+                                   'starts': TUNE_STARTS, 'seed': TUNE_SEED,
                                    'results': tuned}, indent=2))
         print(f'wrote {out}')
         return 0

@@ -53,13 +53,27 @@ def _ray_task():
     return chunk_task
 
 
+def start_local_ray(num_cpus, attempts=2):
+    """A private local Ray instance of ``num_cpus`` CPUs. On a loaded machine its raylet can
+    miss Ray's fixed 30 s start-up wait (its metrics agent starts late): tried ``attempts``
+    times; the last failure is raised."""
+    import ray
+    for attempt in range(attempts):
+        try:
+            return ray.init(num_cpus=num_cpus, include_dashboard=False, log_to_driver=False,
+                            configure_logging=False)
+        except Exception:  # noqa: BLE001 (Ray raises a bare Exception for a slow start)
+            ray.shutdown()
+            if attempt == attempts - 1:
+                raise
+
+
 def run_ray(chunks, on_rows, address=None, workers=None, max_retries=DEFAULT_RETRIES):
     import ray
     started = False
     if not ray.is_initialized():
         if address is None:
-            ray.init(num_cpus=workers or os.cpu_count() or 1, include_dashboard=False,
-                     log_to_driver=False, configure_logging=False)
+            start_local_ray(workers or os.cpu_count() or 1)
         else:
             ray.init(address=address, log_to_driver=False, configure_logging=False)
         started = True

@@ -97,6 +97,31 @@ def start_states(k, seed=2024):
              'current_direction': rng.uniform(-math.pi, math.pi)} for _ in range(k)]
 
 
+def loop_design(model_name, controller, speed, length, tuning=None):
+    """Guidance and heading-loop design of a controller: law, lookahead (m), zeta, omega_n
+    (rad/s), lead (turn-rate lead on or off), integral_gain (m/s, ILOS) and, for the tuned loops,
+    the PD gains k1, k2 placed at that omega_n on the identified Nomoto model."""
+    gains = autopilot_gains(model_name)
+    d = {'law': 'ilos' if controller in ('ilos', 'ilos_lead') else 'los',
+         'lookahead': LOOKAHEAD_SHIP_LENGTHS * length, 'zeta': gains['zeta'],
+         'omega_n': gains['omega_n'], 'lead': False, 'integral_gain': speed / 4.0}
+    if controller in LEAD_CONTROLLERS:
+        omega_n_nd, lookahead_L = tuning or (TUNED if controller == 'los_lead'
+                                             else TUNED_ILOS)[model_name]
+        d.update(omega_n=omega_n_nd * speed / length, lookahead=lookahead_L * length, lead=True)
+        nomoto = nomoto_gains(model_name)
+        d['k1'], d['k2'] = pd_gains(nomoto['a'], nomoto['b'], omega_n=d['omega_n'],
+                                    zeta=d['zeta'])
+    return d
+
+
+def guidance_for(route, design, speed):
+    """The Guidance of a ``loop_design`` (ValueError beyond the loop's stability limit)."""
+    return Guidance(route, design['law'], design['lookahead'],
+                    integral_gain=design['integral_gain'], zeta=design['zeta'],
+                    omega_n=design['omega_n'], speed=speed, curvature_lead=design['lead'])
+
+
 def run(model, route, controller, starts, current, duration, policy_file=None, tuning=None,
         current_field=None):
     """Simulate every start with one controller; returns per-start metric arrays.
@@ -109,25 +134,17 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
     env.reset(starts=[dict(s, current_speed=current) for s in starts])
     m = env.model
     gains = autopilot_gains(m.name)
-    speed, length = env.speed0, env.length
-    law = 'ilos' if controller in ('ilos', 'ilos_lead') else 'los'
-    lookahead, zeta, omega_n, lead = (LOOKAHEAD_SHIP_LENGTHS * length, gains['zeta'],
-                                      gains['omega_n'], False)
-    if controller in LEAD_CONTROLLERS:
-        omega_n_nd, lookahead_L = tuning or (TUNED if controller == 'los_lead'
-                                             else TUNED_ILOS)[m.name]
-        omega_n, lookahead, lead = omega_n_nd * speed / length, lookahead_L * length, True
-    guides = [Guidance(route, law, lookahead, integral_gain=speed / 4.0, zeta=zeta,
-                       omega_n=omega_n, speed=speed, curvature_lead=lead) for _ in range(k)]
+    speed = env.speed0
+    d = loop_design(m.name, controller, speed, env.length, tuning)
+    guides = [guidance_for(route, d, speed) for _ in range(k)]
     if controller == 'policy':
         policy = load_policy(m.name, policy_file)
         steering = [LearnedSteering(policy) for _ in range(k)]
         features = PathFeatures((k,))
         control_dt = policy.control_dt
     elif controller in LEAD_CONTROLLERS:
-        nomoto = nomoto_gains(m.name)
-        k1, k2 = pd_gains(nomoto['a'], nomoto['b'], omega_n=omega_n, zeta=zeta)
-        autopilot = build_autopilot('pd', {'k1': k1, 'k2': k2}, m.rudder_max, m.rudder_rate_max)
+        autopilot = build_autopilot('pd', {'k1': d['k1'], 'k2': d['k2']}, m.rudder_max,
+                                    m.rudder_rate_max)
     else:
         autopilot = build_autopilot('pd' if controller in ('los', 'ilos') else 'fuzzy_pid',
                                     gains, m.rudder_max, m.rudder_rate_max)

@@ -1,9 +1,13 @@
 """Run a chunk of episodes in this process and return one row of metrics per episode.
 
-The closed loop is the single-vessel in-process loop of scripts/evaluate_controllers.py
-(``run``: MSS plant with RK4 at 0.1 s, guidance and autopilot every 0.1 s, the policy at its
-own step, the Table I reward), one episode at a time, with the episode's start, current and
-controller. Metrics per episode (METRICS): the Table I reward (cumulative Gaussian, eq. 8 of
+The closed loop is ship_autopilot.batch_closed_loop.BatchClosedLoop: the chunk's episodes (one
+model and controller) stepped together as arrays, each equal to the single-vessel in-process
+loop of scripts/evaluate_controllers.py (``run``: MSS plant with RK4 at 0.1 s, guidance and
+autopilot every 0.1 s, the policy at its own step, the Table I reward) to rounding. Episodes
+with a varying current, which the batch does not model, run in that single-vessel loop. A
+chunk of one episode is run with a copy of itself, so that every episode takes the batch's
+array path (one vessel alone would take the plant's float path, equal only to rounding) and a
+row never depends on the chunking. Metrics per episode (METRICS): the Table I reward (cumulative Gaussian, eq. 8 of
 Martinsen and Lekkas 2018, at every 0.1 s sample), cross-track RMS / mean / max and mean over
 the second half, rudder use (mean |rudder rate|, mean |rudder|) and completion (the state stayed
 in the model's domain and within ``EnvConfig.terminate_cross_track`` of the path all episode).
@@ -93,13 +97,69 @@ def run_episode(ep):
     return row
 
 
+def _varying(ep):
+    return ep['current_speed_std_mps'] > 0.0 or ep['current_direction_std_deg'] > 0.0
+
+
+def run_batch(chunk):
+    """Metrics (dicts) of episodes of one model and controller, stepped together."""
+    import evaluate_controllers as ec
+    from ship_autopilot.batch_closed_loop import BatchClosedLoop
+    from ship_autopilot.learning.env import EnvConfig
+    model, controller = chunk[0]['model'], chunk[0]['controller']
+    if any((e['model'], e['controller']) != (model, controller) for e in chunk):
+        raise ValueError('a batch runs one model and one controller')
+    padded = chunk * 2 if len(chunk) == 1 else chunk
+    keys = list(dict.fromkeys(e['route_key'] for e in padded))
+    routes = [_route(k) for k in keys]
+    kind = {'fuzzy_pid': 'fuzzy_pid', 'policy': 'policy'}.get(controller, 'pd')
+    design_probe = BatchClosedLoop(model, routes[:1], kind)
+    d = ec.loop_design(design_probe.model.name, controller, design_probe.speed,
+                       design_probe.length)
+    loop = BatchClosedLoop(model, routes, kind, d['law'])
+    eps = {'route': [keys.index(e['route_key']) for e in padded],
+           'along': [e['start_along_m'] for e in padded],
+           'cross': [e['start_cross_m'] for e in padded],
+           'heading': [math.radians(e['start_heading_deg']) for e in padded],
+           'current_speed': [e['current_speed_mps'] for e in padded],
+           'current_direction': [math.radians(e['current_direction_deg']) for e in padded],
+           'lookahead': d['lookahead'], 'integral_gain': d['integral_gain']}
+    if d['lead']:
+        # The Guidance of the design (its stability check included) gives the lead.
+        eps['lead'] = ec.guidance_for(routes[0], d, design_probe.speed)._lead
+        eps['k1'], eps['k2'] = d['k1'], d['k2']
+    durations = {e['duration_s'] for e in chunk}
+    if len(durations) != 1:
+        raise ValueError('a batch runs one episode length')
+    res = loop.run(eps, durations.pop()).metrics
+    limit = EnvConfig().terminate_cross_track
+    out = []
+    for i in range(len(chunk)):
+        if res['failed'][i]:
+            out.append(dict({k: math.nan for k in METRICS}, completed=0))
+            continue
+        row = {k: float(res[v][i]) for k, v in _FROM_LOOP.items()}
+        row['completed'] = int(row['max_abs_e_m'] < limit)
+        out.append(row)
+    return out
+
+
 def run_chunk(chunk):
     """Rows (dicts: the episode's parameters and METRICS) for a list of episodes."""
     _maybe_fail_once()
+    metrics = {}
+    groups = {}
+    for ep in chunk:
+        if _varying(ep):
+            metrics[ep['episode']] = run_episode(ep)
+        else:
+            groups.setdefault((ep['model'], ep['controller'], ep['duration_s']), []).append(ep)
+    for group in groups.values():
+        metrics.update(zip((e['episode'] for e in group), run_batch(group)))
     rows = []
     for ep in chunk:
         row = {k: v for k, v in ep.items() if k != 'route_key'}
-        row.update(run_episode(ep))
+        row.update(metrics[ep['episode']])
         rows.append(row)
     return rows
 

@@ -191,6 +191,31 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
             'mean_abs_rudder_deg': np.degrees(np.abs(rudder).mean(0))}
 
 
+def run_batched(model, routes, controller, starts, duration, tunings=None):
+    """``run`` for many starts at once in the batched closed loop
+    (ship_autopilot.batch_closed_loop), each equal to ``run`` to rounding. ``starts``: dicts
+    as ``run``'s, each with its ``route`` (index into ``routes``) and ``current_speed``;
+    ``tunings``: one (omega_n_nd, lookahead_L) or None per start (tuned loops). Returns the
+    metrics (name -> array per start, BatchClosedLoop.METRICS)."""
+    from ship_autopilot.batch_closed_loop import START_KEYS, BatchClosedLoop
+    kind = {'fuzzy_pid': 'fuzzy_pid', 'policy': 'policy'}.get(controller, 'pd')
+    law = 'ilos' if controller in ('ilos', 'ilos_lead') else 'los'
+    loop = BatchClosedLoop(model, routes, kind, law, sim_dt=SIM_DT)
+    tunings = tunings or [None] * len(starts)
+    designs = {t: loop_design(loop.model.name, controller, loop.speed, loop.length, t)
+               for t in dict.fromkeys(tunings)}
+    eps = {k: [s[k] for s in starts] for k in START_KEYS}
+    eps['lookahead'] = [designs[t]['lookahead'] for t in tunings]
+    eps['integral_gain'] = [designs[t]['integral_gain'] for t in tunings]
+    if controller in LEAD_CONTROLLERS:
+        # The Guidance of each design (its stability check included) gives the lead.
+        lead = {t: guidance_for(routes[0], d, loop.speed)._lead for t, d in designs.items()}
+        eps['lead'] = [lead[t] for t in tunings]
+        eps['k1'] = [designs[t]['k1'] for t in tunings]
+        eps['k2'] = [designs[t]['k2'] for t in tunings]
+    return loop.run(eps, duration).metrics
+
+
 def _task(args):
     model, current, ctrl, starts, duration, policy_file = args
     route = load_route(ROOT / 'scenarios' / 'routes' / f'curved_path_{model}_000.yaml').route
@@ -209,42 +234,61 @@ def _task(args):
     return summary
 
 
+def tune_starts(model):
+    """The tuning episodes of ``model``: TUNE_STARTS (route, start) pairs, start i on a curve
+    of the training pool drawn with seed TUNE_SEED + i, current alternating 0 / 0.9 m/s."""
+    out = []
+    for i in range(TUNE_STARTS):
+        rng = np.random.default_rng(TUNE_SEED + i)
+        env = PathFollowingBatch(model, 1, EnvConfig(n_routes=1), seed=TUNE_SEED + i)
+        start = env.sample_starts(1)[0]
+        start['current_speed'] = CURRENTS[i % len(CURRENTS)]
+        start['along'] = rng.uniform(0.0, 500.0)
+        out.append((env.routes[0], dict(start, route=i)))
+    return out
+
+
 def _tune_task(args):
-    model, tuning, i, controller = args
-    rng = np.random.default_rng(TUNE_SEED + i)
-    env = PathFollowingBatch(model, 1, EnvConfig(n_routes=1), seed=TUNE_SEED + i)
-    start = env.sample_starts(1)[0]
-    start['current_speed'] = CURRENTS[i % len(CURRENTS)]
-    start['along'] = rng.uniform(0.0, 500.0)
-    try:
-        r = run(model, env.routes[0], controller, [dict(start, route=0)],
-                start['current_speed'], 1000.0, tuning=tuning)
-    except ValueError as exc:   # a grid point beyond the loop's stability limit
-        if 'stability limit' not in str(exc):
-            raise
-        return -math.inf
-    return float(r['gaussian'][0])
+    """Scores of every stable grid point of one model (-inf beyond the stability limit), all
+    grid points and starts in one batched closed loop."""
+    model, grid, controller, duration = args
+    pairs = tune_starts(model)
+    routes = [r for r, _ in pairs]
+    stable = []
+    for g in grid:
+        try:
+            m = PathFollowingBatch(model, 1, EnvConfig(mode='straight'), routes=routes[:1])
+            guidance_for(routes[0], loop_design(m.model.name, controller, m.speed0, m.length,
+                                                g), m.speed0)
+            stable.append(g)
+        except ValueError as exc:   # a grid point beyond the loop's stability limit
+            if 'stability limit' not in str(exc):
+                raise
+    starts = [s for _ in stable for _, s in pairs]
+    tunings = [g for g in stable for _ in pairs]
+    gauss = run_batched(model, routes, controller, starts, duration, tunings)['gaussian']
+    scores = {g: [-math.inf] * len(pairs) for g in grid}
+    for k, g in enumerate(tunings):
+        scores[g][k % len(pairs)] = float(gauss[k])
+    return scores
 
 
-def tune(models, jobs=1, grid=None, controller='los_lead'):
+def tune(models, jobs=1, grid=None, controller='los_lead', duration=1000.0):
     """Grid search of a tuned loop's (omega_n_nd, lookahead_L) ('los_lead' or 'ilos_lead') per
-    ship on TUNE_STARTS curves of the training pool (learning.env, seeds TUNE_SEED + i; currents
-    alternate 0 / 0.9 m/s); returns {model: {'best': (k, d), 'scores': {"k/d": mean Gaussian}}}."""
+    ship on TUNE_STARTS curves of the training pool (``tune_starts``), every episode of a ship
+    in one batched closed loop; returns {model: {'best': (k, d), 'scores': {"k/d": mean
+    Gaussian}}}."""
     g = grid or TUNE_GRID
     grid = [(k, d) for k in g['omega_n_nd'] for d in g['lookahead_L']]
-    tasks = [(m, g, i, controller) for m in models for g in grid for i in range(TUNE_STARTS)]
+    tasks = [(m, grid, controller, duration) for m in models]
     if jobs > 1:
         import multiprocessing
         with multiprocessing.Pool(jobs) as pool:
-            scores = pool.map(_tune_task, tasks, chunksize=1)
+            per_model = pool.map(_tune_task, tasks, chunksize=1)
     else:
-        scores = [_tune_task(t) for t in tasks]
+        per_model = [_tune_task(t) for t in tasks]
     out = {}
-    for m in models:
-        table = {}
-        for (tm, g, _, _), sc in zip(tasks, scores):
-            if tm == m:
-                table.setdefault(g, []).append(sc)
+    for m, table in zip(models, per_model):
         means = {g: float(np.mean(v)) for g, v in table.items()}
         best = max(means, key=means.get)
         out[m] = {'best': best, 'scores': {f'{k:g}/{d:g}': round(v, 1) if math.isfinite(v)

@@ -30,6 +30,8 @@ SECTIONS = {
     'closed_loop_inprocess': ('closed_loop_inprocess', 'run',
                               'flagship loop with the pure modules in one process (no ROS)'),
     'colav': ('colav', 'run', 'one collision-avoidance decision with 10 targets (SB-MPC, VO)'),
+    'sweep': ('sweep', 'run', 'scripts/sweep.py throughput: local processes and Ray, 1 and 2 '
+              'workers'),
     'controllers': ('controllers', 'run', "Martinsen and Lekkas 2018's Table I: classical controllers vs the "
                     'learned policy on curved paths'),
 }

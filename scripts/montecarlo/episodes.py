@@ -83,12 +83,8 @@ def run_episode(ep):
     """One episode (a dict of spec.expand plus 'route_key') -> its metrics (dict)."""
     import evaluate_controllers as ec
     from ship_autopilot.learning.env import EnvConfig
-    start = {'route': 0, 'along': ep['start_along_m'], 'cross': ep['start_cross_m'],
-             'heading': math.radians(ep['start_heading_deg']),
-             'current_speed': ep['current_speed_mps'],
-             'current_direction': math.radians(ep['current_direction_deg'])}
     try:
-        r = ec.run(ep['model'], _route(ep['route_key']), ep['controller'], [start],
+        r = ec.run(ep['model'], _route(ep['route_key']), ep['controller'], [_start(ep, 0)],
                    ep['current_speed_mps'], ep['duration_s'], current_field=_current_field(ep))
     except RuntimeError:   # the state left the model's domain
         return dict({k: math.nan for k in METRICS}, completed=0)
@@ -101,37 +97,27 @@ def _varying(ep):
     return ep['current_speed_std_mps'] > 0.0 or ep['current_direction_std_deg'] > 0.0
 
 
+def _start(ep, route_index):
+    """The start dict of evaluate_controllers.run / run_batched for an episode."""
+    return {'route': route_index, 'along': ep['start_along_m'], 'cross': ep['start_cross_m'],
+            'heading': math.radians(ep['start_heading_deg']),
+            'current_speed': ep['current_speed_mps'],
+            'current_direction': math.radians(ep['current_direction_deg'])}
+
+
 def run_batch(chunk):
-    """Metrics (dicts) of episodes of one model and controller, stepped together."""
+    """Metrics (dicts) of episodes of one model, controller and length, stepped together."""
     import evaluate_controllers as ec
-    from ship_autopilot.batch_closed_loop import BatchClosedLoop
     from ship_autopilot.learning.env import EnvConfig
-    model, controller = chunk[0]['model'], chunk[0]['controller']
-    if any((e['model'], e['controller']) != (model, controller) for e in chunk):
-        raise ValueError('a batch runs one model and one controller')
+    first = chunk[0]
+    if any((e['model'], e['controller'], e['duration_s'])
+           != (first['model'], first['controller'], first['duration_s']) for e in chunk):
+        raise ValueError('a batch runs one model, one controller and one episode length')
     padded = chunk * 2 if len(chunk) == 1 else chunk
     keys = list(dict.fromkeys(e['route_key'] for e in padded))
-    routes = [_route(k) for k in keys]
-    kind = {'fuzzy_pid': 'fuzzy_pid', 'policy': 'policy'}.get(controller, 'pd')
-    design_probe = BatchClosedLoop(model, routes[:1], kind)
-    d = ec.loop_design(design_probe.model.name, controller, design_probe.speed,
-                       design_probe.length)
-    loop = BatchClosedLoop(model, routes, kind, d['law'])
-    eps = {'route': [keys.index(e['route_key']) for e in padded],
-           'along': [e['start_along_m'] for e in padded],
-           'cross': [e['start_cross_m'] for e in padded],
-           'heading': [math.radians(e['start_heading_deg']) for e in padded],
-           'current_speed': [e['current_speed_mps'] for e in padded],
-           'current_direction': [math.radians(e['current_direction_deg']) for e in padded],
-           'lookahead': d['lookahead'], 'integral_gain': d['integral_gain']}
-    if d['lead']:
-        # The Guidance of the design (its stability check included) gives the lead.
-        eps['lead'] = ec.guidance_for(routes[0], d, design_probe.speed)._lead
-        eps['k1'], eps['k2'] = d['k1'], d['k2']
-    durations = {e['duration_s'] for e in chunk}
-    if len(durations) != 1:
-        raise ValueError('a batch runs one episode length')
-    res = loop.run(eps, durations.pop()).metrics
+    res = ec.run_batched(first['model'], [_route(k) for k in keys], first['controller'],
+                         [_start(e, keys.index(e['route_key'])) for e in padded],
+                         first['duration_s'])
     limit = EnvConfig().terminate_cross_track
     out = []
     for i in range(len(chunk)):

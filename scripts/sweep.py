@@ -2,7 +2,8 @@
 """Monte Carlo sweep of the closed loop: many episodes, a table, a summary with confidence intervals, plots.
 
     scripts/sweep.py SWEEP.yaml [--out DIR] [--workers N] [--chunk N]
-                     [--ray [ADDRESS]] [--episodes N] [--duration S] [--no-plots]
+                     [--ray [ADDRESS]] [--episodes N] [--duration S]
+                     [--where AXIS=VALUE] [--no-plots]
 
 SWEEP.yaml: a base environment and the parameters to vary (grid or seeded random); the format
 is documented in scripts/montecarlo/spec.py, examples in scenarios/sweeps/. Backends: local
@@ -47,6 +48,9 @@ def parse_args(argv=None):
                    help="samples per grid cell instead of the file's 'episodes'")
     p.add_argument('--duration', type=float, default=None,
                    help="episode length (s) instead of the file's duration_s")
+    p.add_argument('--where', action='append', default=[], metavar='AXIS=VALUE',
+                   help='run only the grid cells with this value (repeatable); rows keep the '
+                        "whole sweep's episode indices and draws")
     p.add_argument('--no-plots', action='store_true', help='skip the PNG plots')
     args = p.parse_args(argv)
     for name in ('workers', 'chunk', 'episodes'):
@@ -69,13 +73,28 @@ def main(argv=None):
     out.mkdir(parents=True, exist_ok=True)
     backend = 'ray' if args.ray else 'local'
     address = None if args.ray in (None, 'local') else args.ray
+    where = {}
+    for item in args.where:
+        axis, sep, value = item.partition('=')
+        if not sep or axis not in sweep.grid:
+            print(f'error: --where {item}: give AXIS=VALUE with a grid axis of the file '
+                  f'({", ".join(sweep.grid) or "none"})', file=sys.stderr)
+            return 2
+        kinds = {type(v) for v in sweep.grid[axis]}
+        try:
+            where[axis] = float(value) if float in kinds else value
+        except ValueError:
+            print(f'error: --where {item}: {axis} takes a number', file=sys.stderr)
+            return 2
     n = sweep.n_cells * (args.episodes or sweep.episodes)
+    for axis in where:
+        n //= len(sweep.grid[axis])
     print(f'sweep {sweep.name}: {sweep.n_cells} grid cells x {args.episodes or sweep.episodes} '
           f'episodes = {n}, backend {backend}' + (f' ({address})' if address else ''),
           flush=True)
     try:
         rows, run = run_sweep(sweep, backend, args.workers, args.chunk, address, args.episodes,
-                              duration=args.duration)
+                              duration=args.duration, where=where)
     except SweepError as exc:
         print(f'error: {exc}', file=sys.stderr)
         return 2

@@ -192,3 +192,14 @@ def test_cli_writes_table_summary_and_plots(tmp_path):
     assert md.count('\n| los') == 1 and md.count('\n| ilos') == 1
     assert (out / 'cdf_max_cross_track.png').stat().st_size > 0
     assert (out / 'max_abs_e_m_vs_start_cross_m.png').stat().st_size > 0
+
+
+def test_where_runs_some_cells_with_the_whole_sweeps_rows(reference_table):
+    sw, text = reference_table
+    rows, _ = run_sweep(sw, 'local', workers=1, chunk_size=4, progress=False,
+                        where={'controller': 'ilos_lead', 'current_speed_mps': 0.9})
+    assert [r['episode'] for r in rows] == [6, 7]
+    part = results.table_text(rows, sw.columns()).splitlines()
+    assert part[1:] == text.splitlines()[7:9]
+    with pytest.raises(spec.SweepError, match='not a grid axis value'):
+        run_sweep(sw, 'local', workers=1, progress=False, where={'controller': 'policy'})

@@ -3,7 +3,7 @@
 
     scripts/sweep.py SWEEP.yaml [--out DIR] [--workers N] [--chunk N]
                      [--ray [ADDRESS]] [--episodes N] [--duration S]
-                     [--where AXIS=VALUE] [--no-plots]
+                     [--where AXIS=V1[,V2]] [--no-plots]
 
 SWEEP.yaml: a base environment and the parameters to vary (grid or seeded random); the format
 is documented in scripts/montecarlo/spec.py, examples in scenarios/sweeps/. Backends: local
@@ -48,8 +48,8 @@ def parse_args(argv=None):
                    help="samples per grid cell instead of the file's 'episodes'")
     p.add_argument('--duration', type=float, default=None,
                    help="episode length (s) instead of the file's duration_s")
-    p.add_argument('--where', action='append', default=[], metavar='AXIS=VALUE',
-                   help='run only the grid cells with this value (repeatable); rows keep the '
+    p.add_argument('--where', action='append', default=[], metavar='AXIS=V1[,V2]',
+                   help='run only the grid cells with these values (repeatable); rows keep the '
                         "whole sweep's episode indices and draws")
     p.add_argument('--no-plots', action='store_true', help='skip the PNG plots')
     args = p.parse_args(argv)
@@ -82,13 +82,13 @@ def main(argv=None):
             return 2
         kinds = {type(v) for v in sweep.grid[axis]}
         try:
-            where[axis] = float(value) if float in kinds else value
+            where[axis] = [float(v) if float in kinds else v for v in value.split(',')]
         except ValueError:
             print(f'error: --where {item}: {axis} takes a number', file=sys.stderr)
             return 2
     n = sweep.n_cells * (args.episodes or sweep.episodes)
-    for axis in where:
-        n //= len(sweep.grid[axis])
+    for axis, values in where.items():
+        n = n * len(values) // len(sweep.grid[axis])
     print(f'sweep {sweep.name}: {sweep.n_cells} grid cells x {args.episodes or sweep.episodes} '
           f'episodes = {n}, backend {backend}' + (f' ({address})' if address else ''),
           flush=True)

@@ -49,15 +49,17 @@ def run_sweep(sweep, backend='local', workers=None, chunk_size=None, address=Non
 
     ``backend`` 'local' or 'ray'; ``episodes`` / ``duration`` override the file's samples per
     cell and episode length; ``chunk_size`` None = episodes.auto_chunk_size; ``where``
-    {grid axis: value}: only those cells (episode indices and draws as in the whole sweep)."""
+    {grid axis: value or list of values}: only those cells (episode indices and draws as in the
+    whole sweep)."""
     import os
     eps = expand(sweep, episodes)
-    for axis, value in (where or {}).items():
-        if axis not in sweep.grid or value not in sweep.grid[axis]:
+    for axis, values in (where or {}).items():
+        values = values if isinstance(values, list) else [values]
+        if axis not in sweep.grid or not set(values) <= set(sweep.grid[axis]):
             from .spec import SweepError
-            raise SweepError(f'--where {axis}={value}: not a grid axis value; grid: '
+            raise SweepError(f'--where {axis}={values}: not a grid axis value; grid: '
                              f'{sweep.grid}')
-        eps = [e for e in eps if e[axis] == value]
+        eps = [e for e in eps if e[axis] in values]
     if duration is not None:
         eps = [dict(e, duration_s=float(duration)) for e in eps]
     eps = with_route_keys(eps, sweep.source)

@@ -1,7 +1,7 @@
 """Section ``sweep``: throughput of scripts/sweep.py with local processes and Ray, 1 and 2 workers.
 
 One fixed sweep (SWEEP below: Mariner, ILOS + PD on the Table I curved path, random starts and
-currents, EPISODES episodes of DURATION_S s, CHUNK episodes per task, each chunk one batched
+currents, EPISODES episodes of DURATION_S s, CHUNK episodes per task (QUICK_CHUNK quick), each chunk one batched
 closed loop) runs four times: local processes with 1 and 2 workers, then a private local Ray
 instance of 1 and 2 CPUs. Each run is timed from handing the chunks to the backend to the last
 row back (Ray is started and warmed up before: its start-up is reported apart); the table must
@@ -16,7 +16,7 @@ from . import common
 
 EPISODES, QUICK_EPISODES = 320, 40
 DURATION_S = 200.0
-CHUNK = 20
+CHUNK, QUICK_CHUNK = 20, 10
 GOAL_SPEEDUP = 1.7
 SWEEP = {'name': 'bench_sweep', 'seed': 11, 'episodes': 1,
          'base': {'model': 'mariner', 'controller': 'ilos', 'duration_s': DURATION_S},
@@ -27,11 +27,11 @@ SWEEP = {'name': 'bench_sweep', 'seed': 11, 'episodes': 1,
                   'start_heading_deg': {'uniform': [-20, 20]}}}
 
 
-def _run(sweep, backend, workers, episodes):
+def _run(sweep, backend, workers, episodes, chunk=CHUNK):
     from montecarlo import results
     from montecarlo.driver import run_sweep
     load = os.getloadavg()[0]
-    rows, run = run_sweep(sweep, backend, workers=workers, chunk_size=CHUNK, episodes=episodes,
+    rows, run = run_sweep(sweep, backend, workers=workers, chunk_size=chunk, episodes=episodes,
                           progress=False)
     return results.table_text(rows, sweep.columns()), dict(run, load=load)
 
@@ -41,10 +41,14 @@ def run(quick=False):
     from montecarlo.backends import start_local_ray
     sweep = spec.parse(SWEEP, 'bench_sweep')
     n = QUICK_EPISODES if quick else EPISODES
-    _run(sweep, 'local', 1, 2)          # imports and policy/route caches, outside the timing
+    # Imports and route cache in this process, outside the timing: forked workers inherit them
+    # (Ray's workers are warmed up by a run of their own below).
+    from montecarlo.episodes import run_chunk, with_route_keys
+    run_chunk(with_route_keys(spec.expand(sweep, 2)))
+    chunk = QUICK_CHUNK if quick else CHUNK
     out, tables, notes = [], set(), []
     for workers in (1, 2):
-        text, r = _run(sweep, 'local', workers, n)
+        text, r = _run(sweep, 'local', workers, n, chunk)
         tables.add(text)
         out.append(dict(r, label=f'local processes x{workers}'))
     try:
@@ -55,7 +59,7 @@ def run(quick=False):
             start = time.monotonic() - t0
             try:
                 _run(sweep, 'ray', workers, 2 * workers)     # start the workers
-                text, r = _run(sweep, 'ray', workers, n)
+                text, r = _run(sweep, 'ray', workers, n, chunk)
             finally:
                 ray.shutdown()
             tables.add(text)
@@ -73,7 +77,7 @@ def run(quick=False):
             goals.append(common.goal(f'{name}: 2 workers / 1 worker throughput', two / one,
                                      GOAL_SPEEDUP, 'x', below=False))
     notes.append(f'{n} episodes of {DURATION_S:g} s (Mariner, ILOS + PD, random starts and '
-                 f'currents), {CHUNK} per task; identical tables across runs: '
+                 f'currents), {chunk} per task; identical tables across runs: '
                  f'{"yes" if len(tables) == 1 else "NO"}; {os.cpu_count()} CPUs')
     return {'title': 'sweep throughput: local processes and Ray, 1 and 2 workers',
             'columns': [['backend', 'backend'], ['episodes', 'episodes'], ['wall_s', 'wall s'],

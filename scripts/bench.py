@@ -12,6 +12,7 @@ Sections (registry: scripts/benchmarks/__init__.py):
   closed_loop_inprocess  the flagship loop's pure modules in one process (no ROS)
   colav        one collision-avoidance decision with 10 targets, SB-MPC and VO (ms)
   imazu        Imazu benchmark runs in process: time per run, decisions/s (mariner, 600 s sim)
+  sweep        scripts/sweep.py throughput: local processes and Ray, 1 and 2 workers
   controllers  Martinsen and Lekkas 2018's Table I: classical controllers vs the learned policy (~10 min)
 
 The JSON (default bench/results/bench.json, git-ignored) holds the machine (CPU count and

@@ -34,6 +34,8 @@ Setup (the same for every controller):
   (psi_c += 2 zeta U kappa / omega_n), look-ahead d ship lengths. (k, d) per ship come from
   ``--tune``: a grid search on the training environment's curve pool (learning.env, other
   curves and starts than this table's), never on the evaluation path; TUNED holds its result.
+  'ilos_lead' = the same with integral LOS (sigma = U0 / 4) for the steady drift of a current,
+  tuned by the same procedure (``--tune --tune-controller ilos_lead``; TUNED_ILOS).
 
 Metrics per run: cumulative Gaussian (mean over starts), mean and max |e| (m), mean |e| over the
 last 500 s (settled), rudder activity = mean |d delta / dt| of the actual rudder (deg/s) and
@@ -62,14 +64,20 @@ ROOT = Path(__file__).resolve().parent.parent
 
 MODELS = ('mariner', 'container', 'tanker')
 CURRENTS = (0.0, 0.9)
-CONTROLLERS = ('los', 'ilos', 'fuzzy_pid', 'los_lead', 'policy')
+CONTROLLERS = ('los', 'ilos', 'fuzzy_pid', 'los_lead', 'ilos_lead', 'policy')
 LABELS = {'los': 'LOS + PD', 'ilos': 'ILOS + PD', 'fuzzy_pid': 'LOS + fuzzy PID',
-          'los_lead': 'LOS + fast PD + turn-rate lead', 'policy': 'DDPG policy (ours)'}
+          'los_lead': 'LOS + fast PD + turn-rate lead',
+          'ilos_lead': 'ILOS + fast PD + turn-rate lead', 'policy': 'DDPG policy (ours)'}
+#: The tuned loops ('los_lead', 'ilos_lead'): fast PD + turn-rate lead, plain or integral LOS.
+LEAD_CONTROLLERS = ('los_lead', 'ilos_lead')
 #: 'los_lead' tuning per ship: (omega_n in units of U / L, look-ahead in ship lengths), chosen by
 #: ``--tune`` (grid TUNE_GRID, mean Gaussian over the training pool's curves; see TUNE_* below;
 #: the tanker's optimum lay at the grid's longest look-ahead, so it was searched further with
 #: ``--tune --models tanker --grid 1,1.5,2/3.5,5,7``).
 TUNED = {'mariner': (2.5, 1.0), 'container': (2.5, 1.5), 'tanker': (1.5, 3.5)}
+#: 'ilos_lead' tuning per ship, by the same ``--tune`` procedure and grid (``--tune
+#: --tune-controller ilos_lead``; no optimum at the grid's edge).
+TUNED_ILOS = {'mariner': (2.5, 1.5), 'container': (1.5, 2.5), 'tanker': (2.5, 1.5)}
 TUNE_GRID = {'omega_n_nd': (1.0, 1.5, 2.5, 3.5), 'lookahead_L': (0.75, 1.0, 1.5, 2.5, 3.5)}
 TUNE_STARTS, TUNE_SEED = 4, 7
 #: Martinsen and Lekkas 2018 Table I: (model, current) -> cumulative Gaussian reward.
@@ -90,33 +98,54 @@ def start_states(k, seed=2024):
              'current_direction': rng.uniform(-math.pi, math.pi)} for _ in range(k)]
 
 
-def run(model, route, controller, starts, current, duration, policy_file=None, tuning=None):
+def loop_design(model_name, controller, speed, length, tuning=None):
+    """Guidance and heading-loop design of a controller: law, lookahead (m), zeta, omega_n
+    (rad/s), lead (turn-rate lead on or off), integral_gain (m/s, ILOS) and, for the tuned loops,
+    the PD gains k1, k2 placed at that omega_n on the identified Nomoto model."""
+    gains = autopilot_gains(model_name)
+    d = {'law': 'ilos' if controller in ('ilos', 'ilos_lead') else 'los',
+         'lookahead': LOOKAHEAD_SHIP_LENGTHS * length, 'zeta': gains['zeta'],
+         'omega_n': gains['omega_n'], 'lead': False, 'integral_gain': speed / 4.0}
+    if controller in LEAD_CONTROLLERS:
+        omega_n_nd, lookahead_L = tuning or (TUNED if controller == 'los_lead'
+                                             else TUNED_ILOS)[model_name]
+        d.update(omega_n=omega_n_nd * speed / length, lookahead=lookahead_L * length, lead=True)
+        nomoto = nomoto_gains(model_name)
+        d['k1'], d['k2'] = pd_gains(nomoto['a'], nomoto['b'], omega_n=d['omega_n'],
+                                    zeta=d['zeta'])
+    return d
+
+
+def guidance_for(route, design, speed):
+    """The Guidance of a ``loop_design`` (ValueError beyond the loop's stability limit)."""
+    return Guidance(route, design['law'], design['lookahead'],
+                    integral_gain=design['integral_gain'], zeta=design['zeta'],
+                    omega_n=design['omega_n'], speed=speed, curvature_lead=design['lead'])
+
+
+def run(model, route, controller, starts, current, duration, policy_file=None, tuning=None,
+        current_field=None):
     """Simulate every start with one controller; returns per-start metric arrays.
-    ``tuning``: (omega_n_nd, lookahead_L) for 'los_lead' instead of TUNED."""
+    ``tuning``: (omega_n_nd, lookahead_L) for 'los_lead' / 'ilos_lead' instead of TUNED /
+    TUNED_ILOS. ``current_field``: a ship_sim.current.OceanCurrent of shape (len(starts),)
+    advanced every step (a varying current) instead of the constant one of the starts."""
     k = len(starts)
     env = PathFollowingBatch(model, k, EnvConfig(mode='straight', sim_dt=SIM_DT,
                                                  control_dt=SIM_DT), routes=[route])
     env.reset(starts=[dict(s, current_speed=current) for s in starts])
     m = env.model
     gains = autopilot_gains(m.name)
-    speed, length = env.speed0, env.length
-    law = 'ilos' if controller == 'ilos' else 'los'
-    lookahead, zeta, omega_n, lead = (LOOKAHEAD_SHIP_LENGTHS * length, gains['zeta'],
-                                      gains['omega_n'], False)
-    if controller == 'los_lead':
-        omega_n_nd, lookahead_L = tuning or TUNED[m.name]
-        omega_n, lookahead, lead = omega_n_nd * speed / length, lookahead_L * length, True
-    guides = [Guidance(route, law, lookahead, integral_gain=speed / 4.0, zeta=zeta,
-                       omega_n=omega_n, speed=speed, curvature_lead=lead) for _ in range(k)]
+    speed = env.speed0
+    d = loop_design(m.name, controller, speed, env.length, tuning)
+    guides = [guidance_for(route, d, speed) for _ in range(k)]
     if controller == 'policy':
         policy = load_policy(m.name, policy_file)
         steering = [LearnedSteering(policy) for _ in range(k)]
         features = PathFeatures((k,))
         control_dt = policy.control_dt
-    elif controller == 'los_lead':
-        nomoto = nomoto_gains(m.name)
-        k1, k2 = pd_gains(nomoto['a'], nomoto['b'], omega_n=omega_n, zeta=zeta)
-        autopilot = build_autopilot('pd', {'k1': k1, 'k2': k2}, m.rudder_max, m.rudder_rate_max)
+    elif controller in LEAD_CONTROLLERS:
+        autopilot = build_autopilot('pd', {'k1': d['k1'], 'k2': d['k2']}, m.rudder_max,
+                                    m.rudder_rate_max)
     else:
         autopilot = build_autopilot('pd' if controller in ('los', 'ilos') else 'fuzzy_pid',
                                     gains, m.rudder_max, m.rudder_rate_max)
@@ -149,14 +178,43 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
         else:
             psi_c = np.array([o.heading_cmd for o in outs])
             cmd = np.asarray(autopilot.update(psi, env.x[:, m.IR], psi_c, SIM_DT))
+        if current_field is not None:
+            env.current[:, 0], env.current[:, 1] = current_field.velocity_ne()
+            current_field.advance(SIM_DT)
         ok = env.integrate(cmd, 1)
         if not ok.all():
             raise RuntimeError(f'{model}/{controller}: state left the model domain')
     settle = abs_e[n_steps // 2:]
     return {'gaussian': gauss, 'mean_abs_e': abs_e.mean(0), 'max_abs_e': abs_e.max(0),
+            'rms_e': np.sqrt(np.mean(abs_e ** 2, axis=0)),
             'mean_abs_e_settled': settle.mean(0),
             'rudder_rate_deg_s': np.degrees(np.abs(np.diff(rudder, axis=0)).mean(0) / SIM_DT),
             'mean_abs_rudder_deg': np.degrees(np.abs(rudder).mean(0))}
+
+
+def run_batched(model, routes, controller, starts, duration, tunings=None):
+    """``run`` for many starts at once in the batched closed loop
+    (ship_autopilot.batch_closed_loop), each equal to ``run`` to rounding. ``starts``: dicts
+    as ``run``'s, each with its ``route`` (index into ``routes``) and ``current_speed``;
+    ``tunings``: one (omega_n_nd, lookahead_L) or None per start (tuned loops). Returns the
+    metrics (name -> array per start, BatchClosedLoop.METRICS)."""
+    from ship_autopilot.batch_closed_loop import START_KEYS, BatchClosedLoop
+    kind = {'fuzzy_pid': 'fuzzy_pid', 'policy': 'policy'}.get(controller, 'pd')
+    law = 'ilos' if controller in ('ilos', 'ilos_lead') else 'los'
+    loop = BatchClosedLoop(model, routes, kind, law, sim_dt=SIM_DT)
+    tunings = tunings or [None] * len(starts)
+    designs = {t: loop_design(loop.model.name, controller, loop.speed, loop.length, t)
+               for t in dict.fromkeys(tunings)}
+    eps = {k: [s[k] for s in starts] for k in START_KEYS}
+    eps['lookahead'] = [designs[t]['lookahead'] for t in tunings]
+    eps['integral_gain'] = [designs[t]['integral_gain'] for t in tunings]
+    if controller in LEAD_CONTROLLERS:
+        # The Guidance of each design (its stability check included) gives the lead.
+        lead = {t: guidance_for(routes[0], d, loop.speed)._lead for t, d in designs.items()}
+        eps['lead'] = [lead[t] for t in tunings]
+        eps['k1'] = [designs[t]['k1'] for t in tunings]
+        eps['k2'] = [designs[t]['k2'] for t in tunings]
+    return loop.run(eps, duration).metrics
 
 
 def _task(args):
@@ -177,41 +235,65 @@ def _task(args):
     return summary
 
 
+def tune_starts(model):
+    """The tuning episodes of ``model``: TUNE_STARTS (route, start) pairs, start i on a curve
+    of the training pool drawn with seed TUNE_SEED + i, current alternating 0 / 0.9 m/s."""
+    out = []
+    for i in range(TUNE_STARTS):
+        rng = np.random.default_rng(TUNE_SEED + i)
+        env = PathFollowingBatch(model, 1, EnvConfig(n_routes=1), seed=TUNE_SEED + i)
+        start = env.sample_starts(1)[0]
+        start['current_speed'] = CURRENTS[i % len(CURRENTS)]
+        start['along'] = rng.uniform(0.0, 500.0)
+        out.append((env.routes[0], dict(start, route=i)))
+    return out
+
+
 def _tune_task(args):
-    model, tuning, i = args
-    rng = np.random.default_rng(TUNE_SEED + i)
-    env = PathFollowingBatch(model, 1, EnvConfig(n_routes=1), seed=TUNE_SEED + i)
-    start = env.sample_starts(1)[0]
-    start['current_speed'] = CURRENTS[i % len(CURRENTS)]
-    start['along'] = rng.uniform(0.0, 500.0)
-    r = run(model, env.routes[0], 'los_lead', [dict(start, route=0)], start['current_speed'],
-            1000.0, tuning=tuning)
-    return float(r['gaussian'][0])
+    """Scores of every stable grid point of one model (-inf beyond the stability limit), all
+    grid points and starts in one batched closed loop."""
+    model, grid, controller, duration = args
+    pairs = tune_starts(model)
+    routes = [r for r, _ in pairs]
+    stable = []
+    for g in grid:
+        try:
+            m = PathFollowingBatch(model, 1, EnvConfig(mode='straight'), routes=routes[:1])
+            guidance_for(routes[0], loop_design(m.model.name, controller, m.speed0, m.length,
+                                                g), m.speed0)
+            stable.append(g)
+        except ValueError as exc:   # a grid point beyond the loop's stability limit
+            if 'stability limit' not in str(exc):
+                raise
+    starts = [s for _ in stable for _, s in pairs]
+    tunings = [g for g in stable for _ in pairs]
+    gauss = run_batched(model, routes, controller, starts, duration, tunings)['gaussian']
+    scores = {g: [-math.inf] * len(pairs) for g in grid}
+    for k, g in enumerate(tunings):
+        scores[g][k % len(pairs)] = float(gauss[k])
+    return scores
 
 
-def tune(models, jobs=1, grid=None):
-    """Grid search of 'los_lead' (omega_n_nd, lookahead_L) per ship on TUNE_STARTS curves of the
-    training pool (learning.env, seeds TUNE_SEED + i; currents alternate 0 / 0.9 m/s);
-    returns {model: {'best': (k, d), 'scores': {"k/d": mean Gaussian}}}."""
+def tune(models, jobs=1, grid=None, controller='los_lead', duration=1000.0):
+    """Grid search of a tuned loop's (omega_n_nd, lookahead_L) ('los_lead' or 'ilos_lead') per
+    ship on TUNE_STARTS curves of the training pool (``tune_starts``), every episode of a ship
+    in one batched closed loop; returns {model: {'best': (k, d), 'scores': {"k/d": mean
+    Gaussian}}}."""
     g = grid or TUNE_GRID
     grid = [(k, d) for k in g['omega_n_nd'] for d in g['lookahead_L']]
-    tasks = [(m, g, i) for m in models for g in grid for i in range(TUNE_STARTS)]
+    tasks = [(m, grid, controller, duration) for m in models]
     if jobs > 1:
         import multiprocessing
         with multiprocessing.Pool(jobs) as pool:
-            scores = pool.map(_tune_task, tasks, chunksize=1)
+            per_model = pool.map(_tune_task, tasks, chunksize=1)
     else:
-        scores = [_tune_task(t) for t in tasks]
+        per_model = [_tune_task(t) for t in tasks]
     out = {}
-    for m in models:
-        table = {}
-        for (tm, g, _), sc in zip(tasks, scores):
-            if tm == m:
-                table.setdefault(g, []).append(sc)
+    for m, table in zip(models, per_model):
         means = {g: float(np.mean(v)) for g, v in table.items()}
         best = max(means, key=means.get)
-        out[m] = {'best': best, 'scores': {f'{k:g}/{d:g}': round(v, 1)
-                                           for (k, d), v in means.items()}}
+        out[m] = {'best': best, 'scores': {f'{k:g}/{d:g}': round(v, 1) if math.isfinite(v)
+                                           else 'unstable' for (k, d), v in means.items()}}
         print(f'{m:9s} best omega_n = {best[0]:g} U/L, look-ahead {best[1]:g} L: '
               f'{means[best]:.0f}  ({out[m]["scores"]})', flush=True)
     return out
@@ -302,6 +384,9 @@ def main(argv=None):
     p.add_argument('--tune', action='store_true',
                    help="grid-search the 'los_lead' tuning on the training curve pool, print "
                         'it (paste into TUNED) and write <out>_tuning.json; no evaluation')
+    p.add_argument('--tune-controller', default='los_lead', choices=LEAD_CONTROLLERS,
+                   help='with --tune: the loop to tune (default %(default)s; paste ilos_lead '
+                        'into TUNED_ILOS)')
     p.add_argument('--grid', default=None, metavar='K1,K2/D1,D2',
                    help='with --tune: omega_n values (U/L) / look-aheads (L) instead of TUNE_GRID')
     args = p.parse_args(argv)
@@ -316,10 +401,12 @@ def main(argv=None):
             ks, ds = args.grid.split('/')
             grid = {'omega_n_nd': tuple(float(k) for k in ks.split(',')),
                     'lookahead_L': tuple(float(d) for d in ds.split(','))}
-        tuned = tune(models, args.jobs, grid)
-        out = Path(args.out + '_tuning.json')
+        tuned = tune(models, args.jobs, grid, args.tune_controller)
+        suffix = '' if args.tune_controller == 'los_lead' else f'_{args.tune_controller}'
+        out = Path(args.out + f'_tuning{suffix}.json')
         out.parent.mkdir(parents=True, exist_ok=True)
-        out.write_text(json.dumps({'grid': grid, 'starts': TUNE_STARTS, 'seed': TUNE_SEED,
+        out.write_text(json.dumps({'controller': args.tune_controller, 'grid': grid,
+                                   'starts': TUNE_STARTS, 'seed': TUNE_SEED,
                                    'results': tuned}, indent=2))
         print(f'wrote {out}')
         return 0

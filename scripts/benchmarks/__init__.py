@@ -35,6 +35,8 @@ SECTIONS = {
     'colav': ('colav', 'run', 'one collision-avoidance decision with 10 targets (SB-MPC, VO)'),
     'waves': ('waves', 'run', 'per-step cost of the wave-frequency motion and the wave filter'),
     'imazu': ('imazu', 'run', 'Imazu benchmark runs in process: time per run, decisions/s'),
+    'sweep': ('sweep', 'run', 'scripts/sweep.py throughput: local processes and Ray, 1 and 2 '
+              'workers'),
     'controllers': ('controllers', 'run', "Martinsen and Lekkas 2018's Table I: classical controllers vs the "
                     'learned policy on curved paths'),
 }

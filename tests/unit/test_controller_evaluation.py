@@ -78,3 +78,15 @@ def test_compare_reads_time_to_threshold_per_seed(tmp_path, capsys):
     assert s2['850']['transitions'] == {'scratch': None, 'transfer': 120_000.0}
     assert s2['850']['saving'] == pytest.approx(0.2) and s2['850']['bound'] == 'lower'
     assert (tmp_path / 'mariner_compare.png').stat().st_size > 0
+
+
+def test_batched_tuning_scores_each_start_as_the_single_loop_and_refuses_unstable_points():
+    # (1.0 U/L, 0.75 L) is beyond the ILOS loop's stability limit d > (U + 4 zeta^2 sigma) /
+    # (2 zeta omega_n) with sigma = U / 4 (ship_guidance.los): scored -inf, not run.
+    stable, unstable = (2.5, 1.0), (1.0, 0.75)
+    scores = ec._tune_task(('mariner', [stable, unstable], 'ilos_lead', 30.0))
+    assert scores[unstable] == [-math.inf] * ec.TUNE_STARTS
+    for (route, start), score in zip(ec.tune_starts('mariner'), scores[stable]):
+        ref = ec.run('mariner', route, 'ilos_lead', [dict(start, route=0)],
+                     start['current_speed'], 30.0, tuning=stable)
+        assert score == pytest.approx(ref['gaussian'][0], rel=1e-12)

@@ -12,7 +12,7 @@ Units: a (1/s), b (1/s^2), omega_n (rad/s), zeta (-), k1 (rad rudder per rad hea
 k2 (s). Signs: unified rudder (+ turns to port), NED psi, r; for a normal ship a = -1/T < 0 and
 b = -K/T < 0 (K > 0), so k1 > 0 and k2 > 0 (see ship_sim.models.nomoto).
 """
-import math
+import numpy as np
 
 from ship_guidance.heading_loop import pd_gains
 
@@ -30,16 +30,14 @@ class PDAutopilot(HeadingController):
 
     ``PDAutopilot(k1, k2, limiter)``; ``PDAutopilot.from_nomoto(a, b, omega_n, zeta, limiter)``
     designs the gains with ``pd_gains``. No internal state besides the previous command.
+    k1, k2 may be arrays of per-vessel gains (a batch, ship_autopilot.batch_closed_loop).
     """
 
     name = 'pd'
     scalar_law = True
 
     def __init__(self, k1, k2, limiter):
-        self.k1, self.k2 = float(k1), float(k2)
-        for key, val in (('k1', self.k1), ('k2', self.k2)):
-            if not math.isfinite(val):
-                raise ValueError(f'{key} = {val!r} must be finite')
+        self.k1, self.k2 = _gain('k1', k1), _gain('k2', k2)
         super().__init__(limiter)
 
     @classmethod
@@ -51,6 +49,14 @@ class PDAutopilot(HeadingController):
 
     def __repr__(self):
         return f'PDAutopilot(k1={self.k1!r}, k2={self.k2!r}, limiter={self.limiter!r})'
+
+
+def _gain(key, value):
+    """A gain as a float, or a copied array of per-vessel gains (a batch); finite."""
+    v = np.array(value, dtype=float)
+    if not np.all(np.isfinite(v)):
+        raise ValueError(f'{key} = {value!r} must be finite')
+    return float(v) if v.ndim == 0 else v
 
 
 __all__ = ['PDAutopilot', 'RudderLimiter', 'nomoto_ab', 'pd_gains']

@@ -242,6 +242,7 @@ class Route:
         self.length = float(self.cumulative[-1])
         # Per-leg arrays for the vectorised closest-point search; unused entries stay 0.
         self._is_arc = np.array([leg.kind == 'arc' for leg in legs])
+        self._has_arcs = bool(self._is_arc.any())
         self._p0 = np.array([leg.start for leg in legs])
         self._unit = np.zeros((m, 2))
         self._center = np.zeros((m, 2))
@@ -464,33 +465,49 @@ class Route:
     def _closest_vectorised(self, pn, pe, lo, hi, i0, i1):
         """Closest point on legs i0..i1 restricted to arc lengths [lo, hi], all legs at once:
         (leg, s, t, north, east, path_angle, distance)."""
-        c = self.cumulative
         sl = slice(i0, i1 + 1)  # contiguous legs: views, no copies
-        c0, lengths = c[sl], self.leg_lengths[sl]
-        ta = np.minimum(np.maximum(lo - c0, 0.0), lengths)
-        tb = np.minimum(np.maximum(hi - c0, 0.0), lengths)
-        arc = self._is_arc[sl]
+        c0 = self.cumulative[sl]
+        t, fn, fe, fa, dist = self.closest_on_legs(sl, pn, pe, lo - c0, hi - c0)
+        k = int(np.argmin(dist))
+        return (i0 + k, float(c0[k] + t[k]), float(t[k]), float(fn[k]), float(fe[k]),
+                float(fa[k]), float(dist[k]))
+
+    def closest_on_legs(self, i, pn, pe, lo_local, hi_local):
+        """Closest points of (pn, pe) on legs ``i`` (a slice or an index array), each leg
+        searched over its local arc lengths [lo_local, hi_local] (clamped to the leg):
+        arrays (t, north, east, path_angle, distance) of the shape of ``i`` broadcast with the
+        inputs. The one closest-point kernel of ``project`` (many legs) and of the batched
+        guidance (ship_guidance.batch_guidance: one row of candidate legs per vessel)."""
+        lengths = self.leg_lengths[i]
+        if not self._has_arcs:  # lines only: the line branch below, without the arc work
+            p0, unit = self._p0[i], self._unit[i]
+            t = np.minimum(np.maximum(
+                (pn - p0[..., 0]) * unit[..., 0] + (pe - p0[..., 1]) * unit[..., 1],
+                np.minimum(np.maximum(lo_local, 0.0), lengths)),
+                np.minimum(np.maximum(hi_local, 0.0), lengths))
+            fn, fe = p0[..., 0] + t * unit[..., 0], p0[..., 1] + t * unit[..., 1]
+            return t, fn, fe, self._angle[i], np.hypot(fn - pn, fe - pe)
+        ta = np.minimum(np.maximum(lo_local, 0.0), lengths)
+        tb = np.minimum(np.maximum(hi_local, 0.0), lengths)
+        arc = self._is_arc[i]
         # Lines: perpendicular foot clamped to the searched part.
-        p0, unit = self._p0[sl], self._unit[sl]
+        p0, unit = self._p0[i], self._unit[i]
         t_line = np.minimum(np.maximum(
-            (pn - p0[:, 0]) * unit[:, 0] + (pe - p0[:, 1]) * unit[:, 1], ta), tb)
+            (pn - p0[..., 0]) * unit[..., 0] + (pe - p0[..., 1]) * unit[..., 1], ta), tb)
         # Arcs: radial foot if it lies in the searched part, else the nearer end of that part
         # (distance to a circle point grows with the wrapped angle from the radial foot).
-        radius = np.where(arc, self._radius[sl], 1.0)
-        center = self._center[sl]
-        phi = np.arctan2(pe - center[:, 1], pn - center[:, 0])
-        t_free = ((self._dir[sl] * (phi - self._theta0[sl])) % TWO_PI) * radius
+        radius = np.where(arc, self._radius[i], 1.0)
+        center = self._center[i]
+        phi = np.arctan2(pe - center[..., 1], pn - center[..., 0])
+        t_free = ((self._dir[i] * (phi - self._theta0[i])) % TWO_PI) * radius
         # wrapped angles from the radial foot to the two ends of the searched part
         ga = np.abs(wrap_angle((ta - t_free) / radius))
         gb = np.abs(wrap_angle((tb - t_free) / radius))
         t_end = np.where(ga <= gb, ta, tb)
         t_arc = np.where((t_free >= ta) & (t_free <= tb), t_free, t_end)
         t = np.where(arc, t_arc, t_line)
-        fn, fe, fa = self._eval(sl, t)
-        dist = np.hypot(fn - pn, fe - pe)
-        k = int(np.argmin(dist))
-        return (i0 + k, float(c0[k] + t[k]), float(t[k]), float(fn[k]), float(fe[k]),
-                float(fa[k]), float(dist[k]))
+        fn, fe, fa = self._eval(i, t)
+        return t, fn, fe, fa, np.hypot(fn - pn, fe - pe)
 
     def along(self, leg_index, north, east):
         """Unclamped local arc length of a position on leg ``leg_index`` (see Line/Arc.along)."""

@@ -60,7 +60,8 @@ def weights_hash(weights):
 
 
 def mlp_forward(weights, z):
-    """tanh(relu(relu(z W0 + b0) W1 + b1) W2 + b2) for z (..., 9) float32 -> (...,) in [-1, 1]."""
+    """tanh(relu(relu(z W0 + b0) W1 + b1) W2 + b2) for z (..., 9) -> (...,) in [-1, 1]
+    (in the dtype of z and the weights)."""
     h = np.maximum(z @ weights['W0'] + weights['b0'], 0.0)
     h = np.maximum(h @ weights['W1'] + weights['b1'], 0.0)
     return np.tanh(h @ weights['W2'] + weights['b2'])[..., 0]
@@ -71,6 +72,7 @@ class Policy:
 
     def __init__(self, weights, meta, path='<memory>'):
         self.weights = weights
+        self._weights64 = {k: np.asarray(v, dtype=np.float64) for k, v in weights.items()}
         self.meta = meta
         self.path = str(path)
         self.model = meta['model']
@@ -85,9 +87,13 @@ class Policy:
         return normalise(raw_state, self.offset, self.scale, self.clip)
 
     def action(self, z):
-        """Normalised observation(s) (..., 9) -> action(s) in [-1, 1] (float32)."""
-        z = np.asarray(z, dtype=np.float32)
-        return mlp_forward(self.weights, z)
+        """Normalised observation(s) (..., 9) -> action(s) in [-1, 1] (float64).
+
+        Evaluated in float64 on float64 copies of the float32 weights: float32 BLAS sums a batch
+        of rows in another order than one row (differences of ~1e-6), float64 keeps one vessel
+        and a batch (ship_autopilot.batch_closed_loop) equal to ~1e-16."""
+        z = np.asarray(z, dtype=np.float32).astype(np.float64)
+        return mlp_forward(self._weights64, z)
 
     def rudder(self, raw_state):
         """Raw eq. 9 state(s) -> rudder command(s) (rad, unified sign), always finite."""

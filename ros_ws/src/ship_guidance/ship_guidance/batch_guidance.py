@@ -1,0 +1,208 @@
+"""Route-following guidance for N vessels on one route, stepped together as arrays (pure).
+
+``BatchGuidance`` is ``guidance.Guidance`` (LOS / ILOS, optional turn-rate lead) for a batch:
+each vessel's output equals what its own ``Guidance`` would give for the same positions, to
+rounding (tested in tests/unit/test_batch_closed_loop.py). It keeps Guidance's rules (closest
+point within a progress window, corners, acceptance circle, end normal, the ILOS integrator of
+Borhaug et al. 2008, frozen once finished) and takes them from it where they are not per-step
+work: the corner stretches and the first update (closest point of the whole route) come from a
+template ``Guidance`` of the same route; the per-step closest-point search runs the route's
+one kernel (``Route.closest_on_legs``) on a (vessels x candidate legs) table; switching at
+corners is re-run only for the vessels that switched. The law is los.py's (``los_heading``'s
+arithmetic, unwrapped until the lead is added, as Guidance does).
+
+Per-vessel parameters may be arrays of length N or scalars: lookahead d (m), integral_gain
+sigma (m/s, ILOS), lead (s; the turn-rate lead 2 zeta U / omega_n of Guidance, 0 for none),
+window (m; default 2 d). Per batch: law, acceptance_radius (m), corner_angle (rad),
+reset_integral_at_corners. Units m, s, rad, NED. Not covered: the course law and
+``arc_los_point`` (use Guidance).
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ship_sim.frames import wrap_angle
+
+from .guidance import Guidance
+from .path import Route
+
+BATCH_LAWS = ('los', 'ilos')
+
+
+@dataclass
+class BatchGuidanceOutput:
+    """One batch guidance step, arrays of length N (fields as guidance.GuidanceOutput)."""
+    heading_cmd: np.ndarray
+    cross_track: np.ndarray
+    path_angle: np.ndarray
+    curvature: np.ndarray
+    s: np.ndarray
+    leg_index: np.ndarray
+    finished: np.ndarray
+    integral: np.ndarray
+
+
+def _per_vessel(name, value, n, positive=True, allow_zero=False):
+    v = np.broadcast_to(np.asarray(value, dtype=float), (n,)).copy()
+    bad = ~np.isfinite(v) | (v < 0.0) | ((v == 0.0) & (not allow_zero)) if positive else \
+        ~np.isfinite(v)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        bound = '>= 0' if allow_zero else '> 0'
+        raise ValueError(f'{name} must be finite and {bound}, got {v[i]!r} (vessel {i})')
+    return v
+
+
+class BatchGuidance:
+    """LOS / ILOS guidance of N vessels on ``route`` (module docstring).
+
+    ``update(north, east, dt)`` -> BatchGuidanceOutput; the first call (and the first after
+    ``reset``) searches the whole route, as Guidance's does; ``dt`` (s) integrates ILOS.
+    """
+
+    def __init__(self, route, n, law='ilos', lookahead=100.0, *, integral_gain=0.5, lead=0.0,
+                 window=None, acceptance_radius=0.0, corner_angle=math.radians(1.0),
+                 reset_integral_at_corners=False):
+        if not isinstance(route, Route):
+            raise ValueError(f'route must be a ship_guidance.path.Route, got '
+                             f'{type(route).__name__}')
+        if law not in BATCH_LAWS:
+            raise ValueError(f'law must be one of {BATCH_LAWS} for a batch, got {law!r}')
+        self.n = n = int(n)
+        self.route, self.law = route, law
+        self.lookahead = _per_vessel('lookahead', lookahead, n)
+        self.integral_gain = (_per_vessel('integral_gain', integral_gain, n) if law == 'ilos'
+                              else np.zeros(n))
+        self.lead = _per_vessel('lead', lead, n, positive=False)
+        self.window = (2.0 * self.lookahead if window is None
+                       else _per_vessel('window', window, n))
+        self.reset_integral_at_corners = bool(reset_integral_at_corners)
+        # The scalar guidance of this route: its stretches, and its first update.
+        self.template = Guidance(route, 'los', 1.0, acceptance_radius,
+                                 corner_angle=corner_angle)
+        g = self.template
+        self.acceptance_radius = g.acceptance_radius
+        self._lo = np.array([b[0] for b in g._stretch_s])
+        self._hi = np.array([b[1] for b in g._stretch_s])
+        self._end_leg = np.array([e[0] for e in g._stretch_end], dtype=int)
+        self._end_ne = np.array([e[1:] for e in g._stretch_end], dtype=float)
+        self._n_stretch = len(self._lo)
+        self._ends = route.cumulative[1:]
+        self._starts = route.cumulative[:-1]
+        self._n_legs = len(route.legs)
+        self.reset()
+
+    def reset(self):
+        """Forget progress: the next update searches the whole route for every vessel."""
+        n = self.n
+        self.s = None
+        self.k = np.zeros(n, dtype=int)
+        self.prev = None
+        self.integral = np.zeros(n)
+        self.finished = np.zeros(n, dtype=bool)
+
+    # -- the closest point -------------------------------------------------------------------
+    def _first_projection(self, north, east):
+        """Guidance's first update, vessel by vessel (once per episode)."""
+        g = self.template
+        out = np.empty((6, self.n))
+        for i, (pn, pe) in enumerate(zip(north.tolist(), east.tolist())):
+            g.reset()
+            o = g.update(pn, pe)
+            out[:, i] = (o.s, o.leg_index, o.cross_track, o.path_angle, o.curvature, g._k)
+            self.finished[i] = o.finished
+        self.k = out[5].astype(int)
+        return out[0], out[1].astype(int), out[2], out[3], out[4]
+
+    def _project(self, pn, pe, hint, w, lo, hi):
+        """Route.project(pn, pe, s_hint=hint, window=(w, w), bounds=(lo, hi)) per vessel:
+        (s, leg, cross_track, path_angle, curvature) arrays."""
+        route = self.route
+        sh = np.minimum(np.maximum(hint, lo), hi)
+        lo = np.maximum(lo, sh - w)
+        hi = np.minimum(hi, sh + w)
+        i0 = np.minimum(np.searchsorted(self._ends, lo, 'right'), self._n_legs - 1)
+        i1 = np.maximum(np.searchsorted(self._starts, hi, 'left') - 1, i0)
+        span = i1 - i0
+        width = int(span.max()) + 1 if len(span) else 1
+        if width == 1:
+            idx = i0[:, None]
+            rows = None
+        else:
+            idx = i0[:, None] + np.arange(width)
+            rows = idx > i1[:, None]
+            np.minimum(idx, i1[:, None], out=idx)
+        c0 = route.cumulative[idx]
+        t, fn, fe, fa, dist = route.closest_on_legs(idx, pn[:, None], pe[:, None],
+                                                    lo[:, None] - c0, hi[:, None] - c0)
+        if rows is None:
+            j = np.zeros(len(pn), dtype=int)
+        else:
+            dist[rows] = np.inf
+            j = np.argmin(dist, axis=1)
+        r = np.arange(len(pn))
+        leg = idx[r, j]
+        s = c0[r, j] + t[r, j]
+        fn, fe, gamma = fn[r, j], fe[r, j], fa[r, j]
+        cross = -np.sin(gamma) * (pn - fn) + np.cos(gamma) * (pe - fe)  # path.py, eq. 2
+        return s, leg, cross, gamma, route.curvatures[leg]
+
+    def _reached_end(self, k, s, pn, pe):
+        """Guidance._reached_end for vessels in stretches k at arc lengths s."""
+        end_n, end_e = self._end_ne[k, 0], self._end_ne[k, 1]
+        hi = self._hi[k]
+        r_acc = self.acceptance_radius
+        out = (np.hypot(pn - end_n, pe - end_e) <= r_acc) & (hi - s <= math.pi * r_acc)
+        near = ~out & (s >= hi - self.route.s_tol)
+        for i in np.flatnonzero(near).tolist():  # at the end of a stretch only (rare)
+            leg = int(self._end_leg[k[i]])
+            out[i] = self.route.along(leg, pn[i], pe[i]) >= self.route.leg_lengths[leg]
+        return out
+
+    # -- one step ----------------------------------------------------------------------------
+    def update(self, north, east, dt=0.0):
+        """One guidance step at NED positions (m, arrays of length N); dt (s) since the last."""
+        pn = np.asarray(north, dtype=float)
+        pe = np.asarray(east, dtype=float)
+        if not (np.all(np.isfinite(pn)) and np.all(np.isfinite(pe))):
+            raise ValueError('batch guidance update needs finite positions')
+        last = self._n_stretch - 1
+        if self.s is None:
+            s, leg, cross, gamma, kappa = self._first_projection(pn, pe)
+        else:
+            prev_n, prev_e = self.prev
+            w = np.maximum(self.window, 3.0 * np.hypot(pn - prev_n, pe - prev_e))
+            k = self.k
+            s, leg, cross, gamma, kappa = self._project(pn, pe, self.s, w, self._lo[k],
+                                                        self._hi[k])
+            # Switch at corners: re-project only the vessels that reached a stretch's end.
+            todo = np.flatnonzero(k < last)
+            while len(todo):
+                sw = todo[self._reached_end(k[todo], s[todo], pn[todo], pe[todo])]
+                if not len(sw):
+                    break
+                k[sw] += 1
+                if self.reset_integral_at_corners:
+                    self.integral[sw] = 0.0
+                lo, hi = self._lo[k[sw]], self._hi[k[sw]]
+                s[sw], leg[sw], cross[sw], gamma[sw], kappa[sw] = self._project(
+                    pn[sw], pe[sw], lo, w[sw], lo, hi)
+                todo = sw[k[sw] < last]
+            open_ = np.flatnonzero(~self.finished & (k == last))
+            if len(open_):
+                self.finished[open_] = self._reached_end(k[open_], s[open_], pn[open_],
+                                                         pe[open_])
+        self.s, self.prev = s, (pn, pe)
+        d = self.lookahead
+        if self.law == 'ilos':
+            sigma, integral = self.integral_gain, self.integral
+            y = cross + sigma * integral
+            psi_c = gamma - np.arctan(y / d)
+            rate = dt * d * cross / (y * y + d * d)
+            self.integral = np.where(self.finished, integral, integral + rate)
+        else:
+            psi_c = gamma - np.arctan(cross / d)
+        psi_c = wrap_angle(psi_c + self.lead * kappa)
+        return BatchGuidanceOutput(psi_c, cross, gamma, kappa, s, leg, self.finished.copy(),
+                                   self.integral.copy())

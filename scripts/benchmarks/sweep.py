@@ -1,0 +1,87 @@
+"""Section ``sweep``: throughput of scripts/sweep.py with local processes and Ray, 1 and 2 workers.
+
+One fixed sweep (SWEEP below: Mariner, ILOS + PD on the Table I curved path, random starts and
+currents, EPISODES episodes of DURATION_S s, CHUNK episodes per task (QUICK_CHUNK quick), each chunk one batched
+closed loop) runs four times: local processes with 1 and 2 workers, then a private local Ray
+instance of 1 and 2 CPUs. Each run is timed from handing the chunks to the backend to the last
+row back (Ray is started and warmed up before: its start-up is reported apart); the table must
+come out the same every time (checked). Goal (issue 16): 2 Ray workers >= 1.7x the throughput
+of one on this 2-core machine. The 1-minute load average is printed with every row: on a busy
+machine, 2 workers cannot get 2 cores.
+"""
+import os
+import time
+
+from . import common
+
+EPISODES, QUICK_EPISODES = 320, 40
+DURATION_S = 200.0
+CHUNK, QUICK_CHUNK = 20, 10
+GOAL_SPEEDUP = 1.7
+SWEEP = {'name': 'bench_sweep', 'seed': 11, 'episodes': 1,
+         'base': {'model': 'mariner', 'controller': 'ilos', 'duration_s': DURATION_S},
+         'vary': {'current_speed_mps': {'uniform': [0.0, 0.9]},
+                  'current_direction_deg': {'uniform': [-180, 180]},
+                  'start_along_m': {'uniform': [0, 1000]},
+                  'start_cross_m': {'uniform': [-100, 100]},
+                  'start_heading_deg': {'uniform': [-20, 20]}}}
+
+
+def _run(sweep, backend, workers, episodes, chunk=CHUNK):
+    from montecarlo import results
+    from montecarlo.driver import run_sweep
+    load = os.getloadavg()[0]
+    rows, run = run_sweep(sweep, backend, workers=workers, chunk_size=chunk, episodes=episodes,
+                          progress=False)
+    return results.table_text(rows, sweep.columns()), dict(run, load=load)
+
+
+def run(quick=False):
+    from montecarlo import spec
+    from montecarlo.backends import start_local_ray
+    sweep = spec.parse(SWEEP, 'bench_sweep')
+    n = QUICK_EPISODES if quick else EPISODES
+    # Imports and route cache in this process, outside the timing: forked workers inherit them
+    # (Ray's workers are warmed up by a run of their own below).
+    from montecarlo.episodes import run_chunk, with_route_keys
+    run_chunk(with_route_keys(spec.expand(sweep, 2)))
+    chunk = QUICK_CHUNK if quick else CHUNK
+    out, tables, notes = [], set(), []
+    for workers in (1, 2):
+        text, r = _run(sweep, 'local', workers, n, chunk)
+        tables.add(text)
+        out.append(dict(r, label=f'local processes x{workers}'))
+    try:
+        import ray
+        for workers in (1, 2):
+            t0 = time.monotonic()
+            start_local_ray(workers)
+            start = time.monotonic() - t0
+            try:
+                _run(sweep, 'ray', workers, 2 * workers)     # start the workers
+                text, r = _run(sweep, 'ray', workers, n, chunk)
+            finally:
+                ray.shutdown()
+            tables.add(text)
+            out.append(dict(r, label=f'Ray x{workers}', ray_start_s=start))
+    except Exception as exc:  # noqa: BLE001 (report the local figures even without Ray)
+        notes.append(f'Ray runs failed: {type(exc).__name__}: {str(exc).splitlines()[0]}')
+    rows = [{'backend': r['label'], 'episodes': r['episodes'], 'wall_s': r['wall_s'],
+             'episodes_per_s': r['episodes_per_s'], 'msteps_per_s': r['vessel_steps_per_s'] / 1e6,
+             'load': r['load'], 'ray_start_s': r.get('ray_start_s')} for r in out]
+    goals = []
+    speed = {r['label']: r['episodes_per_s'] for r in out}
+    for name in ('local processes', 'Ray'):
+        one, two = speed.get(f'{name} x1'), speed.get(f'{name} x2')
+        if one and two:
+            goals.append(common.goal(f'{name}: 2 workers / 1 worker throughput', two / one,
+                                     GOAL_SPEEDUP, 'x', below=False))
+    notes.append(f'{n} episodes of {DURATION_S:g} s (Mariner, ILOS + PD, random starts and '
+                 f'currents), {chunk} per task; identical tables across runs: '
+                 f'{"yes" if len(tables) == 1 else "NO"}; {os.cpu_count()} CPUs')
+    return {'title': 'sweep throughput: local processes and Ray, 1 and 2 workers',
+            'columns': [['backend', 'backend'], ['episodes', 'episodes'], ['wall_s', 'wall s'],
+                        ['episodes_per_s', 'episodes/s'], ['msteps_per_s', 'M vessel-steps/s'],
+                        ['load', 'load (1 min)'], ['ray_start_s', 'Ray start s']],
+            'rows': rows, 'goals': goals, 'notes': notes,
+            'failed': len(tables) != 1}

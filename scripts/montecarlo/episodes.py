@@ -1,0 +1,193 @@
+"""Run a chunk of episodes in this process and return one row of metrics per episode.
+
+The closed loop is ship_autopilot.batch_closed_loop.BatchClosedLoop: the chunk's episodes (one
+model and controller) stepped together as arrays, each equal to the single-vessel in-process
+loop of scripts/evaluate_controllers.py (``run``: MSS plant with RK4 at 0.1 s, guidance and
+autopilot every 0.1 s, the policy at its own step, the Table I reward) to rounding. Episodes
+with a varying current, which the batch does not model, run in that single-vessel loop. A
+chunk of one episode is run with a copy of itself, so that every episode takes the batch's
+array path (one vessel alone would take the plant's float path, equal only to rounding) and a
+row never depends on the chunking. Metrics per episode (METRICS): the Table I reward (cumulative Gaussian, eq. 8 of
+Martinsen and Lekkas 2018, at every 0.1 s sample), cross-track RMS / mean / max and mean over
+the second half, rudder use (mean |rudder rate|, mean |rudder|) and completion (the state stayed
+in the model's domain and within ``EnvConfig.terminate_cross_track`` of the path all episode).
+An episode whose state leaves the domain is a row with completed = 0 and no other metrics.
+
+Test-only hook: with SHIPNAV_SWEEP_FAIL_ONCE=<file>, the first chunk to start in any process
+creates <file> and kills its own process (``os._exit``), as a lost worker would; later chunks
+run normally. The backends' retry tests use it; never set it otherwise.
+"""
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from .spec import REPO, resolve_route
+
+FAIL_ONCE_ENV = 'SHIPNAV_SWEEP_FAIL_ONCE'
+#: Metric columns of a row, in table order.
+METRICS = ('completed', 'reward', 'rms_e_m', 'mean_abs_e_m', 'max_abs_e_m',
+           'mean_abs_e_settled_m', 'rudder_rate_deg_s', 'mean_abs_rudder_deg')
+_FROM_LOOP = {'reward': 'gaussian', 'rms_e_m': 'rms_e', 'mean_abs_e_m': 'mean_abs_e',
+              'max_abs_e_m': 'max_abs_e', 'mean_abs_e_settled_m': 'mean_abs_e_settled',
+              'rudder_rate_deg_s': 'rudder_rate_deg_s',
+              'mean_abs_rudder_deg': 'mean_abs_rudder_deg'}
+_ROUTES = {}
+
+
+def route_key(episode, sweep_file=None):
+    """The episode's route file relative to the repository (absolute if outside it)."""
+    path = resolve_route(episode['route'], episode['model'], sweep_file).resolve()
+    try:
+        return str(path.relative_to(REPO))
+    except ValueError:
+        return str(path)
+
+
+def _route(key):
+    if key not in _ROUTES:
+        from ship_planner.route_loader import load_route
+        _ROUTES[key] = load_route(REPO / key).route
+    return _ROUTES[key]
+
+
+def _maybe_fail_once():
+    marker = os.environ.get(FAIL_ONCE_ENV)
+    if not marker:
+        return
+    try:
+        fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+    except FileExistsError:
+        return
+    os.write(fd, f'{os.getpid()}\n'.encode())
+    os.close(fd)
+    os._exit(17)
+
+
+def _current_field(ep):
+    """An OceanCurrent with Gauss-Markov speed / direction for one episode, or None."""
+    s_std, d_std = ep['current_speed_std_mps'], math.radians(ep['current_direction_std_deg'])
+    if s_std == 0.0 and d_std == 0.0:
+        return None
+    from ship_sim.current import OceanCurrent
+    tc = ep['current_time_constant_s']
+    # Stationary std sqrt(q T / 2)  =>  q = 2 std^2 / T (ship_sim.current).
+    return OceanCurrent(ep['current_speed_mps'], math.radians(ep['current_direction_deg']),
+                        speed_time_constant=tc, speed_noise=2.0 * s_std ** 2 / tc,
+                        direction_time_constant=tc, direction_noise=2.0 * d_std ** 2 / tc,
+                        seed=ep['seed'], shape=(1,))
+
+
+def run_episode(ep):
+    """One episode (a dict of spec.expand plus 'route_key') -> its metrics (dict)."""
+    import evaluate_controllers as ec
+    from ship_autopilot.learning.env import EnvConfig
+    try:
+        r = ec.run(ep['model'], _route(ep['route_key']), ep['controller'], [_start(ep, 0)],
+                   ep['current_speed_mps'], ep['duration_s'], current_field=_current_field(ep))
+    except RuntimeError:   # the state left the model's domain
+        return dict({k: math.nan for k in METRICS}, completed=0)
+    row = {k: float(r[v][0]) for k, v in _FROM_LOOP.items()}
+    row['completed'] = int(row['max_abs_e_m'] < EnvConfig().terminate_cross_track)
+    return row
+
+
+def _varying(ep):
+    return ep['current_speed_std_mps'] > 0.0 or ep['current_direction_std_deg'] > 0.0
+
+
+def _start(ep, route_index):
+    """The start dict of evaluate_controllers.run / run_batched for an episode."""
+    return {'route': route_index, 'along': ep['start_along_m'], 'cross': ep['start_cross_m'],
+            'heading': math.radians(ep['start_heading_deg']),
+            'current_speed': ep['current_speed_mps'],
+            'current_direction': math.radians(ep['current_direction_deg'])}
+
+
+def run_batch(chunk):
+    """Metrics (dicts) of episodes of one model, controller and length, stepped together."""
+    import evaluate_controllers as ec
+    from ship_autopilot.learning.env import EnvConfig
+    first = chunk[0]
+    if any((e['model'], e['controller'], e['duration_s'])
+           != (first['model'], first['controller'], first['duration_s']) for e in chunk):
+        raise ValueError('a batch runs one model, one controller and one episode length')
+    padded = chunk * 2 if len(chunk) == 1 else chunk
+    keys = list(dict.fromkeys(e['route_key'] for e in padded))
+    res = ec.run_batched(first['model'], [_route(k) for k in keys], first['controller'],
+                         [_start(e, keys.index(e['route_key'])) for e in padded],
+                         first['duration_s'])
+    limit = EnvConfig().terminate_cross_track
+    out = []
+    for i in range(len(chunk)):
+        if res['failed'][i]:
+            out.append(dict({k: math.nan for k in METRICS}, completed=0))
+            continue
+        row = {k: float(res[v][i]) for k, v in _FROM_LOOP.items()}
+        row['completed'] = int(row['max_abs_e_m'] < limit)
+        out.append(row)
+    return out
+
+
+def run_chunk(chunk):
+    """Rows (dicts: the episode's parameters and METRICS) for a list of episodes."""
+    _maybe_fail_once()
+    metrics = {}
+    groups = {}
+    for ep in chunk:
+        if _varying(ep):
+            metrics[ep['episode']] = run_episode(ep)
+        else:
+            groups.setdefault((ep['model'], ep['controller'], ep['duration_s']), []).append(ep)
+    for group in groups.values():
+        metrics.update(zip((e['episode'] for e in group), run_batch(group)))
+    rows = []
+    for ep in chunk:
+        row = {k: v for k, v in ep.items() if k != 'route_key'}
+        row.update(metrics[ep['episode']])
+        rows.append(row)
+    return rows
+
+
+def vessel_steps(rows):
+    """Plant steps the rows stand for (the throughput's unit), 0.1 s each."""
+    return int(sum(round(r['duration_s'] / 0.1) for r in rows))
+
+
+def episode_chunks(episodes, chunk_size):
+    """Consecutive episodes of one (model, controller), at most ``chunk_size`` each: what one
+    task runs (the batched loop steps one model and controller at a time)."""
+    chunks, cur = [], []
+    for ep in episodes:
+        if cur and (len(cur) >= chunk_size or (ep['model'], ep['controller'])
+                    != (cur[0]['model'], cur[0]['controller'])):
+            chunks.append(cur)
+            cur = []
+        cur.append(ep)
+    if cur:
+        chunks.append(cur)
+    return chunks
+
+
+def auto_chunk_size(n_episodes, workers, duration_s):
+    """Chunks small enough for >= 4 per worker (balance, a lost worker costs little) and for a
+    progress update every few seconds, large enough to amortise a task's overhead."""
+    per_worker = max(1, n_episodes // (4 * max(1, workers)))
+    cap = max(1, int(200_000 / max(1.0, duration_s)))   # ~ 2 M vessel-steps
+    return int(np.clip(per_worker, 1, cap))
+
+
+def with_route_keys(episodes, sweep_file=None):
+    """Episodes with 'route_key' (resolved once here, read by the workers)."""
+    keys = {}
+    out = []
+    for ep in episodes:
+        k = (ep['route'], ep['model'])
+        if k not in keys:
+            keys[k] = route_key(ep, sweep_file)
+            if not Path(REPO / keys[k]).exists():
+                from .spec import SweepError
+                raise SweepError(f'route file {keys[k]} (from {ep["route"]!r}) not found')
+        out.append(dict(ep, route_key=keys[k]))
+    return out

@@ -1,0 +1,123 @@
+"""The sweep's table (CSV) and its summary with confidence intervals.
+
+Table: one row per episode, sorted by episode index; the columns are the episode's identity
+(episode, cell, sample, seed), its parameters (varied first) and the metrics
+(episodes.METRICS). Floats are written with 10 significant digits, so the file is the same
+byte for byte whenever the episodes' results are.
+
+Summary: per grid cell (one value of every grid axis), per metric, the mean with a 95 %
+Student-t confidence interval (mean +- t_{0.975, n-1} s / sqrt(n)), the median and the 95th
+percentile; completion as a proportion with a 95 % Wilson score interval (Wilson 1927), which
+stays inside [0, 1] when every episode completes. Metrics of episodes that did not complete are
+left out of the other means (n says how many remain).
+"""
+import csv
+import io
+import math
+
+import numpy as np
+from scipy import stats
+
+from .episodes import METRICS
+
+ID_COLUMNS = ('episode', 'cell', 'sample', 'seed')
+CI_LEVEL = 0.95
+
+
+def _cell(value):
+    if isinstance(value, float):
+        return 'nan' if math.isnan(value) else f'{value:.10g}'
+    return str(value)
+
+
+def table_text(rows, param_columns):
+    """The CSV text of ``rows`` (dicts), sorted by episode index."""
+    cols = list(ID_COLUMNS) + list(param_columns) + list(METRICS)
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator='\n')
+    w.writerow(cols)
+    for row in sorted(rows, key=lambda r: r['episode']):
+        w.writerow([_cell(row[c]) for c in cols])
+    return buf.getvalue()
+
+
+def read_table(path):
+    """Rows of a table written by ``table_text`` (numbers as floats, names as str)."""
+    out = []
+    with open(path, newline='') as f:
+        for row in csv.DictReader(f):
+            out.append({k: _parse(v) for k, v in row.items()})
+    return out
+
+
+def _parse(text):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def t_interval(values, level=CI_LEVEL):
+    """(mean, low, high) of the Student-t interval; (mean, nan, nan) for fewer than 2 values."""
+    x = np.asarray(values, dtype=float)
+    n = x.size
+    if n == 0:
+        return math.nan, math.nan, math.nan
+    mean = float(x.mean())
+    if n < 2:
+        return mean, math.nan, math.nan
+    half = float(stats.t.ppf(0.5 + level / 2, n - 1) * x.std(ddof=1) / math.sqrt(n))
+    return mean, mean - half, mean + half
+
+
+def wilson_interval(successes, n, level=CI_LEVEL):
+    """(proportion, low, high) of the Wilson score interval."""
+    if n == 0:
+        return math.nan, math.nan, math.nan
+    z = float(stats.norm.ppf(0.5 + level / 2))
+    p = successes / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return p, max(0.0, centre - half), min(1.0, centre + half)
+
+
+def summarise(rows, group_by):
+    """Per group (a tuple of ``group_by`` values, in first-seen episode order):
+    {metric: {'n', 'mean', 'low', 'high', 'median', 'p95'}}."""
+    groups = {}
+    for row in sorted(rows, key=lambda r: r['episode']):
+        groups.setdefault(tuple(row[g] for g in group_by), []).append(row)
+    out = {}
+    for key, members in groups.items():
+        done = [r for r in members if r['completed'] == 1]
+        entry = {}
+        p, lo, hi = wilson_interval(len(done), len(members))
+        entry['completed'] = {'n': len(members), 'mean': p, 'low': lo, 'high': hi,
+                              'median': math.nan, 'p95': math.nan}
+        for m in METRICS[1:]:
+            v = np.array([r[m] for r in done], dtype=float)
+            mean, lo, hi = t_interval(v)
+            entry[m] = {'n': int(v.size), 'mean': mean, 'low': lo, 'high': hi,
+                        'median': float(np.median(v)) if v.size else math.nan,
+                        'p95': float(np.percentile(v, 95)) if v.size else math.nan}
+        out[key] = entry
+    return out
+
+
+def summary_markdown(summary, group_by, metrics=('reward', 'rms_e_m', 'max_abs_e_m',
+                                                  'rudder_rate_deg_s', 'completed')):
+    """A Markdown table: one line per group, 'mean [low, high]' per metric."""
+    head = '| ' + ' | '.join(list(group_by) + ['n'] + list(metrics)) + ' |'
+    lines = [f'Mean [{CI_LEVEL:.0%} CI] per group: Student-t for the metrics, Wilson for '
+             'completion; metrics over completed episodes.', '', head,
+             '|' + '---|' * len(group_by) + '---:|' * (len(metrics) + 1)]
+    for key, entry in summary.items():
+        cells = [_cell(k) for k in key] + [str(entry['completed']['n'])]
+        for m in metrics:
+            s = entry[m]
+            fmt = '{:.3f}' if m == 'completed' else '{:.1f}' if abs(s['mean']) >= 10 else '{:.2f}'
+            cells.append(f'{fmt.format(s["mean"])} [{fmt.format(s["low"])}, '
+                         f'{fmt.format(s["high"])}]' if not math.isnan(s['low'])
+                         else fmt.format(s['mean']))
+        lines.append('| ' + ' | '.join(cells) + ' |')
+    return '\n'.join(lines) + '\n'

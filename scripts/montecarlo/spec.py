@@ -1,0 +1,256 @@
+"""Sweep files: a base environment, the parameters to vary, and the episodes they expand to.
+
+A sweep file (YAML; examples in scenarios/sweeps/)::
+
+    name: current_starts_mariner   # output folder name (default: the file's stem)
+    seed: 1                        # the whole table follows from it
+    episodes: 50                   # random draws per grid cell
+    paired: true                   # every grid cell sees the same draws (default true)
+    base:                          # the environment; any PARAMETERS entry
+      model: mariner
+      controller: los
+      route: scenarios/routes/curved_path_{model}_000.yaml
+      duration_s: 1000
+    vary:                          # a list = a grid axis; a mapping = a random draw
+      controller: [los, ilos_lead, policy]
+      current_speed_mps: [0.0, 0.9]
+      current_direction_deg: {uniform: [-180, 180]}
+      start_cross_m: {normal: [0, 30]}
+      model: {choice: [mariner, container]}
+
+Grid cells are the cartesian product of the list axes, in the order written; each cell gets
+``episodes`` samples; episode index = cell * episodes + sample. Random parameters are drawn per
+sample from ``numpy.random.SeedSequence(seed, spawn_key=(sample,))`` (the sample-th child of
+``SeedSequence(seed).spawn``), in sorted parameter order, so with ``paired: true`` (common random
+numbers) every controller, current, ... meets the same starts and current directions, and the
+differences between cells are paired; ``paired: false`` keys the draws by episode index
+instead. The same child also gives the episode's own ``seed`` (a varying current's noise).
+Drawing never depends on which process runs the episode, so the table does not either.
+
+Wind, waves and encounters have reserved names (HOOKS): the file is refused with a one-line
+message until their pure modules run in the closed loop.
+"""
+import itertools
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+REPO = Path(__file__).resolve().parents[2]
+
+#: name -> (default, kind, (low, high) for numbers or None, unit/meaning).
+PARAMETERS = {
+    'model': ('mariner', 'model', None, 'plant model (ship_sim.models.MODEL_NAMES)'),
+    'controller': ('los', 'controller', None, 'evaluate_controllers.CONTROLLERS'),
+    'route': ('scenarios/routes/curved_path_{model}_000.yaml', 'path', None,
+              'route file; {model} is replaced by the model name'),
+    'duration_s': (1000.0, 'number', (1.0, 1e6), 'episode length, s'),
+    'current_speed_mps': (0.0, 'number', (0.0, 10.0), 'current speed, m/s'),
+    'current_direction_deg': (0.0, 'number', (-1e4, 1e4), 'current flowing towards, deg'),
+    'current_speed_std_mps': (0.0, 'number', (0.0, 5.0),
+                              'stationary std of a Gauss-Markov current speed, m/s'),
+    'current_direction_std_deg': (0.0, 'number', (0.0, 180.0),
+                                  'stationary std of a Gauss-Markov current direction, deg'),
+    'current_time_constant_s': (600.0, 'number', (1.0, 1e7), 'Gauss-Markov time constant, s'),
+    'start_along_m': (0.0, 'number', (0.0, 1e6), 'start point along the route, m'),
+    'start_cross_m': (0.0, 'number', (-1e4, 1e4), 'start offset, m (+ starboard)'),
+    'start_heading_deg': (0.0, 'number', (-180.0, 180.0), 'start heading - path angle, deg'),
+}
+#: Reserved for wind / waves / encounters: refused until the closed loop simulates them.
+HOOKS = ('wind_speed_mps', 'wind_direction_deg', 'wave_height_m', 'wave_period_s',
+         'wave_direction_deg', 'encounter')
+DISTRIBUTIONS = {'uniform': 2, 'normal': 2, 'choice': None}
+TOP_KEYS = ('name', 'seed', 'episodes', 'paired', 'base', 'vary')
+
+
+class SweepError(ValueError):
+    """A bad sweep file: one line naming the file, the key and what is allowed."""
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """A parsed sweep file (see the module docstring)."""
+    name: str
+    seed: int
+    episodes: int
+    paired: bool
+    base: dict
+    grid: dict          # name -> list of values (order of the file)
+    random: dict        # name -> (distribution, args)
+    source: str = ''
+
+    @property
+    def n_cells(self):
+        return math.prod(len(v) for v in self.grid.values())
+
+    @property
+    def n_episodes(self):
+        return self.n_cells * self.episodes
+
+    def columns(self):
+        """Parameter columns of the table: the varied ones first, then the base ones."""
+        varied = list(self.grid) + sorted(self.random)
+        return varied + [k for k in PARAMETERS if k not in varied]
+
+
+def _models():
+    from ship_sim.models import MODEL_NAMES
+    return MODEL_NAMES
+
+
+def _controllers():
+    import evaluate_controllers
+    return evaluate_controllers.CONTROLLERS
+
+
+def _check_value(where, name, value):
+    default, kind, bounds, _ = PARAMETERS[name]
+    if kind == 'model':
+        if value not in _models():
+            raise SweepError(f'{where}: model {value!r} unknown; allowed: '
+                             f'{", ".join(_models())}')
+        return value
+    if kind == 'controller':
+        if value not in _controllers():
+            raise SweepError(f'{where}: controller {value!r} unknown; allowed: '
+                             f'{", ".join(_controllers())}')
+        return value
+    if kind == 'path':
+        if not isinstance(value, str) or not value:
+            raise SweepError(f'{where}: {name} must be a file path, got {value!r}')
+        return value
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise SweepError(f'{where}: {name} must be a number, got {value!r}')
+    lo, hi = bounds
+    if not lo <= value <= hi:
+        raise SweepError(f'{where}: {name} = {value!r} is outside [{lo:g}, {hi:g}]')
+    return float(value)
+
+
+def _check_name(where, name):
+    if name in HOOKS:
+        raise SweepError(f'{where}: {name!r} is reserved for wind, waves and encounters, which '
+                         'the closed loop does not simulate yet')
+    if name not in PARAMETERS:
+        raise SweepError(f'{where}: unknown parameter {name!r}; allowed: '
+                         f'{", ".join(PARAMETERS)}')
+
+
+def _random_spec(where, name, spec):
+    if len(spec) != 1 or next(iter(spec)) not in DISTRIBUTIONS:
+        raise SweepError(f'{where}: a random parameter is one of {{uniform: [low, high]}}, '
+                         f'{{normal: [mean, std]}}, {{choice: [a, b, ...]}}; got {spec!r}')
+    dist, args = next(iter(spec.items()))
+    if not isinstance(args, list) or not args:
+        raise SweepError(f'{where}: {dist} needs a list, got {args!r}')
+    if dist == 'choice':
+        return dist, [_check_value(where, name, a) for a in args]
+    if len(args) != 2 or PARAMETERS[name][1] != 'number':
+        raise SweepError(f'{where}: {dist} needs two numbers and a numeric parameter, got '
+                         f'{name}: {spec!r}')
+    a, b = (_check_value(f'{where} ({dist} argument)', name, v) if dist == 'uniform' else v
+            for v in args)
+    if dist == 'uniform' and not a <= b:
+        raise SweepError(f'{where}: uniform needs low <= high, got {args!r}')
+    if dist == 'normal' and not (isinstance(b, (int, float)) and b >= 0):
+        raise SweepError(f'{where}: normal needs a standard deviation >= 0, got {args!r}')
+    return dist, [float(a), float(b)]
+
+
+def parse(doc, source='<sweep>'):
+    """A Sweep from a loaded YAML mapping; SweepError (one line) for anything wrong."""
+    if not isinstance(doc, dict):
+        raise SweepError(f'{source}: a sweep file is a mapping with keys {", ".join(TOP_KEYS)}')
+    extra = sorted(set(doc) - set(TOP_KEYS))
+    if extra:
+        raise SweepError(f'{source}: unknown key(s) {", ".join(extra)}; allowed: '
+                         f'{", ".join(TOP_KEYS)}')
+    seed, episodes = doc.get('seed', 0), doc.get('episodes', 1)
+    for key, v in (('seed', seed), ('episodes', episodes)):
+        if isinstance(v, bool) or not isinstance(v, int) or v < (0 if key == 'seed' else 1):
+            raise SweepError(f'{source}: {key} must be an integer >= '
+                             f'{0 if key == "seed" else 1}, got {v!r}')
+    paired = doc.get('paired', True)
+    if not isinstance(paired, bool):
+        raise SweepError(f'{source}: paired must be true or false, got {paired!r}')
+    base = dict(doc.get('base') or {})
+    vary = dict(doc.get('vary') or {})
+    for name, value in base.items():
+        _check_name(f'{source}: base', name)
+        base[name] = _check_value(f'{source}: base', name, value)
+    grid, rand = {}, {}
+    for name, spec in vary.items():
+        where = f'{source}: vary.{name}'
+        _check_name(f'{source}: vary', name)
+        if isinstance(spec, list):
+            if not spec:
+                raise SweepError(f'{where}: a grid axis needs at least one value')
+            grid[name] = [_check_value(where, name, v) for v in spec]
+        elif isinstance(spec, dict):
+            rand[name] = _random_spec(where, name, spec)
+        else:
+            raise SweepError(f'{where}: give a list (grid) or a distribution mapping '
+                             f'(random), got {spec!r}')
+    full_base = {k: v[0] for k, v in PARAMETERS.items()}
+    full_base.update(base)
+    name = doc.get('name') or Path(source).stem
+    if not isinstance(name, str) or '/' in name:
+        raise SweepError(f'{source}: name must be a plain string, got {name!r}')
+    return Sweep(name, seed, episodes, paired, full_base, grid, rand, source)
+
+
+def load(path):
+    """Parse a sweep file; SweepError naming the file for a missing file or bad YAML."""
+    path = Path(path)
+    try:
+        doc = yaml.safe_load(path.read_text())
+    except OSError as exc:
+        raise SweepError(f'{path}: cannot read ({exc.strerror or exc})') from None
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, 'problem_mark', None)
+        at = f' at line {mark.line + 1}' if mark else ''
+        raise SweepError(f'{path}: not valid YAML{at}') from None
+    return parse(doc, str(path))
+
+
+def _draw(rng, dist, args):
+    if dist == 'uniform':
+        return float(rng.uniform(args[0], args[1]))
+    if dist == 'normal':
+        return float(rng.normal(args[0], args[1]))
+    return args[int(rng.integers(len(args)))]
+
+
+def expand(sweep, episodes=None):
+    """The sweep's episodes as dicts (episode, cell, sample, seed and every PARAMETERS entry),
+    in episode order; ``episodes`` overrides the samples per cell."""
+    n = sweep.episodes if episodes is None else int(episodes)
+    cells = list(itertools.product(*sweep.grid.values())) if sweep.grid else [()]
+    out = []
+    for c, values in enumerate(cells):
+        for j in range(n):
+            index = c * n + j
+            ss = np.random.SeedSequence(sweep.seed, spawn_key=(j if sweep.paired else index,))
+            rng = np.random.default_rng(ss)
+            ep = dict(sweep.base)
+            ep.update(zip(sweep.grid, values))
+            for name in sorted(sweep.random):
+                ep[name] = _draw(rng, *sweep.random[name])
+            ep.update(episode=index, cell=c, sample=j, seed=int(ss.generate_state(1)[0]))
+            out.append(ep)
+    return out
+
+
+def resolve_route(template, model, sweep_file=None):
+    """Path of the route file: ``{model}`` substituted, relative to the sweep file's folder
+    if it exists there, else to the repository root."""
+    rel = Path(template.format(model=model))
+    if rel.is_absolute():
+        return rel
+    if sweep_file:
+        near = Path(sweep_file).resolve().parent / rel
+        if near.exists():
+            return near
+    return REPO / rel

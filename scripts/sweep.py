@@ -1,0 +1,125 @@
+#!/usr/bin/env python3
+"""Monte Carlo sweep of the closed loop: many episodes, a table, a summary with confidence intervals, plots.
+
+    scripts/sweep.py SWEEP.yaml [--out DIR] [--workers N] [--chunk N]
+                     [--ray [ADDRESS]] [--episodes N] [--duration S]
+                     [--where AXIS=V1[,V2]] [--no-plots]
+
+SWEEP.yaml: a base environment and the parameters to vary (grid or seeded random); the format
+is documented in scripts/montecarlo/spec.py, examples in scenarios/sweeps/. Backends: local
+processes (default, ``--workers`` = every core) or Ray (``--ray`` alone: a private local Ray
+instance of ``--workers`` CPUs; ``--ray auto``: the cluster started with ``ray start`` on this
+machine; ``--ray HOST:6379``: a cluster's head). The table is the same byte for byte for the
+same sweep file and seed whatever the backend, the worker count and the chunk size.
+
+Output (default runs/sweeps/<name>/): results.csv (one row per episode), summary.md and
+summary.json (per grid cell: mean and 95 % confidence interval of each metric), plots
+(CDF of max cross-track per controller, metric against each random parameter), run.json
+(backend, workers, chunking, wall time, throughput). Exit codes: 0 done, 1 a chunk failed,
+2 a bad sweep file or arguments.
+
+Test-only: SHIPNAV_SWEEP_FAIL_ONCE=<file> kills the first worker process that starts a chunk
+(montecarlo.episodes), to test that a lost worker's chunk is rerun without duplicated rows.
+"""
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from montecarlo import results
+from montecarlo.backends import SweepRunError
+from montecarlo.driver import run_sweep
+from montecarlo.spec import REPO, SweepError, load
+
+
+def parse_args(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    p.add_argument('sweep', type=Path, help='sweep file (YAML)')
+    p.add_argument('--out', type=Path, default=None,
+                   help='output folder (default runs/sweeps/<name>)')
+    p.add_argument('--workers', type=int, default=None,
+                   help='processes, or CPUs of a private Ray instance (default: every core)')
+    p.add_argument('--chunk', type=int, default=None,
+                   help='episodes per task (default: >= 4 tasks per worker)')
+    p.add_argument('--ray', nargs='?', const='local', default=None, metavar='ADDRESS',
+                   help="run on Ray: alone, a private local instance; 'auto' or HOST:PORT, "
+                        'an existing cluster')
+    p.add_argument('--episodes', type=int, default=None,
+                   help="samples per grid cell instead of the file's 'episodes'")
+    p.add_argument('--duration', type=float, default=None,
+                   help="episode length (s) instead of the file's duration_s")
+    p.add_argument('--where', action='append', default=[], metavar='AXIS=V1[,V2]',
+                   help='run only the grid cells with these values (repeatable); rows keep the '
+                        "whole sweep's episode indices and draws")
+    p.add_argument('--no-plots', action='store_true', help='skip the PNG plots')
+    args = p.parse_args(argv)
+    for name in ('workers', 'chunk', 'episodes'):
+        v = getattr(args, name)
+        if v is not None and v < 1:
+            p.error(f'--{name} must be >= 1, got {v}')
+    if args.duration is not None and not args.duration > 0:
+        p.error(f'--duration must be > 0, got {args.duration}')
+    return args
+
+
+def main(argv=None):
+    args = parse_args(argv)
+    try:
+        sweep = load(args.sweep)
+    except SweepError as exc:
+        print(f'error: {exc}', file=sys.stderr)
+        return 2
+    out = args.out or REPO / 'runs' / 'sweeps' / sweep.name
+    out.mkdir(parents=True, exist_ok=True)
+    backend = 'ray' if args.ray else 'local'
+    address = None if args.ray in (None, 'local') else args.ray
+    where = {}
+    for item in args.where:
+        axis, sep, value = item.partition('=')
+        if not sep or axis not in sweep.grid:
+            print(f'error: --where {item}: give AXIS=VALUE with a grid axis of the file '
+                  f'({", ".join(sweep.grid) or "none"})', file=sys.stderr)
+            return 2
+        kinds = {type(v) for v in sweep.grid[axis]}
+        try:
+            where[axis] = [float(v) if float in kinds else v for v in value.split(',')]
+        except ValueError:
+            print(f'error: --where {item}: {axis} takes a number', file=sys.stderr)
+            return 2
+    n = sweep.n_cells * (args.episodes or sweep.episodes)
+    for axis, values in where.items():
+        n = n * len(values) // len(sweep.grid[axis])
+    print(f'sweep {sweep.name}: {sweep.n_cells} grid cells x {args.episodes or sweep.episodes} '
+          f'episodes = {n}, backend {backend}' + (f' ({address})' if address else ''),
+          flush=True)
+    try:
+        rows, run = run_sweep(sweep, backend, args.workers, args.chunk, address, args.episodes,
+                              duration=args.duration, where=where)
+    except SweepError as exc:
+        print(f'error: {exc}', file=sys.stderr)
+        return 2
+    except SweepRunError as exc:
+        print(f'error: {exc}', file=sys.stderr)
+        return 1
+    (out / 'results.csv').write_text(results.table_text(rows, sweep.columns()))
+    group_by = list(sweep.grid)
+    summary = results.summarise(rows, group_by)
+    md = results.summary_markdown(summary, group_by)
+    (out / 'summary.md').write_text(md)
+    (out / 'summary.json').write_text(json.dumps(
+        {'sweep': str(args.sweep), 'seed': sweep.seed, 'group_by': group_by,
+         'confidence': 'Student-t 95 % (metrics), Wilson 95 % (completion)',
+         'groups': [dict(zip(group_by, k), **v) for k, v in summary.items()]}, indent=1))
+    (out / 'run.json').write_text(json.dumps(run, indent=1))
+    print(md)
+    if not args.no_plots:
+        from montecarlo.plots import write_plots
+        write_plots(rows, sweep, out)
+    print(f"{run['episodes']} episodes in {run['wall_s']:.1f} s ({run['episodes_per_s']:.1f} "
+          f"episodes/s, {run['vessel_steps_per_s']:,.0f} vessel-steps/s, {run['workers']} "
+          f"workers, {run['chunks']} chunks of <= {run['chunk_size']}); wrote {out}/")
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

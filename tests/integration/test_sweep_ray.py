@@ -1,0 +1,51 @@
+"""Sweeps on Ray (scripts/montecarlo/backends.run_ray): issue 16 item 3.
+
+A private local Ray instance of 2 CPUs is started by the test and shut down after it, even on
+failure (no ROS graph: no domain needed). It must give the same table, byte for byte, as the
+local backend with one process; and a Ray worker process killed while running a chunk (the
+test-only SHIPNAV_SWEEP_FAIL_ONCE hook, os._exit in the worker) makes Ray rerun that task
+(max_retries) with every row still once. Skipped, with the reason, only if Ray cannot start.
+"""
+import pytest
+
+from montecarlo import episodes as mc_episodes
+from montecarlo import results, spec
+from montecarlo.backends import start_local_ray
+from montecarlo.driver import run_sweep
+
+pytestmark = [pytest.mark.integration, pytest.mark.timeout(300)]
+
+
+def tiny():
+    return spec.parse({'name': 'ray', 'seed': 5, 'episodes': 3,
+                       'base': {'model': 'mariner', 'duration_s': 20.0},
+                       'vary': {'controller': ['los', 'ilos'],
+                                'start_cross_m': {'uniform': [-80, 80]},
+                                'current_direction_deg': {'uniform': [-180, 180]},
+                                'current_speed_mps': {'uniform': [0.0, 0.9]}}}, 'ray.yaml')
+
+
+@pytest.fixture
+def ray_local(tmp_path, monkeypatch):
+    ray = pytest.importorskip('ray')
+    marker = tmp_path / 'failed_once'
+    # Workers inherit the driver's environment when the instance starts.
+    monkeypatch.setenv(mc_episodes.FAIL_ONCE_ENV, str(marker))
+    try:
+        start_local_ray(2)
+    except Exception as exc:  # noqa: BLE001 (any start failure is a reason to skip)
+        pytest.skip(f'ray cannot start here: {type(exc).__name__}: {exc}')
+    try:
+        yield marker
+    finally:
+        ray.shutdown()
+
+
+def test_ray_table_equals_local_and_a_killed_worker_is_retried(ray_local, monkeypatch):
+    sw = tiny()
+    rows, run = run_sweep(sw, 'ray', workers=2, chunk_size=1, progress=False)
+    assert ray_local.exists()                    # one worker process did die mid-sweep
+    assert sorted(r['episode'] for r in rows) == list(range(6))
+    monkeypatch.delenv(mc_episodes.FAIL_ONCE_ENV)
+    local, _ = run_sweep(sw, 'local', workers=1, chunk_size=6, progress=False)
+    assert results.table_text(rows, sw.columns()) == results.table_text(local, sw.columns())

@@ -10,6 +10,7 @@ Sections (registry: scripts/benchmarks/__init__.py):
   lockstep     flagship graph in lockstep: real-time factor, against a bare 3-hop relay floor
   realtime_latency  flagship graph in realtime: odom -> rudder_cmd latency, missed steps
   closed_loop_inprocess  the flagship loop's pure modules in one process (no ROS)
+  batch_closed_loop  N closed-loop episodes as arrays: vessel-steps/s vs one vessel, the plant
   colav        one collision-avoidance decision with 10 targets, SB-MPC and VO (ms)
   controllers  Martinsen and Lekkas 2018's Table I: classical controllers vs the learned policy (~10 min)
 

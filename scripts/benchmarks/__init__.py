@@ -29,6 +29,8 @@ SECTIONS = {
                          'rudder_cmd latency and missed steps'),
     'closed_loop_inprocess': ('closed_loop_inprocess', 'run',
                               'flagship loop with the pure modules in one process (no ROS)'),
+    'batch_closed_loop': ('batch_closed_loop', 'run', 'batched closed loop (ILOS + PD, N '
+                          'episodes as arrays) against one vessel and the plant alone'),
     'colav': ('colav', 'run', 'one collision-avoidance decision with 10 targets (SB-MPC, VO)'),
     'controllers': ('controllers', 'run', "Martinsen and Lekkas 2018's Table I: classical controllers vs the "
                     'learned policy on curved paths'),

@@ -39,7 +39,7 @@ from ship_guidance.batch_guidance import BatchGuidance
 from ship_guidance.path_state import PathFeatures
 
 from .gains import autopilot_gains, build_autopilot
-from .learning.env import EnvConfig, PathFollowingBatch
+from .learning.env import EnvConfig, PathFollowingBatch, start_states
 from .learning.policy import load_policy
 from .learning.reward import gaussian_reward
 
@@ -131,9 +131,8 @@ class BatchClosedLoop:
     # -- set-up --------------------------------------------------------------------------------
     def _plant(self, n, ep):
         env = PathFollowingBatch(self._model, n, self.config, routes=self.routes)
-        starts = [dict(zip(START_KEYS, vals)) for vals in zip(
-            *(ep[k].tolist() for k in START_KEYS))]
-        env.reset(starts=starts)
+        env.x, env.current = start_states(env.model, env.x0, self.routes,
+                                          **{k: ep[k] for k in START_KEYS})
         return env
 
     def _guidance(self, ep, n):

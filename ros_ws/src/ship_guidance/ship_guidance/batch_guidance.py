@@ -103,6 +103,9 @@ class BatchGuidance:
         mid_n, mid_e, _ = route.point_at(0.5 * (s0 + s1))
         self._block_mid = np.stack([np.atleast_1d(mid_n), np.atleast_1d(mid_e)], axis=1)
         self._block_radius = 0.5 * (s1 - s0) * (1.0 + 1e-9)
+        mid_n, mid_e, _ = route.point_at(route.leg_starts + 0.5 * route.leg_lengths)
+        self._leg_mid = np.stack([np.atleast_1d(mid_n), np.atleast_1d(mid_e)], axis=1)
+        self._leg_radius = 0.5 * route.leg_lengths * (1.0 + 1e-9)
         self.reset()
 
     def reset(self):
@@ -116,7 +119,21 @@ class BatchGuidance:
 
     # -- the closest point -------------------------------------------------------------------
     def _first_projection(self, north, east):
-        """Guidance's first update, vessel by vessel (once per episode)."""
+        """Guidance's first update: the closest point of the whole route. On a route of one
+        smooth stretch that is all it does (and the end check), vectorised here with an upper
+        bound from the legs' middle points; with corners, vessel by vessel as Guidance."""
+        if self._n_stretch == 1:
+            n = self.n
+            zeros = np.zeros(n, dtype=int)
+            lo, hi = np.zeros(n), np.full(n, self.route.length)
+            upper = np.min(np.hypot(north[:, None] - self._block_mid[:, 0],
+                                    east[:, None] - self._block_mid[:, 1]), axis=1)
+            s, leg, fn, fe, gamma = self._closest_pruned(north, east, lo, hi, zeros,
+                                                         zeros + self._n_legs - 1, upper)
+            cross = -np.sin(gamma) * (north - fn) + np.cos(gamma) * (east - fe)
+            self.k = zeros
+            self.finished = self._reached_end(zeros, s, north, east)
+            return s, leg, cross, gamma, self.route.curvatures[leg]
         g = self.template
         out = np.empty((6, self.n))
         for i, (pn, pe) in enumerate(zip(north.tolist(), east.tolist())):
@@ -137,7 +154,11 @@ class BatchGuidance:
         i0 = np.minimum(np.searchsorted(self._ends, lo, 'right'), self._n_legs - 1)
         span = np.maximum(np.searchsorted(self._starts, hi, 'left') - 1, i0) - i0
         if len(span) and span.max() >= FEW_COLUMNS:
-            s, leg, fn, fe, gamma = self._closest_pruned(pn, pe, sh, lo, hi, i0, i0 + span)
+            # Upper bound: the closest point of the leg at the hint.
+            hint_leg = np.clip(np.searchsorted(self._ends, sh, 'right'), i0, i0 + span)
+            c0 = route.cumulative[hint_leg]
+            upper = route.closest_on_legs(hint_leg, pn, pe, lo - c0, hi - c0)[4]
+            s, leg, fn, fe, gamma = self._closest_pruned(pn, pe, lo, hi, i0, i0 + span, upper)
         else:
             s, leg, fn, fe, gamma = self._closest_by_column(pn, pe, lo, hi, i0, span)
         cross = -np.sin(gamma) * (pn - fn) + np.cos(gamma) * (pe - fe)  # path.py, eq. 2
@@ -165,17 +186,15 @@ class BatchGuidance:
             fn[r], fe[r], gamma[r] = fnj[b], fej[b], gj[b]
         return s, leg, fn, fe, gamma
 
-    def _closest_pruned(self, pn, pe, sh, lo, hi, i0, i1):
-        """The same first minimum over legs i0..i1 for windows of many legs (dense curves):
-        the leg at the hint gives an upper bound u on the distance; only blocks of BLOCK legs
+    def _closest_pruned(self, pn, pe, lo, hi, i0, i1, upper):
+        """The same first minimum over legs i0..i1 for windows of many legs (dense curves),
+        given an upper bound u on the distance (a point of the path): only blocks of BLOCK legs
         whose bounding circle (centre at the block's middle, radius half its arc length) comes
-        within u (plus a rounding margin) can hold a point as close, and only their legs are
-        searched. Every leg that could tie or win is searched, so the result is the same."""
+        within u (plus a rounding margin) can hold a point as close, then only their legs whose
+        own bounding circle does, and only those are searched. Every leg that could tie or win
+        is searched, so the result is the same."""
         route = self.route
         n = len(pn)
-        hint_leg = np.clip(np.searchsorted(self._ends, sh, 'right'), i0, i1)
-        c0 = route.cumulative[hint_leg]
-        upper = route.closest_on_legs(hint_leg, pn, pe, lo - c0, hi - c0)[4]
         upper = upper * (1.0 + 1e-9) + 1e-6
         b0, b1 = i0 // BLOCK, i1 // BLOCK
         nb = int((b1 - b0).max()) + 1
@@ -190,6 +209,10 @@ class BatchGuidance:
         ok = (legs >= i0[v, None]) & (legs <= i1[v, None])
         vf = np.broadcast_to(v[:, None], legs.shape)[ok]        # (vessel, leg) ascending
         lf = legs[ok]
+        # The same test leg by leg (bounding circle of each leg) before the exact search.
+        near = (np.hypot(pn[vf] - self._leg_mid[lf, 0], pe[vf] - self._leg_mid[lf, 1])
+                - self._leg_radius[lf]) <= upper[vf]
+        vf, lf = vf[near], lf[near]
         cf = route.cumulative[lf]
         t, fn, fe, gamma, dist = route.closest_on_legs(lf, pn[vf], pe[vf], lo[vf] - cf,
                                                        hi[vf] - cf)

@@ -250,8 +250,12 @@ class PathFollowingBatch:
                 x[:, m.IX] += drift[:, 0]
                 x[:, m.IY] += drift[:, 1]
         ok = np.all(np.isfinite(x), axis=1)
+        all_ok = bool(ok.all())
         try:
-            m.check_state(x[ok])
+            m.check_state(x if all_ok else x[ok])
+            if all_ok:   # the common case: no copies
+                self.x = x
+                return ok
         except ValueError:
             for i in np.flatnonzero(ok):
                 try:

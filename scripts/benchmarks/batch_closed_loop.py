@@ -116,6 +116,6 @@ def run(quick=False):
                               goal_row['rate_cpu'], GOAL_RATE, 'steps/s', below=False)],
         'notes': [f'1-minute load average {load:.1f} on {os.cpu_count()} CPUs at the start; '
                   'wall rates under load are the machine share, CPU rates the cost',
-                  'set-up (starts placed, first closest point on the whole route, one vessel '
-                  'at a time) is not in the rates'],
+                  'set-up (starts placed, first closest point on the whole route) is not in '
+                  'the rates'],
     }

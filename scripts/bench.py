@@ -10,6 +10,7 @@ Sections (registry: scripts/benchmarks/__init__.py):
   lockstep     flagship graph in lockstep: real-time factor, against a bare 3-hop relay floor
   realtime_latency  flagship graph in realtime: odom -> rudder_cmd latency, missed steps
   closed_loop_inprocess  the flagship loop's pure modules in one process (no ROS)
+  batch_closed_loop  N closed-loop episodes as arrays: vessel-steps/s vs one vessel, the plant
   colav        one collision-avoidance decision with 10 targets, SB-MPC and VO (ms)
   imazu        Imazu benchmark runs in process: time per run, decisions/s (mariner, 600 s sim)
   sweep        scripts/sweep.py throughput: local processes and Ray, 1 and 2 workers

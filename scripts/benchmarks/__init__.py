@@ -32,6 +32,8 @@ SECTIONS = {
                          'rudder_cmd latency and missed steps'),
     'closed_loop_inprocess': ('closed_loop_inprocess', 'run',
                               'flagship loop with the pure modules in one process (no ROS)'),
+    'batch_closed_loop': ('batch_closed_loop', 'run', 'batched closed loop (ILOS + PD, N '
+                          'episodes as arrays) against one vessel and the plant alone'),
     'colav': ('colav', 'run', 'one collision-avoidance decision with 10 targets (SB-MPC, VO)'),
     'waves': ('waves', 'run', 'per-step cost of the wave-frequency motion and the wave filter'),
     'imazu': ('imazu', 'run', 'Imazu benchmark runs in process: time per run, decisions/s'),

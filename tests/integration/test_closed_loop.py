@@ -321,3 +321,41 @@ def test_graph_in_lockstep_is_bit_identical_on_repeat(ros_graph):
     rudder = np.array(first['rudder_cmd'])
     assert rudder.max() > 0.0 > rudder.min()
     assert first['odom'][-1][2:4] != first['odom'][0][2:4]
+
+
+# -- 3. the graph in lockstep equals the in-process loop -----------------------------------------
+
+@pytest.mark.timeout(150)
+def test_graph_in_lockstep_equals_the_in_process_loop(ros_graph):
+    """The four nodes in lockstep compute what the pure modules compute in one process, step
+    by step (scripts/benchmarks/closed_loop_inprocess.py builds that loop from the scenario the
+    way the nodes do): positions, heading commands and rudder commands agree to rounding (the
+    messages carry the pose as ENU and a quaternion). So the in-process loops (Table I's
+    scripts/evaluate_controllers.py, ship_autopilot.batch_closed_loop, which equals it per
+    episode) stand for the graph."""
+    from benchmarks.closed_loop_inprocess import build_loop
+    from ship_sim.frames import psi_to_yaw
+
+    scenario = load_scenario(SCENARIO)
+    graph = _run_to_max_steps(ros_graph, scenario, '_inproc')
+    sim, guidance, autopilot, dt = build_loop(SCENARIO)
+    north, east, yaw_cmd, rudder = [], [], [], []
+    t_prev = None
+    for _ in range(DETERMINISM_STEPS + 1):
+        t, n, e, psi, u, v, r = sim.nav_state()
+        h = 0.0 if t_prev is None else t - t_prev
+        out = guidance.update(n, e, psi, h)
+        delta = autopilot.update(psi, r, out.heading_cmd, h if h > 0.0 else 1e-9)
+        north.append(n)
+        east.append(e)
+        yaw_cmd.append(psi_to_yaw(out.heading_cmd))
+        rudder.append(delta)
+        sim.step(delta)
+        t_prev = t
+    odom = np.array(graph['odom'])
+    np.testing.assert_allclose(odom[:, 3], north, rtol=0, atol=1e-9)   # ENU y = north
+    np.testing.assert_allclose(odom[:, 2], east, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(wrap_angle(np.array(graph['heading_cmd']) - yaw_cmd), 0.0,
+                               atol=1e-9)
+    np.testing.assert_allclose(graph['rudder_cmd'], rudder, rtol=0, atol=1e-9)
+    assert max(rudder) > 0.0 > min(rudder)   # it steered both ways: not a trivial agreement

@@ -169,7 +169,7 @@ def test_same_run_twice_is_identical():
 def test_memory_does_not_grow_with_the_number_of_steps():
     """Peak traced memory of a 4x longer run is the same (running metrics, no per-step
     arrays kept): within 10 % (allocator noise), where a per-step history of the 200
-    vessels. seven metrics would add 200 x 8 B x 7 x 900 steps = 10 MB."""
+    vessels' seven metrics would add 200 x 8 B x 7 x 900 steps = 10 MB."""
     route = zigzag()
     loop = BatchClosedLoop('mariner', [route], 'pd', 'ilos')
     n = 200

@@ -30,6 +30,7 @@ rate| deg/s, mean |rudder| deg), completion (route end reached, and when), and w
 state left the model's domain (that episode's plant then stays at its last valid state).
 """
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -38,7 +39,7 @@ from ship_guidance.batch_guidance import BatchGuidance
 from ship_guidance.path_state import PathFeatures
 
 from .gains import autopilot_gains, build_autopilot
-from .learning.env import EnvConfig, PathFollowingBatch
+from .learning.env import EnvConfig, PathFollowingBatch, start_states
 from .learning.policy import load_policy
 from .learning.reward import gaussian_reward
 
@@ -60,6 +61,11 @@ class BatchResult:
     metrics: dict
     log: dict = field(default_factory=dict)
     steps: int = 0
+    #: Wall time (s) of the set-up (starts, first projections) and of the stepping, and the
+    #: stepping's CPU time (process_time): for throughput figures and progress estimates.
+    setup_s: float = 0.0
+    loop_s: float = 0.0
+    loop_cpu_s: float = 0.0
 
 
 def _episode_arrays(episodes, keys):
@@ -125,9 +131,8 @@ class BatchClosedLoop:
     # -- set-up --------------------------------------------------------------------------------
     def _plant(self, n, ep):
         env = PathFollowingBatch(self._model, n, self.config, routes=self.routes)
-        starts = [dict(zip(START_KEYS, vals)) for vals in zip(
-            *(ep[k].tolist() for k in START_KEYS))]
-        env.reset(starts=starts)
+        env.x, env.current = start_states(env.model, env.x0, self.routes,
+                                          **{k: ep[k] for k in START_KEYS})
         return env
 
     def _guidance(self, ep, n):
@@ -154,6 +159,7 @@ class BatchClosedLoop:
     def run(self, episodes, duration, log_every=0):
         """Run every episode for ``duration`` s; -> BatchResult. ``log_every``: log every that
         many steps (0: no log)."""
+        t_setup = time.perf_counter()
         n, ep = _episode_arrays(episodes, START_KEYS + PARAM_KEYS)
         for k, v in self.defaults().items():
             ep.setdefault(k, np.full(n, v))
@@ -205,6 +211,8 @@ class BatchClosedLoop:
                         out.curvature
                     fin[idx], psi_c_all[idx] = out.finished, out.heading_cmd
                 psi_c = psi_c_all
+            if not step:  # the first update searched the whole route: set-up, not stepping
+                t_loop, c_loop = time.perf_counter(), time.process_time()
             new = fin & np.isnan(finish_t)
             if new.any():
                 finish_t[new] = t
@@ -240,6 +248,7 @@ class BatchClosedLoop:
             ok = env.integrate(cmd, 1)
             if not ok.all():
                 failed |= ~ok
+        loop_s, loop_cpu_s = time.perf_counter() - t_loop, time.process_time() - c_loop
         n_s = max(n_steps, 1)
         metrics = {
             'gaussian': gauss, 'mean_abs_e': sum_e / n_s, 'rms_e': np.sqrt(sum_e2 / n_s),
@@ -247,7 +256,7 @@ class BatchClosedLoop:
             'rudder_rate_deg_s': np.degrees(rate_sum / n_s / dt),
             'mean_abs_rudder_deg': np.degrees(abs_rud / (n_steps + 1)),
             'finished': ~np.isnan(finish_t), 'finish_time_s': finish_t, 'failed': failed}
-        return BatchResult(metrics, log, n_steps)
+        return BatchResult(metrics, log, n_steps, t_loop - t_setup, loop_s, loop_cpu_s)
 
     # -- log -----------------------------------------------------------------------------------
     @staticmethod

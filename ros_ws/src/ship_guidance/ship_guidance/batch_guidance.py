@@ -28,6 +28,10 @@ from .guidance import Guidance
 from .path import Route
 
 BATCH_LAWS = ('los', 'ilos')
+#: Windows spanning at least this many legs are searched block by block (_closest_pruned).
+FEW_COLUMNS = 8
+#: Legs per block of the pruned search.
+BLOCK = 16
 
 
 @dataclass
@@ -91,6 +95,17 @@ class BatchGuidance:
         self._ends = route.cumulative[1:]
         self._starts = route.cumulative[:-1]
         self._n_legs = len(route.legs)
+        # Bounding circles of blocks of BLOCK legs: every point of a block lies within half its
+        # arc length of its middle point (along the path, so also in a straight line).
+        first = np.arange(0, self._n_legs, BLOCK)
+        s0 = route.cumulative[first]
+        s1 = route.cumulative[np.minimum(first + BLOCK, self._n_legs)]
+        mid_n, mid_e, _ = route.point_at(0.5 * (s0 + s1))
+        self._block_mid = np.stack([np.atleast_1d(mid_n), np.atleast_1d(mid_e)], axis=1)
+        self._block_radius = 0.5 * (s1 - s0) * (1.0 + 1e-9)
+        mid_n, mid_e, _ = route.point_at(route.leg_starts + 0.5 * route.leg_lengths)
+        self._leg_mid = np.stack([np.atleast_1d(mid_n), np.atleast_1d(mid_e)], axis=1)
+        self._leg_radius = 0.5 * route.leg_lengths * (1.0 + 1e-9)
         self.reset()
 
     def reset(self):
@@ -104,7 +119,21 @@ class BatchGuidance:
 
     # -- the closest point -------------------------------------------------------------------
     def _first_projection(self, north, east):
-        """Guidance's first update, vessel by vessel (once per episode)."""
+        """Guidance's first update: the closest point of the whole route. On a route of one
+        smooth stretch that is all it does (and the end check), vectorised here with an upper
+        bound from the legs' middle points; with corners, vessel by vessel as Guidance."""
+        if self._n_stretch == 1:
+            n = self.n
+            zeros = np.zeros(n, dtype=int)
+            lo, hi = np.zeros(n), np.full(n, self.route.length)
+            upper = np.min(np.hypot(north[:, None] - self._block_mid[:, 0],
+                                    east[:, None] - self._block_mid[:, 1]), axis=1)
+            s, leg, fn, fe, gamma = self._closest_pruned(north, east, lo, hi, zeros,
+                                                         zeros + self._n_legs - 1, upper)
+            cross = -np.sin(gamma) * (north - fn) + np.cos(gamma) * (east - fe)
+            self.k = zeros
+            self.finished = self._reached_end(zeros, s, north, east)
+            return s, leg, cross, gamma, self.route.curvatures[leg]
         g = self.template
         out = np.empty((6, self.n))
         for i, (pn, pe) in enumerate(zip(north.tolist(), east.tolist())):
@@ -123,30 +152,76 @@ class BatchGuidance:
         lo = np.maximum(lo, sh - w)
         hi = np.minimum(hi, sh + w)
         i0 = np.minimum(np.searchsorted(self._ends, lo, 'right'), self._n_legs - 1)
-        i1 = np.maximum(np.searchsorted(self._starts, hi, 'left') - 1, i0)
-        span = i1 - i0
-        width = int(span.max()) + 1 if len(span) else 1
-        if width == 1:
-            idx = i0[:, None]
-            rows = None
+        span = np.maximum(np.searchsorted(self._starts, hi, 'left') - 1, i0) - i0
+        if len(span) and span.max() >= FEW_COLUMNS:
+            # Upper bound: the closest point of the leg at the hint.
+            hint_leg = np.clip(np.searchsorted(self._ends, sh, 'right'), i0, i0 + span)
+            c0 = route.cumulative[hint_leg]
+            upper = route.closest_on_legs(hint_leg, pn, pe, lo - c0, hi - c0)[4]
+            s, leg, fn, fe, gamma = self._closest_pruned(pn, pe, lo, hi, i0, i0 + span, upper)
         else:
-            idx = i0[:, None] + np.arange(width)
-            rows = idx > i1[:, None]
-            np.minimum(idx, i1[:, None], out=idx)
-        c0 = route.cumulative[idx]
-        t, fn, fe, fa, dist = route.closest_on_legs(idx, pn[:, None], pe[:, None],
-                                                    lo[:, None] - c0, hi[:, None] - c0)
-        if rows is None:
-            j = np.zeros(len(pn), dtype=int)
-        else:
-            dist[rows] = np.inf
-            j = np.argmin(dist, axis=1)
-        r = np.arange(len(pn))
-        leg = idx[r, j]
-        s = c0[r, j] + t[r, j]
-        fn, fe, gamma = fn[r, j], fe[r, j], fa[r, j]
+            s, leg, fn, fe, gamma = self._closest_by_column(pn, pe, lo, hi, i0, span)
         cross = -np.sin(gamma) * (pn - fn) + np.cos(gamma) * (pe - fe)  # path.py, eq. 2
         return s, leg, cross, gamma, route.curvatures[leg]
+
+    def _closest_by_column(self, pn, pe, lo, hi, i0, span):
+        """The first candidate leg of every vessel, then the next ones only where a vessel's
+        window reaches them; a later leg wins only if strictly closer (the first minimum, as
+        Route.project)."""
+        route = self.route
+        c0 = route.cumulative[i0]
+        t, fn, fe, gamma, dist = route.closest_on_legs(i0, pn, pe, lo - c0, hi - c0)
+        s, leg = c0 + t, i0
+        for j in range(1, int(span.max()) + 1 if len(span) else 1):
+            rows = np.flatnonzero(span >= j)
+            li = i0[rows] + j
+            cj = route.cumulative[li]
+            tj, fnj, fej, gj, dj = route.closest_on_legs(li, pn[rows], pe[rows],
+                                                         lo[rows] - cj, hi[rows] - cj)
+            b = dj < dist[rows]
+            r = rows[b]
+            if j == 1:
+                leg = leg.copy()
+            dist[r], s[r], leg[r] = dj[b], cj[b] + tj[b], li[b]
+            fn[r], fe[r], gamma[r] = fnj[b], fej[b], gj[b]
+        return s, leg, fn, fe, gamma
+
+    def _closest_pruned(self, pn, pe, lo, hi, i0, i1, upper):
+        """The same first minimum over legs i0..i1 for windows of many legs (dense curves),
+        given an upper bound u on the distance (a point of the path): only blocks of BLOCK legs
+        whose bounding circle (centre at the block's middle, radius half its arc length) comes
+        within u (plus a rounding margin) can hold a point as close, then only their legs whose
+        own bounding circle does, and only those are searched. Every leg that could tie or win
+        is searched, so the result is the same."""
+        route = self.route
+        n = len(pn)
+        upper = upper * (1.0 + 1e-9) + 1e-6
+        b0, b1 = i0 // BLOCK, i1 // BLOCK
+        nb = int((b1 - b0).max()) + 1
+        blocks = np.minimum(b0[:, None] + np.arange(nb), b1[:, None])
+        lower = (np.hypot(pn[:, None] - self._block_mid[blocks, 0],
+                          pe[:, None] - self._block_mid[blocks, 1])
+                 - self._block_radius[blocks])
+        keep = lower <= upper[:, None]
+        keep[:, 1:] &= blocks[:, 1:] != blocks[:, :-1]        # each block once
+        v, col = np.nonzero(keep)                               # ordered by vessel, then block
+        legs = blocks[v, col][:, None] * BLOCK + np.arange(BLOCK)
+        ok = (legs >= i0[v, None]) & (legs <= i1[v, None])
+        vf = np.broadcast_to(v[:, None], legs.shape)[ok]        # (vessel, leg) ascending
+        lf = legs[ok]
+        # The same test leg by leg (bounding circle of each leg) before the exact search.
+        near = (np.hypot(pn[vf] - self._leg_mid[lf, 0], pe[vf] - self._leg_mid[lf, 1])
+                - self._leg_radius[lf]) <= upper[vf]
+        vf, lf = vf[near], lf[near]
+        cf = route.cumulative[lf]
+        t, fn, fe, gamma, dist = route.closest_on_legs(lf, pn[vf], pe[vf], lo[vf] - cf,
+                                                       hi[vf] - cf)
+        first = np.flatnonzero(np.r_[True, vf[1:] != vf[:-1]])
+        best = np.minimum.reduceat(dist, first)
+        hit = np.flatnonzero(dist == np.repeat(best, np.diff(np.r_[first, len(vf)])))
+        pick = hit[np.r_[True, vf[hit][1:] != vf[hit][:-1]]]   # first minimum per vessel
+        assert len(pick) == n
+        return cf[pick] + t[pick], lf[pick], fn[pick], fe[pick], gamma[pick]
 
     def _reached_end(self, k, s, pn, pe):
         """Guidance._reached_end for vessels in stretches k at arc lengths s."""

@@ -477,26 +477,37 @@ class Route:
         searched over its local arc lengths [lo_local, hi_local] (clamped to the leg):
         arrays (t, north, east, path_angle, distance) of the shape of ``i`` broadcast with the
         inputs. The one closest-point kernel of ``project`` (many legs) and of the batched
-        guidance (ship_guidance.batch_guidance: one row of candidate legs per vessel)."""
+        guidance (ship_guidance.batch_guidance: one leg per point, 1-D arrays, where lines
+        and arcs are computed apart; the same arithmetic per element)."""
         lengths = self.leg_lengths[i]
-        if not self._has_arcs:  # lines only: the line branch below, without the arc work
-            p0, unit = self._p0[i], self._unit[i]
-            t = np.minimum(np.maximum(
-                (pn - p0[..., 0]) * unit[..., 0] + (pe - p0[..., 1]) * unit[..., 1],
-                np.minimum(np.maximum(lo_local, 0.0), lengths)),
-                np.minimum(np.maximum(hi_local, 0.0), lengths))
-            fn, fe = p0[..., 0] + t * unit[..., 0], p0[..., 1] + t * unit[..., 1]
-            return t, fn, fe, self._angle[i], np.hypot(fn - pn, fe - pe)
         ta = np.minimum(np.maximum(lo_local, 0.0), lengths)
         tb = np.minimum(np.maximum(hi_local, 0.0), lengths)
+        if not self._has_arcs:
+            return self._line_foot(i, pn, pe, ta, tb)
         arc = self._is_arc[i]
+        if np.ndim(i) == 1 and np.ndim(pn) == 1:   # one leg per point: each kind apart
+            if arc.all():
+                return self._arc_foot(i, pn, pe, ta, tb)
+            if not arc.any():
+                return self._line_foot(i, pn, pe, ta, tb)
+            out = [np.empty(len(i)) for _ in range(5)]
+            for rows, foot in ((np.flatnonzero(~arc), self._line_foot),
+                               (np.flatnonzero(arc), self._arc_foot)):
+                for o, v in zip(out, foot(i[rows], pn[rows], pe[rows], ta[rows], tb[rows])):
+                    o[rows] = v
+            return tuple(out)
         # Lines: perpendicular foot clamped to the searched part.
         p0, unit = self._p0[i], self._unit[i]
         t_line = np.minimum(np.maximum(
             (pn - p0[..., 0]) * unit[..., 0] + (pe - p0[..., 1]) * unit[..., 1], ta), tb)
-        # Arcs: radial foot if it lies in the searched part, else the nearer end of that part
-        # (distance to a circle point grows with the wrapped angle from the radial foot).
-        radius = np.where(arc, self._radius[i], 1.0)
+        t_arc = self._arc_t(i, pn, pe, ta, tb, np.where(arc, self._radius[i], 1.0))
+        t = np.where(arc, t_arc, t_line)
+        fn, fe, fa = self._eval(i, t)
+        return t, fn, fe, fa, np.hypot(fn - pn, fe - pe)
+
+    def _arc_t(self, i, pn, pe, ta, tb, radius):
+        """Arcs: radial foot if it lies in the searched part [ta, tb], else the nearer end of
+        that part (distance to a circle point grows with the wrapped angle from the foot)."""
         center = self._center[i]
         phi = np.arctan2(pe - center[..., 1], pn - center[..., 0])
         t_free = ((self._dir[i] * (phi - self._theta0[i])) % TWO_PI) * radius
@@ -504,10 +515,26 @@ class Route:
         ga = np.abs(wrap_angle((ta - t_free) / radius))
         gb = np.abs(wrap_angle((tb - t_free) / radius))
         t_end = np.where(ga <= gb, ta, tb)
-        t_arc = np.where((t_free >= ta) & (t_free <= tb), t_free, t_end)
-        t = np.where(arc, t_arc, t_line)
-        fn, fe, fa = self._eval(i, t)
-        return t, fn, fe, fa, np.hypot(fn - pn, fe - pe)
+        return np.where((t_free >= ta) & (t_free <= tb), t_free, t_end)
+
+    def _line_foot(self, i, pn, pe, ta, tb):
+        """closest_on_legs for lines i only: perpendicular foot clamped to [ta, tb]."""
+        p0, unit = self._p0[i], self._unit[i]
+        t = np.minimum(np.maximum(
+            (pn - p0[..., 0]) * unit[..., 0] + (pe - p0[..., 1]) * unit[..., 1], ta), tb)
+        fn, fe = p0[..., 0] + t * unit[..., 0], p0[..., 1] + t * unit[..., 1]
+        return t, fn, fe, self._angle[i], np.hypot(fn - pn, fe - pe)
+
+    def _arc_foot(self, i, pn, pe, ta, tb):
+        """closest_on_legs for arcs i only (``_eval``'s arc branch)."""
+        radius = self._radius[i]
+        t = self._arc_t(i, pn, pe, ta, tb, radius)
+        d = self._dir[i]
+        theta = self._theta0[i] + d * t / radius
+        center = self._center[i]
+        fn = center[..., 0] + radius * np.cos(theta)
+        fe = center[..., 1] + radius * np.sin(theta)
+        return t, fn, fe, wrap_angle(theta + d * HALF_PI), np.hypot(fn - pn, fe - pe)
 
     def along(self, leg_index, north, east):
         """Unclamped local arc length of a position on leg ``leg_index`` (see Line/Arc.along)."""

@@ -116,6 +116,29 @@ def make_curve_pool(model_name, speed, config, rng):
     return routes
 
 
+def start_states(model, x0, routes, route, along, cross, heading, current_speed,
+                 current_direction):
+    """Start states of episodes (arrays, one entry each): the point ``along`` (m) of route
+    ``routes[route]`` moved ``cross`` (m, + starboard) along the normal, heading = path angle
+    + ``heading`` (rad), the rest of the state ``x0`` (the model's straight-running trim); and
+    the constant current (v_north, v_east) (m/s) from its speed and direction (rad, flowing
+    towards). -> (x (N, n_states), current (N, 2))."""
+    route = np.asarray(route, dtype=int)
+    x = np.repeat(np.asarray(x0, dtype=float)[None, :], len(route), axis=0)
+    pn, pe, gamma = np.empty(len(route)), np.empty(len(route)), np.empty(len(route))
+    for r in np.unique(route).tolist():
+        sel = route == r
+        pn[sel], pe[sel], gamma[sel] = routes[r].point_at(np.asarray(along, dtype=float)[sel])
+    normal = gamma + 0.5 * math.pi          # starboard of the path direction
+    m = model
+    x[:, m.IX] = pn + cross * np.cos(normal)
+    x[:, m.IY] = pe + cross * np.sin(normal)
+    x[:, m.IPSI] = gamma + heading
+    current = np.stack([current_speed * np.cos(current_direction),
+                        current_speed * np.sin(current_direction)], axis=1)
+    return x, current
+
+
 class PathFollowingBatch:
     """N vessels of ``model`` following paths, stepped together (the vectorised core).
 
@@ -181,19 +204,12 @@ class PathFollowingBatch:
         if len(starts) != len(idx):
             raise ValueError(f'{len(starts)} starts given for {len(idx)} vessels')
         m = self.model
+        keys = ('route', 'along', 'cross', 'heading', 'current_speed', 'current_direction')
+        self.x[idx], self.current[idx] = start_states(
+            m, self.x0, self.routes, **{k: np.array([st[k] for st in starts]) for k in keys})
         for i, st in zip(idx, starts):
-            route = self.routes[st['route']]
-            pn, pe, gamma = (float(v) for v in route.point_at(st['along']))
-            normal = gamma + 0.5 * math.pi          # starboard of the path direction
-            x = self.x0.copy()
-            x[m.IX] = pn + st['cross'] * math.cos(normal)
-            x[m.IY] = pe + st['cross'] * math.sin(normal)
-            x[m.IPSI] = gamma + st['heading']
-            self.x[i] = x
             self.route_index[i] = st['route']
-            self.s[i] = route.project(x[m.IX], x[m.IY]).s
-            self.current[i] = (st['current_speed'] * math.cos(st['current_direction']),
-                               st['current_speed'] * math.sin(st['current_direction']))
+            self.s[i] = self.routes[st['route']].project(self.x[i, m.IX], self.x[i, m.IY]).s
             self.t[i] = 0.0
             self.prev_cmd[i] = 0.0
         reset_mask = np.zeros(self.n, dtype=bool)
@@ -234,8 +250,12 @@ class PathFollowingBatch:
                 x[:, m.IX] += drift[:, 0]
                 x[:, m.IY] += drift[:, 1]
         ok = np.all(np.isfinite(x), axis=1)
+        all_ok = bool(ok.all())
         try:
-            m.check_state(x[ok])
+            m.check_state(x if all_ok else x[ok])
+            if all_ok:   # the common case: no copies
+                self.x = x
+                return ok
         except ValueError:
             for i in np.flatnonzero(ok):
                 try:

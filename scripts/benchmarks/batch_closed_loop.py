@@ -1,0 +1,121 @@
+"""Section ``batch_closed_loop``: closed-loop vessel-steps per second of the batched loop.
+
+Three figures side by side, all Mariner, h = 0.1 s:
+
+- the single-vessel in-process loop (section closed_loop_inprocess's flagship loop: float
+  paths, one vessel): vessel-steps/s = steps / time;
+- ship_autopilot.batch_closed_loop.BatchClosedLoop with ILOS + PD on the flagship route
+  (7 legs, lines and arcs) for N = 100, 1 000, 10 000 episodes (starts spread over +-100 m,
+  +-0.3 rad, currents 0-0.9 m/s in every direction), and at N = 10 000 on Table I's curved
+  path (912 arcs: the dense-curve search);
+- the plant alone at N = 10 000 (section batched's rk4_step on the same model): the limit a
+  loop that also runs guidance, autopilot and metrics on arrays can approach; the ratio
+  closed loop / plant-only says how close it gets.
+
+Each figure is the best of ``repeats`` runs of the stepping alone (set-up reported apart), in
+wall time and in CPU time (time.process_time, which a loaded machine disturbs much less).
+Goal (issue 16): >= 1 000 000 closed-loop vessel-steps/s at N = 10 000 (Mariner, ILOS + PD).
+"""
+import os
+import time
+
+import numpy as np
+
+from . import batched, closed_loop_inprocess, common
+
+GOAL_N = 10_000
+GOAL_RATE = 1_000_000.0
+SIZES = (100, 1_000, 10_000)
+SIM_S, QUICK_SIM_S = 100.0, 20.0
+ROUTES = {'flagship': 'flagship_mariner.yaml', 'curved': 'curved_path_mariner_000.yaml'}
+
+
+def episodes(n, seed=1):
+    rng = np.random.default_rng(seed)
+    return {'route': 0, 'along': rng.uniform(0, 500, n), 'cross': rng.uniform(-100, 100, n),
+            'heading': rng.uniform(-0.3, 0.3, n), 'current_speed': rng.uniform(0, 0.9, n),
+            'current_direction': rng.uniform(-np.pi, np.pi, n)}
+
+
+def batch_rate(route_name, n, sim_s, repeats):
+    """(best wall rate, best CPU rate, set-up s) of BatchClosedLoop, ILOS + PD."""
+    from ship_autopilot.batch_closed_loop import BatchClosedLoop
+    from ship_planner.route_loader import load_route
+    route = load_route(common.REPO / 'scenarios' / 'routes' / ROUTES[route_name]).route
+    loop = BatchClosedLoop('mariner', [route], 'pd', 'ilos')
+    walls, cpus, setup = [], [], []
+    for _ in range(repeats):
+        res = loop.run(episodes(n), sim_s)
+        walls.append(res.loop_s)
+        cpus.append(res.loop_cpu_s)
+        setup.append(res.setup_s)
+        assert not res.metrics['failed'].any()
+    steps = n * res.steps
+    return steps / min(walls), steps / max(min(cpus), 1e-9), min(setup)
+
+
+def single_rate(steps, repeats):
+    """(wall, CPU) vessel-steps/s of the flagship loop with one vessel (float paths)."""
+    walls, cpus = [], []
+    for _ in range(repeats):
+        loop = closed_loop_inprocess.build_loop()
+        t0, c0 = time.perf_counter(), time.process_time()
+        closed_loop_inprocess.run_loop(*loop, steps)
+        walls.append(time.perf_counter() - t0)
+        cpus.append(time.process_time() - c0)
+    return steps / min(walls), steps / max(min(cpus), 1e-9)
+
+
+def plant_rate(n, quick):
+    """(wall, CPU) vessel-steps/s of the plant alone: best of 3 blocks of RK4 steps."""
+    from ship_sim.integrators import rk4_step
+    from ship_sim.models import make_model
+    model = make_model('mariner')
+    X, U = batched.batch(model, n)
+    steps = 10 if quick else 50
+    walls, cpus = [], []
+    for _ in range(3):
+        t0, c0 = time.perf_counter(), time.process_time()
+        for _ in range(steps):
+            rk4_step(model.rhs, X, U, batched.H)
+        walls.append(time.perf_counter() - t0)
+        cpus.append(time.process_time() - c0)
+    return n * steps / min(walls), n * steps / max(min(cpus), 1e-9)
+
+
+def run(quick=False):
+    sim_s = QUICK_SIM_S if quick else SIM_S
+    repeats = 1 if quick else 3
+    load = os.getloadavg()[0]
+    rows = []
+    w, c = single_rate(int(sim_s / 0.1), repeats)
+    rows.append({'loop': 'single vessel, float paths (flagship, ILOS + PD)', 'n': 1,
+                 'rate_wall': w, 'rate_cpu': c})
+    for n in SIZES:
+        w, c, s = batch_rate('flagship', n, sim_s, repeats)
+        rows.append({'loop': 'BatchClosedLoop flagship ILOS + PD', 'n': n, 'rate_wall': w,
+                     'rate_cpu': c, 'setup_s': s})
+    goal_row = rows[-1]
+    w, c, s = batch_rate('curved', GOAL_N, sim_s, 1)
+    rows.append({'loop': 'BatchClosedLoop curved path (912 arcs) ILOS + PD', 'n': GOAL_N,
+                 'rate_wall': w, 'rate_cpu': c, 'setup_s': s})
+    pw, pc = plant_rate(GOAL_N, quick)
+    rows.append({'loop': 'plant only: rk4_step(mariner.rhs) (section batched)', 'n': GOAL_N,
+                 'rate_wall': pw, 'rate_cpu': pc})
+    for r in rows:
+        r['ratio_to_plant'] = r['rate_cpu'] / pc
+    return {
+        'title': f'batched closed loop (Mariner, h = 0.1 s, {sim_s:g} s sim): vessel-steps/s',
+        'columns': [['loop', 'loop'], ['n', 'N'], ['rate_wall', 'steps/s wall (best)'],
+                    ['rate_cpu', 'steps/s CPU (best)'], ['ratio_to_plant', 'CPU / plant only'],
+                    ['setup_s', 'set-up s']],
+        'rows': rows,
+        'goals': [common.goal(f'closed-loop vessel-steps/s at N = {GOAL_N:,}, ILOS + PD (wall)',
+                              goal_row['rate_wall'], GOAL_RATE, 'steps/s', below=False),
+                  common.goal(f'closed-loop vessel-steps/s at N = {GOAL_N:,}, ILOS + PD (CPU)',
+                              goal_row['rate_cpu'], GOAL_RATE, 'steps/s', below=False)],
+        'notes': [f'1-minute load average {load:.1f} on {os.cpu_count()} CPUs at the start; '
+                  'wall rates under load are the machine share, CPU rates the cost',
+                  'set-up (starts placed, first closest point on the whole route) is not in '
+                  'the rates'],
+    }

@@ -6,12 +6,16 @@
 Sections (registry: scripts/benchmarks/__init__.py):
   models       single-vessel derivative and RK4 step cost per model (us)
   batched      batched RK4 throughput for the MSS ships (vessel-steps/s)
+  batch_closed_loop  batched closed loop (plant + guidance + autopilot) against one vessel and the plant
+  wind         cost of the wind loads per simulator step, one vessel and batched
   node_jitter  odom inter-arrival jitter of a realtime vessel_node (needs `make build`)
   lockstep     flagship graph in lockstep: real-time factor, against a bare 3-hop relay floor
+  live_view    flagship lockstep run with and without --live (and a client)
   realtime_latency  flagship graph in realtime: odom -> rudder_cmd latency, missed steps
   closed_loop_inprocess  the flagship loop's pure modules in one process (no ROS)
   batch_closed_loop  N closed-loop episodes as arrays: vessel-steps/s vs one vessel, the plant
   colav        one collision-avoidance decision with 10 targets, SB-MPC and VO (ms)
+  waves        per-step cost of the wave-frequency motion and the wave filter
   imazu        Imazu benchmark runs in process: time per run, decisions/s (mariner, 600 s sim)
   sweep        scripts/sweep.py throughput: local processes and Ray, 1 and 2 workers
   controllers  Martinsen and Lekkas 2018's Table I: classical controllers vs the learned policy (~10 min)

@@ -58,7 +58,8 @@ def test_install_tree_has_index_marker_manifest_and_executables(pkg):
 
 def installed_data(pkg):
     """setup.py's data_files as (install dir, source pattern or file) and its package_data patterns
-    (relative to the Python package), read from the AST with only ``package_name`` and ``glob``
+    (relative to the package folder, e.g. 'data/*.npz' of 'ship_sim.environment' as
+    'environment/data/*.npz'), read from the AST with only ``package_name`` and ``glob``
     known (the file is not executed)."""
     tree = ast.parse((SRC / pkg / 'setup.py').read_text())
     env = {'package_name': pkg, 'glob': lambda pattern: ('glob', pattern), '__builtins__': {}}
@@ -69,7 +70,9 @@ def installed_data(pkg):
                 data_files += [(dest, files)] if isinstance(files, tuple) else \
                               [(dest, f) for f in files]
         if isinstance(node, ast.keyword) and node.arg == 'package_data':
-            package_data += [p for pats in eval(ast.unparse(node.value), env).values() for p in pats]
+            for name, pats in eval(ast.unparse(node.value), env).items():
+                sub = Path(*name.split('.')[1:])   # setuptools: patterns relative to that package
+                package_data += [str(sub / p) for p in pats]
     return data_files, package_data
 
 
@@ -110,6 +113,7 @@ BAD_PARAMETER = {
     'ais_node': ('file', '/no/such/file.nmea'),
     'colav_node': ('method', 'no_such_method'),
     'traffic_node': ('targets', 'no_json'),
+    'nav_display_node': ('display_rate_hz', '-1.0'),
 }
 
 

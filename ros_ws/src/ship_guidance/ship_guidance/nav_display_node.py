@@ -1,7 +1,9 @@
 """nav_display_node: map- and viewer-ready topics of one vessel (thin; pure part in nav_display).
 
-Subscribes `odom` (nav_msgs/Odometry, ENU; best effort, newest only: a display never holds the
-graph back) and `route` (nav_msgs/Path, reliable + transient_local). Publishes, at most
+Subscribes `odom` (nav_msgs/Odometry, ENU; reliable, the graph's stream QoS: it sees every
+step, so the frames it shows, the first at or after each display period, are the same on every
+lockstep run; a subscriber never holds a keep-last publisher back) and `route` (nav_msgs/Path,
+reliable + transient_local). Publishes, at most
 `display_rate_hz` times per second of sim time (on the odom stamps):
   fix           sensor_msgs/NavSatFix  WGS-84 position of the ship in the tangent plane at
                 (`origin_lat_deg`, `origin_lon_deg`), the scenario's origin (Map panels)
@@ -18,7 +20,6 @@ import struct
 
 from nav_msgs.msg import Odometry, Path
 from rclpy.node import Node
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import NavSatFix
 from std_msgs.msg import Float64
 from visualization_msgs.msg import MarkerArray
@@ -34,8 +35,6 @@ from ship_sim.ros.qos import LATCHED, STREAM
 from ship_sim.ros.run import run_node
 
 _STAMP = struct.Struct('<iI')   # builtin_interfaces/Time at the start of the CDR body
-NEWEST = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
-                    reliability=ReliabilityPolicy.BEST_EFFORT)
 
 
 class NavDisplayNode(Node):
@@ -67,7 +66,7 @@ class NavDisplayNode(Node):
         self.pub_markers = self.create_publisher(MarkerArray, 'nav_markers', STREAM)
         self.pub_heading = self.create_publisher(Float64, 'heading', STREAM)
         self.create_subscription(Path, 'route', self._on_route, LATCHED)
-        self.create_subscription(Odometry, 'odom', self._on_odom, NEWEST, raw=True)
+        self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
 
     def _on_route(self, msg):
         self.route = route_marker(msg.header.stamp, [(ps.pose.position.x, ps.pose.position.y)

@@ -23,8 +23,14 @@ Test-only: SHIPNAV_SWEEP_FAIL_ONCE=<file> kills the first worker process that st
 """
 import argparse
 import json
+import os
 import sys
 from pathlib import Path
+
+# One BLAS thread per process, set before numpy loads: every worker is already one CPU of the
+# sweep (local processes, Ray tasks of num_cpus=1), and OpenBLAS's own threads on top of them
+# only contend for the same cores (the policy's matrix products cost twice the CPU with 2).
+os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')
 
 from montecarlo import results
 from montecarlo.backends import SweepRunError

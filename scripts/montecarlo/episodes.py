@@ -170,11 +170,18 @@ def episode_chunks(episodes, chunk_size):
     return chunks
 
 
+#: Largest automatic chunk, in episode-seconds (2000 episodes of 1000 s, 20 M vessel-steps):
+#: the batched loop pays numpy's per-call cost once per step for the whole batch, so a step
+#: costs about the same wall time from 1 to a few hundred vessels and the cost per vessel-step
+#: falls until N ~ 2000 (README, Performance). Memory stays O(N): a few MB.
+CHUNK_EPISODE_SECONDS = 2_000_000
+
+
 def auto_chunk_size(n_episodes, workers, duration_s):
-    """Chunks small enough for >= 4 per worker (balance, a lost worker costs little) and for a
-    progress update every few seconds, large enough to amortise a task's overhead."""
+    """Chunks small enough for >= 4 per worker (balance, a lost worker costs little), as large
+    as that allows up to CHUNK_EPISODE_SECONDS, so the batch is large."""
     per_worker = max(1, n_episodes // (4 * max(1, workers)))
-    cap = max(1, int(200_000 / max(1.0, duration_s)))   # ~ 2 M vessel-steps
+    cap = max(1, int(CHUNK_EPISODE_SECONDS / max(1.0, duration_s)))
     return int(np.clip(per_worker, 1, cap))
 
 

@@ -104,10 +104,12 @@ def run(quick=False):
                  'rate_wall': pw, 'rate_cpu': pc})
     for r in rows:
         r['ratio_to_plant'] = r['rate_cpu'] / pc
+        r['ratio_to_plant_wall'] = r['rate_wall'] / pw
     return {
         'title': f'batched closed loop (Mariner, h = 0.1 s, {sim_s:g} s sim): vessel-steps/s',
         'columns': [['loop', 'loop'], ['n', 'N'], ['rate_wall', 'steps/s wall (best)'],
                     ['rate_cpu', 'steps/s CPU (best)'], ['ratio_to_plant', 'CPU / plant only'],
+                    ['ratio_to_plant_wall', 'wall / plant only'],
                     ['setup_s', 'set-up s']],
         'rows': rows,
         'goals': [common.goal(f'closed-loop vessel-steps/s at N = {GOAL_N:,}, ILOS + PD (wall)',

@@ -33,6 +33,14 @@ def _children_cpu():
     return r.ru_utime + r.ru_stime
 
 
+def _autogroup():
+    try:
+        with open('/proc/sys/kernel/sched_autogroup_enabled') as f:
+            return f.read().strip()
+    except OSError:
+        return 'unknown'
+
+
 def _run(sweep, backend, workers, episodes, chunk=CHUNK):
     """One timed sweep; local runs also report their worker processes' CPU seconds per
     episode (reaped children): equal for 1 and 2 workers when a worker carries no overhead,
@@ -91,6 +99,9 @@ def run(quick=False):
     notes.append(f'{n} episodes of {DURATION_S:g} s (Mariner, ILOS + PD, random starts and '
                  f'currents), {chunk} per task; identical tables across runs: '
                  f'{"yes" if len(tables) == 1 else "NO"}; {os.cpu_count()} CPUs')
+    notes.append(f'kernel autogroup: {_autogroup()} (1: the CPU is shared between sessions '
+                 'first; a private Ray instance is a session of its own, local workers share '
+                 "the caller's, so under load the wall ratios measure shares, not scaling)")
     return {'title': 'sweep throughput: local processes and Ray, 1 and 2 workers',
             'columns': [['backend', 'backend'], ['episodes', 'episodes'], ['wall_s', 'wall s'],
                         ['episodes_per_s', 'episodes/s'], ['msteps_per_s', 'M vessel-steps/s'],

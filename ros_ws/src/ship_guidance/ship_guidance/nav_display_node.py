@@ -14,10 +14,14 @@ Publishes, at most `display_rate_hz` times per second of sim time (the first odo
 each display period, on the odom stamps):
   fix           sensor_msgs/NavSatFix  WGS-84 position of the ship in the tangent plane at
                 (`origin_lat_deg`, `origin_lon_deg`), the scenario's origin (Map panels)
-  nav_markers   visualization_msgs/MarkerArray  hull outline and fill at the true length and heading,
-                the vessel's name, the route, the wake trail of the last `trail_length_s`
-                (a point every `trail_period_s`, up to the current position)
-                (ship_guidance.ros.nav_display_msgs; targets and CPA points: colav_markers)
+  nav_markers   visualization_msgs/MarkerArray  hull outline and fill at the true length and
+                heading and the vessel's name in every frame; the wake trail of the last
+                `trail_length_s` (a point every `trail_period_s`) in the frames that add a
+                point, the route in the first frame and then every `route_period_s`
+                (ship_guidance.ros.nav_display_msgs; targets and CPA points: colav_markers).
+                Viewers keep a marker until the same namespace and id replace it, so the
+                route and trail stay on screen between updates; serialising the route's and
+                trail's hundreds of points in every frame was most of the node's CPU.
   heading       std_msgs/Float64  the ship's ENU yaw (rad) from odom, for plot panels that
                 cannot take a yaw out of a quaternion (beside heading_cmd)
 The hull length is the model's length between perpendiculars (`model`) unless `length_m` > 0.
@@ -56,8 +60,12 @@ class NavDisplayNode(Node):
                          lo=0.01, hi=100.0, unit='Hz', read_only=True)
         trail_s = p.declare('trail_length_s', 600.0, 'sim time the wake trail covers', lo=0.0,
                             hi=1e6, unit='s', read_only=True)
-        trail_dt = p.declare('trail_period_s', 5.0, 'sim time between wake trail points', lo=0.01,
-                             hi=3600.0, unit='s', read_only=True)
+        trail_dt = p.declare('trail_period_s', 5.0, 'sim time between wake trail points (the '
+                             'trail is sent when it gains one)', lo=0.01, hi=3600.0, unit='s',
+                             read_only=True)
+        route_dt = p.declare('route_period_s', 10.0, 'sim time between two frames that carry '
+                             'the route (a viewer that connects late gets it within that)',
+                             lo=0.01, hi=3600.0, unit='s', read_only=True)
         self.lat0 = p.declare('origin_lat_deg', 0.0, 'geodetic origin of the ENU frame: latitude',
                               lo=-89.0, hi=89.0, unit='deg', read_only=True)
         self.lon0 = p.declare('origin_lon_deg', 0.0, 'geodetic origin of the ENU frame: '
@@ -70,6 +78,7 @@ class NavDisplayNode(Node):
         self.length = length if length > 0.0 else float(make_model(model).length)
         self.throttle = Throttle(rate)
         self.trail_throttle = Throttle(1.0 / trail_dt)
+        self.route_throttle = Throttle(1.0 / route_dt)
         self.trail = Trail(max(2, int(math.ceil(trail_s / trail_dt)) + 1))
         self.route = None
         self.name = self.get_namespace().strip('/') or 'vessel'
@@ -107,15 +116,17 @@ class NavDisplayNode(Node):
                 return
         if not (math.isfinite(o.north) and math.isfinite(o.east)):
             return
+        trail = ()
         if self.trail_throttle.due(o.t):
             self.trail.add(o.east, o.north)
+            trail = self.trail.points
+        route = self.route if self.route_throttle.due(o.t) else None
         stamp = time_to_msg(o.t)
         yaw = float(psi_to_yaw(o.psi))
         self.pub_fix.publish(navsat_fix(stamp, self.frame, o.east, o.north, self.lat0, self.lon0))
         self.pub_heading.publish(Float64(data=yaw))
         self.pub_markers.publish(display_markers(stamp, self.name, o.east, o.north, yaw,
-                                                 self.length, self.route,
-                                                 [*self.trail.points, (o.east, o.north)]))
+                                                 self.length, route, trail))
 
 
 def main(args=None):

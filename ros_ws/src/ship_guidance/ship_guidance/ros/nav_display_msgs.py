@@ -79,8 +79,9 @@ def route_marker(stamp, route_xy, length):
 
 
 def display_markers(stamp, name, x, y, yaw, length, route, trail_xy):
-    """MarkerArray: hull at (x, y, yaw) of ``length`` m (outline and fill), its label, the ``route`` marker
-    (route_marker, or None) and the trail through ``trail_xy`` (ENU)."""
+    """MarkerArray: hull at (x, y, yaw) of ``length`` m (outline and fill), its label, the
+    ``route`` marker (route_marker; None: not in this frame) and the trail through ``trail_xy``
+    (ENU; fewer than 2 points: not in this frame)."""
     width = line_width(length)
     outline = hull_outline(x, y, yaw, length)
     out = [_strip('hull', stamp, HULL_RGBA, outline_width(length), outline),

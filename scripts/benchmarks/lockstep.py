@@ -156,8 +156,9 @@ def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL, h
     ``live``: also the live view (scripts/live_view.py, as ``--live`` starts it), None: not;
     'idle': no client; 'client': a Foxglove protocol client subscribed to every topic (in this
     process, mission.foxglove_client)."""
-    from mission.launcher import (DISPLAY_NODE, LIVE_VIEW, NODES, RECORDER, display_parameters,
-                                  node_parameters, record_ack_arg, write_params)
+    from mission.launcher import (DISPLAY_NODE, LIVE_VIEW, NODES, RECORDER, display_every,
+                                  display_parameters, node_parameters, record_ack_arg,
+                                  write_params)
     from mission.scenario import load_scenario
     scenario = load_scenario(SCENARIO)
     scenario.stepping = 'lockstep'
@@ -174,7 +175,7 @@ def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL, h
     nodes = NODES
     if display:
         params[DISPLAY_NODE[0]] = display_parameters(scenario, spec)
-        params['vessel_node']['lockstep_odom_subscribers'] += 1
+        params['vessel_node']['display_every'] = display_every(scenario)
         nodes = NODES + (DISPLAY_NODE,)
     client = None
     group = ProcessGroup(install_env(domain_id=_domain_id(), install=install), run / 'logs')

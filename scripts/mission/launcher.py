@@ -35,6 +35,7 @@ from mission.processes import INSTALL, REPO, ProcessGroup, install_env
 from mission.scenario import ScenarioError, start_pose
 from mission.waves import wave_filter_parameters
 from mission.wind_block import wind_meta, wind_parameters
+from ship_guidance.nav_display import DEFAULT_DISPLAY_RATE_HZ
 
 RECORDER = Path(__file__).resolve().parent / 'recorder.py'
 NODES = (('route_node', 'ship_planner'), ('guidance_node', 'ship_guidance'),
@@ -355,12 +356,15 @@ def target_subscribers(scenario, record):
     return int(bool(record)) + sum(1 for s in scenario.vessels if s.colav_params is not None)
 
 
-def viewer_odom_subscribers(scenario):
-    """Odom subscribers of a vessel that only look: its nav_display_node. A lockstep simulator
-    counts every subscriber before step 0, so it is added to the count (else it could stand in
-    for a guidance node that has not subscribed yet). The live view subscribes nothing before
-    every vessel is ready (its --wait-ready)."""
-    return int(scenario.display is not None)
+def display_every(scenario):
+    """vessel_node's ``display_every``: the steps between two odom_display messages, one per
+    display frame (0 without a display). The display reads only those (one callback per frame,
+    not per step), picked by the simulator and kept for it (qos DISPLAY), so its frames are the
+    same on every lockstep run; a lockstep simulator need not wait for it before step 0."""
+    if scenario.display is None:
+        return 0
+    rate = scenario.display.get('display_rate_hz', DEFAULT_DISPLAY_RATE_HZ)
+    return max(1, int(round(1.0 / (scenario.dt_s * rate))))
 
 
 def display_parameters(scenario, spec):
@@ -615,7 +619,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         vessel_params = []
         for i, spec in enumerate(scenario.vessels):
             params, plan = node_parameters(scenario, spec, i, record)
-            params['vessel_node']['lockstep_odom_subscribers'] += viewer_odom_subscribers(scenario)
+            params['vessel_node']['display_every'] = display_every(scenario)
             for exe, pkg in vessel_nodes(spec):
                 f = write_params(run, spec.namespace, exe, params[exe])
                 group.start(f'{spec.namespace}/{exe}', pkg, exe,

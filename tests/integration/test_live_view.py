@@ -4,6 +4,7 @@ exactly what the bag recorded."""
 import socket
 
 import numpy as np
+import yaml
 from rosbags.rosbag2 import Reader
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
@@ -97,12 +98,29 @@ def test_a_foxglove_client_receives_what_the_bag_records(launch):
 
 
 def _check_display_topics(bag, odom):
-    """nav_display_node in the bag: at most display_rate_hz (2) fixes per sim second, each at
-    the WGS-84 point of the odom of its stamp (flagship: no origin given, so 0/0)."""
-    from ship_guidance.nav_display import enu_to_geodetic
+    """nav_display_node in the bag: display_rate_hz (2) fixes per sim second, one at every
+    display period from step 0 on (the simulator's odom_display keeps every frame for the
+    display; the last ones may be cut by the end of the run), each at the WGS-84 point of the
+    odom of its stamp (flagship: no origin given, so 0/0)."""
+    from ship_guidance.nav_display import DEFAULT_DISPLAY_RATE_HZ, enu_to_geodetic
     store = get_typestore(Stores.ROS2_JAZZY)
     fixes = _bag_messages(bag, {'/vessel_0/fix'})['/vessel_0/fix']
-    assert 0 < len(fixes) <= 2 * DURATION_S + 1
+    assert 0 < len(fixes) <= DEFAULT_DISPLAY_RATE_HZ * DURATION_S + 1
+    stamps = [store.deserialize_cdr(d, 'sensor_msgs/msg/NavSatFix').header.stamp for _, d in fixes]
+    k = np.array([s.sec + 1e-9 * s.nanosec for s in stamps]) * DEFAULT_DISPLAY_RATE_HZ
+    assert np.allclose(k, np.arange(len(k)), atol=1e-6), k[:20]
+    # Every frame has the hull; the trail comes when it gains a point, the route in the first
+    # frame and every route_period_s (the node's defaults, in its config file).
+    params = yaml.safe_load((REPO_ROOT / 'ros_ws' / 'src' / 'ship_guidance' / 'config' /
+                             'nav_display.yaml').read_text())['/**']['ros__parameters']
+    frames = _bag_messages(bag, {'/vessel_0/nav_markers'})['/vessel_0/nav_markers']
+    assert abs(len(frames) - len(fixes)) <= 1   # the run's end may cut one of a pair
+    per_trail = round(params['trail_period_s'] * DEFAULT_DISPLAY_RATE_HZ)
+    per_route = round(params['route_period_s'] * DEFAULT_DISPLAY_RATE_HZ)
+    for i, (_, data) in enumerate(frames):
+        ns = {m.ns for m in store.deserialize_cdr(data, 'visualization_msgs/msg/MarkerArray').markers}
+        want = {'hull', 'hull_fill', 'label'} | ({'trail'} if i % per_trail == 0 and i else set())
+        assert ns == want | ({'route'} if i % per_route == 0 else set()), (i, ns)
     poses = {}
     for _, data in _bag_messages(bag, {ODOM})[ODOM]:
         m = odom(data)

@@ -4,7 +4,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from mission.launcher import display_parameters, viewer_odom_subscribers
+from mission.launcher import display_every, display_parameters
 from mission.scenario import ScenarioError, load_scenario
 
 from ship_planner.route_loader import load_route
@@ -25,16 +25,18 @@ def _variant(tmp_path, source, display):
     return load_scenario(path)
 
 
-def test_display_is_on_by_default_and_counts_as_an_odom_subscriber(tmp_path):
+def test_display_is_on_by_default_and_reads_one_odom_per_frame(tmp_path):
     sc = _variant(tmp_path, FLAGSHIP, None)
-    assert sc.display == {} and viewer_odom_subscribers(sc) == 1
+    # 2 frames per sim second (the node's default) at dt = 0.1 s: every 5th step.
+    assert sc.display == {} and display_every(sc) == round(1.0 / (sc.dt_s * 2.0))
     spec = sc.vessels[0]
     assert display_parameters(sc, spec) == {'use_sim_time': False, 'model': spec.model}
+    assert display_every(_variant(tmp_path, FLAGSHIP, {'display_rate_hz': 100.0})) == 1
 
 
 def test_display_false_starts_nothing(tmp_path):
     sc = _variant(tmp_path, FLAGSHIP, False)
-    assert sc.display is None and viewer_odom_subscribers(sc) == 0
+    assert sc.display is None and display_every(sc) == 0
 
 
 def test_the_fix_origin_is_the_route_origin_unless_the_scenario_gives_one(tmp_path):

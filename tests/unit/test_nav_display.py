@@ -101,11 +101,17 @@ def test_display_markers_carry_the_hull_route_and_trail():
     arr = display_markers(stamp, 'vessel_0', 10.0, 20.0, 0.3, 160.93, route,
                           [(0.0, 0.0), (5.0, 5.0), (10.0, 20.0)])
     by_ns = {m.ns: m for m in arr.markers}
-    assert set(by_ns) == {'hull', 'label', 'route', 'trail'}
+    assert set(by_ns) == {'hull', 'hull_fill', 'label', 'route', 'trail'}
     assert all(m.header.frame_id == 'map' for m in arr.markers)
     assert all(m.header.stamp == stamp for m in arr.markers if m.ns != 'route')
     hull = np.array([(p.x, p.y) for p in by_ns['hull'].points])
     assert np.allclose(hull, hull_outline(10.0, 20.0, 0.3, 160.93))
+    # The fill covers the outline's area exactly (triangles of a fan over a convex polygon).
+    fill = np.array([(p.x, p.y) for p in by_ns['hull_fill'].points]).reshape(-1, 3, 2)
+    assert by_ns['hull_fill'].type == Marker.TRIANGLE_LIST
+    tri_area = 0.5 * np.abs(np.cross(fill[:, 1] - fill[:, 0], fill[:, 2] - fill[:, 0])).sum()
+    px, py = hull[:, 0], hull[:, 1]
+    assert tri_area == pytest.approx(0.5 * abs(np.dot(px[:-1], py[1:]) - np.dot(px[1:], py[:-1])))
     assert by_ns['route'].type == Marker.LINE_STRIP and len(by_ns['route'].points) == 2
     assert [(p.x, p.y) for p in by_ns['trail'].points][-1] == (10.0, 20.0)
     assert by_ns['label'].text == 'vessel_0'

@@ -21,6 +21,10 @@ import numpy as np
 
 from ship_sim.geodetic import ned_to_geodetic
 
+#: Frames per second of sim time unless told (nav_display_node's display_rate_hz; the launcher
+#: sets the simulator's odom_display to it).
+DEFAULT_DISPLAY_RATE_HZ = 2.0
+
 #: Beam as a fraction of length when a model gives none (merchant ships: L/B about 6 to 7.5).
 DEFAULT_BEAM_RATIO = 1.0 / 7.0
 

@@ -1,16 +1,27 @@
 """nav_display_node: map- and viewer-ready topics of one vessel (thin; pure part in nav_display).
 
-Subscribes `odom` (nav_msgs/Odometry, ENU; reliable, the graph's stream QoS: it sees every
-step, so the frames it shows, the first at or after each display period, are the same on every
-lockstep run; a subscriber never holds a keep-last publisher back) and `route` (nav_msgs/Path,
-reliable + transient_local). Publishes, at most
-`display_rate_hz` times per second of sim time (on the odom stamps):
+Subscribes `route` (nav_msgs/Path, reliable + transient_local) and, once the route has come
+(`wait_for_route`; else at once), `odom_topic`:
+- `odom_display` (the default): vessel_node's odom of every `display_every`-th step
+  (reliable + transient_local, a deep history: ship_sim.ros.qos.DISPLAY). The simulator picks
+  the steps, the display gets every one of them from step 0 however late it subscribes or far
+  it lags (up to DISPLAY_DEPTH frames), and nobody waits for it: its frames are the same on
+  every lockstep run, at one callback per frame. Waiting for the route first puts the route in
+  every frame, also the first ones.
+- any other name: an odom stream of every step (reliable, the graph's stream QoS, from when it
+  subscribes); the frames are then chosen by stamp below, as they come.
+Publishes, at most `display_rate_hz` times per second of sim time (the first odom at or after
+each display period, on the odom stamps):
   fix           sensor_msgs/NavSatFix  WGS-84 position of the ship in the tangent plane at
                 (`origin_lat_deg`, `origin_lon_deg`), the scenario's origin (Map panels)
-  nav_markers   visualization_msgs/MarkerArray  hull outline at the true length and heading,
-                the vessel's name, the route, the wake trail of the last `trail_length_s`
-                (a point every `trail_period_s`, up to the current position)
-                (ship_guidance.ros.nav_display_msgs; targets and CPA points: colav_markers)
+  nav_markers   visualization_msgs/MarkerArray  hull outline and fill at the true length and
+                heading and the vessel's name in every frame; the wake trail of the last
+                `trail_length_s` (a point every `trail_period_s`) in the frames that add a
+                point, the route in the first frame and then every `route_period_s`
+                (ship_guidance.ros.nav_display_msgs; targets and CPA points: colav_markers).
+                Viewers keep a marker until the same namespace and id replace it, so the
+                route and trail stay on screen between updates; serialising the route's and
+                trail's hundreds of points in every frame was most of the node's CPU.
   heading       std_msgs/Float64  the ship's ENU yaw (rad) from odom, for plot panels that
                 cannot take a yaw out of a quaternion (beside heading_cmd)
 The hull length is the model's length between perpendiculars (`model`) unless `length_m` > 0.
@@ -24,14 +35,14 @@ from sensor_msgs.msg import NavSatFix
 from std_msgs.msg import Float64
 from visualization_msgs.msg import MarkerArray
 
-from ship_guidance.nav_display import Throttle, Trail
+from ship_guidance.nav_display import DEFAULT_DISPLAY_RATE_HZ, Throttle, Trail
 from ship_guidance.ros.nav_display_msgs import display_markers, navsat_fix, route_marker
 from ship_sim.frames import psi_to_yaw
 from ship_sim.models import MODEL_NAMES, make_model
 from ship_sim.ros import odometry_cdr as cdr
 from ship_sim.ros.conversions import base_link_frame, odometry_to_ned, time_to_msg
 from ship_sim.ros.params import NodeParameters
-from ship_sim.ros.qos import LATCHED, STREAM
+from ship_sim.ros.qos import DISPLAY, LATCHED, STREAM
 from ship_sim.ros.run import run_node
 
 _STAMP = struct.Struct('<iI')   # builtin_interfaces/Time at the start of the CDR body
@@ -45,19 +56,29 @@ class NavDisplayNode(Node):
                           choices=MODEL_NAMES, read_only=True)
         length = p.declare('length_m', 0.0, 'hull length (0: the model\'s length between '
                            'perpendiculars)', lo=0.0, hi=1e4, unit='m', read_only=True)
-        rate = p.declare('display_rate_hz', 2.0, 'fix and markers per second of sim time',
+        rate = p.declare('display_rate_hz', DEFAULT_DISPLAY_RATE_HZ, 'fix and markers per second of sim time',
                          lo=0.01, hi=100.0, unit='Hz', read_only=True)
         trail_s = p.declare('trail_length_s', 600.0, 'sim time the wake trail covers', lo=0.0,
                             hi=1e6, unit='s', read_only=True)
-        trail_dt = p.declare('trail_period_s', 5.0, 'sim time between wake trail points', lo=0.01,
-                             hi=3600.0, unit='s', read_only=True)
+        trail_dt = p.declare('trail_period_s', 5.0, 'sim time between wake trail points (the '
+                             'trail is sent when it gains one)', lo=0.01, hi=3600.0, unit='s',
+                             read_only=True)
+        route_dt = p.declare('route_period_s', 10.0, 'sim time between two frames that carry '
+                             'the route (a viewer that connects late gets it within that)',
+                             lo=0.01, hi=3600.0, unit='s', read_only=True)
         self.lat0 = p.declare('origin_lat_deg', 0.0, 'geodetic origin of the ENU frame: latitude',
                               lo=-89.0, hi=89.0, unit='deg', read_only=True)
         self.lon0 = p.declare('origin_lon_deg', 0.0, 'geodetic origin of the ENU frame: '
                               'longitude', lo=-180.0, hi=360.0, unit='deg', read_only=True)
+        self.odom_topic = p.declare('odom_topic', 'odom_display', 'odometry input: '
+                                    'odom_display (vessel_node display_every, qos DISPLAY) or '
+                                    'a per-step stream (qos STREAM)', read_only=True)
+        wait_route = p.declare('wait_for_route', True, 'subscribe odometry only once the route '
+                               'has come (every frame then shows it)', read_only=True)
         self.length = length if length > 0.0 else float(make_model(model).length)
         self.throttle = Throttle(rate)
         self.trail_throttle = Throttle(1.0 / trail_dt)
+        self.route_throttle = Throttle(1.0 / route_dt)
         self.trail = Trail(max(2, int(math.ceil(trail_s / trail_dt)) + 1))
         self.route = None
         self.name = self.get_namespace().strip('/') or 'vessel'
@@ -65,15 +86,25 @@ class NavDisplayNode(Node):
         self.pub_fix = self.create_publisher(NavSatFix, 'fix', STREAM)
         self.pub_markers = self.create_publisher(MarkerArray, 'nav_markers', STREAM)
         self.pub_heading = self.create_publisher(Float64, 'heading', STREAM)
+        self.odom_sub = None
         self.create_subscription(Path, 'route', self._on_route, LATCHED)
-        self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
+        if not wait_route:
+            self._subscribe_odom()
+
+    def _subscribe_odom(self):
+        qos = DISPLAY if self.odom_topic.rsplit('/', 1)[-1] == 'odom_display' else STREAM
+        self.odom_sub = self.create_subscription(Odometry, self.odom_topic, self._on_odom, qos,
+                                                 raw=True)
 
     def _on_route(self, msg):
         self.route = route_marker(msg.header.stamp, [(ps.pose.position.x, ps.pose.position.y)
                                                      for ps in msg.poses], self.length)
+        if self.odom_sub is None:
+            self._subscribe_odom()
 
     def _on_odom(self, data):
-        # Most steps are not shown: read only the stamp of those (ship_sim.ros.odometry_cdr).
+        # From a per-step stream most steps are not shown: read only the stamp of those
+        # (ship_sim.ros.odometry_cdr).
         if data[:2] == cdr.XCDR1_LE:
             sec, nanosec = _STAMP.unpack_from(data, cdr.HEADER_BYTES)
             if not self.throttle.due(sec + 1e-9 * nanosec):
@@ -85,15 +116,17 @@ class NavDisplayNode(Node):
                 return
         if not (math.isfinite(o.north) and math.isfinite(o.east)):
             return
+        trail = ()
         if self.trail_throttle.due(o.t):
             self.trail.add(o.east, o.north)
+            trail = self.trail.points
+        route = self.route if self.route_throttle.due(o.t) else None
         stamp = time_to_msg(o.t)
         yaw = float(psi_to_yaw(o.psi))
         self.pub_fix.publish(navsat_fix(stamp, self.frame, o.east, o.north, self.lat0, self.lon0))
         self.pub_heading.publish(Float64(data=yaw))
         self.pub_markers.publish(display_markers(stamp, self.name, o.east, o.north, yaw,
-                                                 self.length, self.route,
-                                                 [*self.trail.points, (o.east, o.north)]))
+                                                 self.length, route, trail))
 
 
 def main(args=None):

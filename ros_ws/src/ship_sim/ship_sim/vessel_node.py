@@ -70,7 +70,7 @@ from ship_sim.models import MODEL_NAMES, ModelStateError, make_model
 from ship_sim.pacing import LockstepPacer, RealtimePacer, StepGate
 from ship_sim.ros.conversions import base_link_frame, fill_odometry, time_to_msg
 from ship_sim.ros.params import NodeParameters, ParameterError
-from ship_sim.ros.qos import LATCHED, STREAM
+from ship_sim.ros.qos import DISPLAY, LATCHED, STREAM
 from ship_sim.ros.run import finish, run_node
 from ship_sim.ros.waves import WaveOdometry, declare_waves
 from ship_sim.simulator import VesselSimulator
@@ -195,6 +195,12 @@ class VesselNode(Node):
             'lockstep_odom_subscribers', 1, 'lockstep: odom subscribers to wait for before step '
             '0 (e.g. 2 when guidance and autopilot both follow odom)', lo=1, hi=1000,
             read_only=True)
+        self.display_every = p.declare(
+            'display_every', 0, 'also publish every n-th step\'s odom on odom_display (0 = '
+            'never): nav_display_node\'s input, reliable + transient_local with a deep history '
+            '(qos.DISPLAY), so the display gets the same frames on every run whatever its lag, '
+            'and one callback per frame instead of one per step', lo=0, hi=10**6,
+            read_only=True)
         self.clock_master = p.declare('clock_master', True, 'publish /clock (exactly one node '
                                       'of a graph does)', read_only=True)
         self.max_steps = p.declare('max_steps', 0, 'end the run cleanly after this many steps '
@@ -292,6 +298,8 @@ class VesselNode(Node):
         self._speed_factor, self._speed_factor_ignored = 1.0, False
         self._odom_pub = self.create_publisher(Odometry, 'odom', STREAM)
         self._rudder_pub = self.create_publisher(Float64, 'rudder', STREAM)
+        self._display_pub = (self.create_publisher(Odometry, 'odom_display', DISPLAY)
+                             if self.display_every else None)
         self._clock_pub = (self.create_publisher(ClockMsg, '/clock', CLOCK_QOS)
                            if self.clock_master else None)
         # Reused messages: publishing copies them, so one object per topic is enough.
@@ -376,6 +384,8 @@ class VesselNode(Node):
                 self._clock_pub.publish(self._clock_msg)
             self._odom_pub.publish(self._odom)
             self._rudder_pub.publish(self._rudder_msg)
+            if self._display_pub is not None and self._step_index() % self.display_every == 0:
+                self._display_pub.publish(self._odom)
             if not self._ready_msg.data:
                 self._ready_msg.data = True
                 self._ready_pub.publish(self._ready_msg)
@@ -408,8 +418,9 @@ class VesselNode(Node):
         self._running = False
         if code == 0:
             # Let reliable subscribers get the last step before the node goes away.
-            for pub in (self._odom_pub, self._rudder_pub):
-                pub.wait_for_all_acked(Duration(seconds=2.0))
+            for pub in (self._odom_pub, self._rudder_pub, self._display_pub):
+                if pub is not None:
+                    pub.wait_for_all_acked(Duration(seconds=2.0))
         finish(self, code)
 
     def _after_publish(self):

@@ -5,6 +5,10 @@
   messages ever in flight per topic in lockstep.
 - LATCHED: route (and other state that late joiners must get): reliable + transient_local,
   depth 1, on both ends (a mismatch fails silently in DDS).
+- DISPLAY: odom_display (vessel_node's every n-th odom, nav_display_node's input). Reliable +
+  transient_local with DISPLAY_DEPTH messages kept: a display that subscribes late or falls
+  behind still gets every frame from step 0 (its frames are then the same on every run), and
+  nobody waits for it (keep-last never blocks the publisher).
 """
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
@@ -12,5 +16,12 @@ STREAM = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                     reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 
 LATCHED = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                     reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+#: Frames odom_display keeps for a late or slow display: 500 s of sim time at 2 frames per second.
+DISPLAY_DEPTH = 1000
+
+DISPLAY = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=DISPLAY_DEPTH,
                      reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)

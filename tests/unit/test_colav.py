@@ -352,3 +352,15 @@ def test_avoidance_holds_its_anchor_while_the_nominal_drifts_back(method):
     # no threat: back to the nominal as given, the anchor dropped
     clear = col.decide(2.0, OWN, [], math.radians(-10.0), 1.0)
     assert clear.mode == 'nominal' and clear.course == math.radians(-10.0) and col.anchor is None
+
+
+@pytest.mark.parametrize('method', METHODS)
+@pytest.mark.parametrize('target_course_deg', [180.0, 270.0])
+def test_give_way_alteration_is_readily_apparent(method, target_course_deg):
+    # Rule 8(b): head-on and crossing give-way (Imazu cases 1 and 2, closest point 480 s ahead):
+    # the first alteration is a course change of at least apparent_course_change or a speed cut
+    # to half or less, for VO as for SB-MPC (both carry the not-apparent penalty)
+    target = _target_on_collision_course(target_course_deg, 480.0)
+    d = make_colav(method, ship=SHIP).decide(0.0, OWN, [target], 0.0, 1.0)
+    assert d.mode == 'avoid'
+    assert abs(d.course_offset) >= P.apparent_course_change - 1e-9 or d.speed_multiplier <= 0.5

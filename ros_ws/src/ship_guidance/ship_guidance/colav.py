@@ -278,6 +278,16 @@ class CollisionAvoidance:
             return np.zeros_like(sc.offsets)
         return np.where(sc.offsets < 0.0, self.params.w_port_turn, 0.0)
 
+    def not_apparent_penalty(self, sc):
+        """(S,) ``w_not_apparent`` for give-way alterations that are neither a course change of
+        at least ``apparent_course_change`` nor a speed cut to half or less, while a threat is
+        one the own ship gives way to (Rule 8(b): "large enough to be readily apparent")."""
+        p = self.params
+        if not np.isin(sc.codes[sc.threat], GIVE_WAY_CODES).any():
+            return np.zeros_like(sc.offsets)
+        small = (np.abs(sc.offsets) > 0.0) & (np.abs(sc.offsets) < p.apparent_course_change - 1e-9)
+        return np.where(small & (sc.multipliers > 0.5), p.w_not_apparent, 0.0)
+
     def _choose(self, sc):
         raise NotImplementedError
 

@@ -32,7 +32,7 @@ here the situation is the one classified now (it does not flicker as the scenari
 import numpy as np
 
 from ship_guidance import colregs
-from ship_guidance.colav import GIVE_WAY_CODES, CollisionAvoidance
+from ship_guidance.colav import CollisionAvoidance
 
 
 class SBMPC(CollisionAvoidance):
@@ -51,7 +51,7 @@ class SBMPC(CollisionAvoidance):
             risk[inside] = p.w_collision * speed * when * depth
         risk = np.maximum(risk.max(axis=2), self._risk_beyond_horizon(sc))
         per_target = risk + p.w_wrong_side * self._wrong_side(sc)
-        return (per_target.max(axis=1) + self.port_turn_penalty(sc) + self._not_apparent(sc)
+        return (per_target.max(axis=1) + self.port_turn_penalty(sc) + self.not_apparent_penalty(sc)
                 + self.deviation_cost(sc))
 
     def _risk_beyond_horizon(self, sc):
@@ -85,10 +85,3 @@ class SBMPC(CollisionAvoidance):
         wrong = np.where(sc.codes == colregs.HEAD_ON, starboard,
                          np.where(sc.codes == colregs.CROSSING_GIVE_WAY, ahead, False))
         return (wrong & close & sc.threat).astype(float)
-
-    def _not_apparent(self, sc):
-        p = self.params
-        if not np.isin(sc.codes[sc.threat], GIVE_WAY_CODES).any():
-            return np.zeros_like(sc.offsets)
-        small = (np.abs(sc.offsets) > 0.0) & (np.abs(sc.offsets) < p.apparent_course_change - 1e-9)
-        return np.where(small & (sc.multipliers > 0.5), p.w_not_apparent, 0.0)

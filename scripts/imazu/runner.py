@@ -19,8 +19,8 @@ with the messages' own arithmetic (the odometry round trip, the stamps in nanose
 graph in lockstep computes the same numbers (tests/integration/test_imazu_graph.py).
 
 Targets never avoid (light targets): where a case's target should give way to the own ship,
-it does not, the own ship stands on until Rule 17(b) and then acts; targets may pass through
-each other (only own ship - target distances are judged).
+it does not, the own ship stands on until Rule 17(a)(ii) / (b) and then acts; targets may pass
+through each other (only own ship - target distances are judged).
 """
 import functools
 import math

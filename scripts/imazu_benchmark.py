@@ -14,7 +14,8 @@ ship_guidance.colav_evaluation (doc/colav_benchmark.md).
 
 Writes runs/imazu-<UTC stamp>/: results.csv (one row per run and target), summary.json (per
 ship and method, per case), case_NN.png (tracks with 5-minute marks and range to each target,
-every ship x method), summary.png. ``--quick``: cases 1-4 (the single-target ones) on the
+every ship x method), summary.png, index.html (one row per case x ship x method, linking to
+the case's plot). ``--quick``: cases 1-4 (the single-target ones) on the
 mariner, both methods. ``--scenario-out DIR``: write each selected case as a scenario YAML
 (scripts/run_mission.py DIR/<name>.yaml runs it through the node graph) and stop.
 """
@@ -126,7 +127,7 @@ def main(argv=None):
         (an interrupted benchmark keeps what it has finished)."""
         nonlocal writer
         ship, method, c = key
-        run = evaluate(results[key], results[(ship, None, None)], cases[c])
+        run = evaluate(results[key], results[(ship, None, None)], cases[c], ship, c)
         per_run[(c, ship, method)] = run
         rows = rows_of(c, ship, method, run, results[key])
         if writer is None:
@@ -164,6 +165,7 @@ def main(argv=None):
         run_rows = [{'case': c, 'ship': s, 'method': m, 'run_min_distance_m': v['min_distance_m'],
                      'run_rule_score': v['rule_score']} for (c, s, m), v in per_run.items()]
         summary_figure(out / 'summary.png', run_rows, params)
+    html_page(out / 'index.html', per_run, summary, cases, plots=not args.no_plots)
     print_table(summary)
     latest = args.out / 'imazu-latest'
     if latest.is_symlink() or not latest.exists():
@@ -240,6 +242,39 @@ def markdown_tables(summary, cases):
             cells.append('' if v is None else f'{v["min_distance_m"]:.0f} / {v["rule_score"]:.2f}')
         lines.append(f'| {c} | {sits} | ' + ' | '.join(cells) + ' |')
     return '\n'.join(lines) + '\n'
+
+
+def html_page(path, per_run, summary, cases, plots=True):
+    """index.html (mission.html_report.batch_page): the totals per ship and method, then one row
+    per case x ship x method, its first cell linking to the case's plot (case_NN.png)."""
+    from mission.html_report import batch_page
+    totals = [[key, g['runs'], g['collisions'], g['near_misses'], g['below_safe'],
+               g['min_distance_m'], g['rule_score_mean'], g['rule_score_single_target_mean'],
+               g['path_deviation_m_mean'], g['time_lost_s_mean']]
+              for key, g in summary['groups'].items()]
+    rows, links = [], []
+    for (c, ship, method), run in per_run.items():
+        pen = '; '.join(f'{n}: {", ".join(sorted(v["penalties"]))}'
+                        for n, v in run['targets'].items() if v['penalties'])
+        rows.append([f'case {c}', ship, method,
+                     ', '.join(t['colregs'] for t in cases[c]['targets']),
+                     round(run['min_distance_m'], 1), run['collisions'], run['near_misses'],
+                     run['below_safe'], round(run['rule_score'], 3), pen,
+                     round(run['path_deviation_m'], 1), round(run['time_lost_s'], 1)])
+        links.append(path.parent / f'case_{c:02d}.png' if plots else None)
+    return batch_page(
+        path, 'Imazu benchmark: collision avoidance on the MSS plants',
+        ['case (plot)', 'own ship', 'method', 'targets (own view)', 'min distance m',
+         'collisions', 'near misses', 'below r_min', 'rule score', 'penalties',
+         'path deviation m', 'time lost s'], rows, links,
+        intro=f'{len(rows)} runs of {summary["duration_s"]:g} s sim; scored by '
+              'ship_guidance.colav_evaluation (doc/colav_benchmark.md) against each ship\'s run '
+              f'without traffic. Decisions: {summary["decision_ms_mean"]:.2f} ms each (load '
+              f'{summary["load_average_1min"]:.1f} on {summary["cpus"]} CPUs).',
+        sections=[('Totals per own ship and method',
+                   ['ship / method', 'runs', 'collisions', 'near misses', 'below r_min',
+                    'min distance m', 'rule score (all)', 'rule score (cases 1-4)',
+                    'path deviation m (mean)', 'time lost s (mean)'], totals)])
 
 
 def _mean(xs):

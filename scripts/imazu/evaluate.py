@@ -1,5 +1,10 @@
 """Score a RunResult with ship_guidance.colav_evaluation against the ship's no-traffic run."""
-from ship_guidance.colav_evaluation import Track, evaluate_run
+import numpy as np
+
+from ship_guidance.colav_evaluation import Track, evaluate_run, unmanoeuvred_cpa_time
+
+#: Spacing (s) of the instants at which the Rule 17(b) moment is looked for.
+STAND_ON_SCAN_S = 5.0
 
 
 def track(result, rows=None):
@@ -7,12 +12,57 @@ def track(result, rows=None):
     return Track.of(result.t, rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3])
 
 
-def evaluate(result, reference, case):
+def evaluate(result, reference, case, ship=None, case_no=None):
     """evaluate_run of one run; each target's situation is the case's (the encounter as designed,
-    own ship's view at t = 0), the same as the classification of the first sample."""
+    own ship's view at t = 0), the same as the classification of the first sample. With ``ship``
+    (and ``case_no``, the cache key), each stand-on target's window is widened to the ship's
+    Rule 17(b) moment (``stand_on_window``)."""
     situations = {t['name']: t['colregs'] for t in case['targets']}
     targets = {n: track(result, rows) for n, rows in result.targets.items()}
-    return evaluate_run(track(result), targets, track(reference), situations=situations)
+    windows = {}
+    if ship is not None:
+        for t in case['targets']:
+            if t['colregs'] in ('crossing-stand-on', 'being-overtaken'):
+                windows[t['name']] = stand_on_window(ship, case_no, t['name'], reference,
+                                                     targets[t['name']], case['own'])
+    return evaluate_run(track(result), targets, track(reference), situations=situations,
+                        stand_on_windows=windows)
+
+
+_WINDOWS = {}
+
+
+def stand_on_window(ship, case_no, name, reference, target, own):
+    """Seconds before the unmanoeuvred closest point at which ``ship`` must act on its own
+    (Rule 17(b)) against the target ``name`` that never gives way: the first instant (every
+    STAND_ON_SCAN_S along the no-traffic run) at which colav's prediction with the ship's own
+    model finds that no manoeuvre of the own ship alone keeps stand_on_dcpa_m
+    (``Scenarios.must_act``, the same test colav applies); 0 if none before the closest point.
+    The targets hold course and speed, so the answer depends only on ship, case and target."""
+    key = (ship, case_no, name)
+    if key in _WINDOWS and case_no is not None:
+        return _WINDOWS[key]
+    from imazu.runner import build_colav, own_ship_model
+    from ship_guidance.colav import ShipState, Target
+    from ship_sim.models import make_model
+    colav, _ = build_colav({'method': 'sbmpc', **own_ship_model(ship, own['speed_mps'])},
+                           bool(make_model(ship).has_shaft))
+    ref = track(reference)
+    t_cpa = unmanoeuvred_cpa_time(target, ref)
+    window = 0.0
+    for t in np.arange(0.0, t_cpa, STAND_ON_SCAN_S):
+        i = int(np.searchsorted(ref.t, t))
+        j = int(np.searchsorted(target.t, t))
+        o = ShipState(ref.north[i], ref.east[i], ref.course[i], ref.speed[i])
+        tg = Target(target.north[j], target.east[j], target.course[j], target.speed[j],
+                    name=name)
+        colav.reset()
+        sc = colav.scenarios(o, [tg], ref.course[i], 1.0)
+        if sc.must_act is not None and bool(sc.must_act[0]):
+            window = float(t_cpa - ref.t[i])
+            break
+    _WINDOWS[key] = window
+    return window
 
 
 def rows_of(case_no, ship, method, run, result):

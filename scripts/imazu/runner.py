@@ -11,15 +11,18 @@ build from it, in the order lockstep runs them, each step:
     colav_node   at its decision period: colav_io.ship_state / target_state ->
                  CollisionAvoidance.decide; colav_io.command_yaw -> heading_cmd
     autopilot    HeadingSteering.decode / update -> rudder_cmd
-    vessel_node  VesselSimulator.step(rudder)
+    vessel_node  VesselSimulator.step(rudder, shaft): with colav, the shaft at the decided speed
+                 factor x its command (ship_sim.speed_factor.scaled_shaft, as vessel_node's
+                 speed_factor_input; colav's has_shaft from the model, as the launcher sets it)
 
 with the messages' own arithmetic (the odometry round trip, the stamps in nanoseconds), so the
 graph in lockstep computes the same numbers (tests/integration/test_imazu_graph.py).
 
 Targets never avoid (light targets): where a case's target should give way to the own ship,
-it does not, the own ship stands on until Rule 17(b) and then acts; targets may pass through
-each other (only own ship - target distances are judged).
+it does not, the own ship stands on until Rule 17(a)(ii) / (b) and then acts; targets may pass
+through each other (only own ship - target distances are judged).
 """
+import functools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -40,13 +43,40 @@ ROUTE_LENGTH_M = 40000.0
 def own_ship_model(ship, speed_mps):
     """colav_node's own-ship model keys for ``ship`` at ``speed_mps``: the identified Nomoto
     model (ship_autopilot/data/nomoto_gains.yaml, nondimensional K', T') scaled to this speed
-    (K = K' U / L, T = T' L / U), the turn rate capped at K times the rudder limit."""
+    (K = K' U / L, T = T' L / U), the turn rate capped at K times the rudder limit; for a ship
+    with a shaft also the speed at factor 1 (the route speed) and the surge time constant
+    identified on the plant (``speed_time_constant``)."""
     from ship_autopilot.gains import nomoto_gains
+    from ship_sim.models import make_model
     g = nomoto_gains(ship)
     K = g['K_nd'] * speed_mps / g['length_m']
     T = g['T_nd'] * g['length_m'] / speed_mps
-    return {'course_time_constant_s': float(T),
-            'max_turn_rate': float(K * math.radians(g['rudder_max_deg']))}
+    out = {'course_time_constant_s': float(T),
+           'max_turn_rate': float(K * math.radians(g['rudder_max_deg']))}
+    if make_model(ship).has_shaft:
+        out['speed_at_factor_one_mps'] = float(speed_mps)
+        out['speed_time_constant_s'] = speed_time_constant(ship, float(speed_mps))
+    return out
+
+
+@functools.lru_cache(maxsize=None)
+def speed_time_constant(ship, speed_mps, dt_s=1.0, limit_s=6000.0):
+    """Surge time constant (s) of ``ship``'s plant for colav's first-order speed model: trimmed
+    at ``speed_mps``, the shaft command is halved (speed factor 0.5, as vessel_node applies it)
+    and the time to cover 1 - 1/e of the way to the steady speed at the half shaft is taken,
+    rounded to whole seconds. The response is not first order (resistance and thrust are
+    quadratic), so this is the half-step's constant; a stop (factor 0) coasts down slower."""
+    from ship_sim.models import make_model
+    from ship_sim.simulator import VesselSimulator
+    model = make_model(ship)
+    sim = VesselSimulator(model, dt=dt_s, speed=speed_mps)
+    u0, half = sim.speed_water(), 0.5 * sim.shaft_command
+    u_end = VesselSimulator(model, dt=dt_s, shaft=half).speed_water()
+    goal = u0 + (1.0 - math.exp(-1.0)) * (u_end - u0)
+    for k in range(1, int(limit_s / dt_s) + 1):
+        if sim.step(0.0, half).speed_water() <= goal:
+            return float(round(k * dt_s))
+    raise ValueError(f'{ship}: no half-shaft speed response within {limit_s:g} s')
 
 
 def case_scenario(number, case, ship, method=None, duration_s=DURATION_S, colav=None):
@@ -108,9 +138,10 @@ COLAV_NODE_KEYS = {'method', 'decision_period_s', 'targets_topic', 'target_stale
                    'lockstep_target_timeout_s', 'pairing', 'target_topics', 'has_shaft'}
 
 
-def build_colav(colav_params, has_shaft=False):
+def build_colav(colav_params, has_shaft):
     """(CollisionAvoidance, decision period s) as colav_node builds them from its parameters
-    (the launcher sets has_shaft False: no node acts on the speed factor yet)."""
+    (the launcher sets has_shaft from the vessel's model: vessel_node executes the speed factor
+    on a shaft)."""
     from ship_guidance.colav_methods import make_colav
     from ship_guidance.colav_params import ColavParams
     from ship_guidance.own_ship_prediction import OwnShipModel
@@ -137,6 +168,7 @@ def run_scenario(path, progress=None):
     from ship_guidance import colav_io
     from ship_sim.frames import psi_to_yaw, yaw_to_psi
     from ship_sim.light_traffic import make_traffic
+    from ship_sim.speed_factor import scaled_shaft
     from ship_sim.ros.conversions import make_odometry, odometry_to_ned
 
     scenario = load_scenario(path)
@@ -145,8 +177,11 @@ def run_scenario(path, progress=None):
     steer = HeadingSteering(controller)
     colav, schedule = None, None
     if spec.colav_params is not None:
-        colav, period = build_colav(spec.colav_params)
+        colav, period = build_colav(spec.colav_params, bool(sim.model.has_shaft))
         schedule = colav_io.DecisionSchedule(period)
+    # vessel_node with speed_factor_input: the shaft at factor x its command, which stays at the
+    # trim's shaft speed (no node publishes shaft_cmd); None without a shaft (the Mariner).
+    shaft_cmd = sim.shaft_command
     traffic = make_traffic(scenario.light) if scenario.light else None
     names = sorted(traffic.names) if traffic else []
     order = [traffic.names.index(n) for n in names] if traffic else []
@@ -192,5 +227,5 @@ def run_scenario(path, progress=None):
         if progress is not None and k % 5000 == 0:
             progress(k, steps)
         if k + 1 < steps:
-            sim.step(rudder)
+            sim.step(rudder, scaled_shaft(shaft_cmd, colav_io.speed_factor(1.0, decision)))
     return RunResult(t_out, own, tgt, decisions, heading, wall)

@@ -14,6 +14,7 @@ import yaml
 
 from ship_guidance.colav import ShipState, Target
 from ship_guidance.colav_io import NODE_KEYS
+from ship_guidance.colav_evaluation import EvaluationParams
 from ship_guidance.colav_methods import make_colav
 from ship_guidance.colav_params import ColavParams
 from ship_guidance.cpa import cpa, velocity
@@ -85,16 +86,10 @@ def test_crossing_give_way_alters_to_starboard_and_passes_astern(method):
     assert track['ahead_of_target_at_cpa'] is False
 
 
-def _time_to_lose(distance, tcpa_s):
-    # Imazu case 4's courses (0 and 45 deg, both at U) on a collision course: the range closes at
-    # the relative speed 2 U sin(22.5 deg) and falls below ``distance`` that long before the CPA
-    return tcpa_s - distance / (2.0 * U * math.sin(math.radians(22.5)))
-
-
 @pytest.mark.parametrize('method', METHODS)
 def test_stand_on_holds_course_and_speed(method):
     # Imazu case 4's geometry (target on the port bow), closest point 550 s ahead: within the
-    # horizon, so a threat, but stand_on_dcpa_m is lost only after stand_on_act_time_s (Rule 17(a))
+    # horizon, so a threat, but the give-way ship is not late yet (Rule 17(a)(i))
     target = _target_on_collision_course(45.0, 550.0)
     assert _bearing_deg(target) == pytest.approx(292.5)
     course, factor = 0.0 + 1e-14, 1.0 - 1e-16
@@ -102,17 +97,55 @@ def test_stand_on_holds_course_and_speed(method):
     assert d.targets[0].situation == 'crossing-stand-on' and d.targets[0].role == 'stand-on'
     assert d.threat and d.mode == 'stand-on'
     assert d.course is course and d.speed_factor is factor
-    assert _time_to_lose(P.stand_on_dcpa_m, 550.0) > P.stand_on_act_time_s
 
 
 @pytest.mark.parametrize('method', METHODS)
-def test_stand_on_acts_to_starboard_when_the_give_way_ship_does_not(method):
-    # the same encounter at 300 s to the closest point: stand_on_dcpa_m is lost within
-    # stand_on_act_time_s (Rule 17(b))
-    target = _target_on_collision_course(45.0, 300.0)
-    d = make_colav(method, ship=SHIP).decide(0.0, OWN, [target], 0.0, 1.0)
-    assert _time_to_lose(P.stand_on_dcpa_m, 300.0) <= P.stand_on_act_time_s
-    assert d.mode == 'avoid' and d.course_offset > 0.0              # no turn to port (17(c))
+def test_stand_on_acts_to_starboard_once_the_give_way_ship_is_late(method):
+    # Rule 17(a)(ii): the give-way ship's action is due early_s before the closest point (the
+    # evaluator's Rule 16 reading); 10 s before that moment the own ship still holds, 10 s
+    # after it acts, never to port (17(c)); the evaluator's stand-on window is the same moment
+    assert P.stand_on_act_time_s == EvaluationParams().early_s == \
+        EvaluationParams().stand_on_window_s
+    for tcpa, mode in ((P.stand_on_act_time_s + 10.0, 'stand-on'),
+                       (P.stand_on_act_time_s - 10.0, 'avoid')):
+        target = _target_on_collision_course(45.0, tcpa)
+        d = make_colav(method, ship=SHIP).decide(0.0, OWN, [target], 0.0, 1.0)
+        assert d.mode == mode, tcpa
+    assert d.course_offset > 0.0
+
+
+def test_a_slow_turner_acts_as_stand_on_when_its_own_manoeuvre_alone_can_no_longer_clear():
+    # Rule 17(b): overtaken from right astern by a ship at twice its speed, closest point 350 s
+    # ahead (later than the give-way ship's due moment): a ship turning like the mariner can
+    # still open d_safe later and holds; one turning like the MSS tanker at 12 kn (Nomoto T
+    # 212 s, 0.42 deg/s at full rudder) cannot, by any manoeuvre of its own, once it waits
+    # longer, and acts now (no port turn)
+    target = _target_on_collision_course(0.0, 350.0, speed=2.0 * U)
+    tanker = OwnShipModel(course_time_constant_s=211.6, max_turn_rate=0.00737, has_shaft=False,
+                          speed_at_factor_one_mps=U)
+    mariner = dataclasses.replace(SHIP, has_shaft=False)
+    for ship, mode in ((mariner, 'stand-on'), (tanker, 'avoid')):
+        col = make_colav('sbmpc', ship=ship)
+        d = col.decide(0.0, OWN, [target], 0.0, 1.0)
+        assert d.targets[0].situation == 'being-overtaken' and d.mode == mode
+        assert bool(col.scenarios(OWN, [target], 0.0, 1.0).must_act[0]) == (mode == 'avoid')
+    assert d.course_offset > 0.0
+
+
+def test_sbmpc_scores_a_meeting_just_beyond_its_horizon():
+    # a crosser from starboard meeting the own ship at 900 s (horizon 600 s): within the horizon
+    # the nominal keeps it beyond d_safe (|v_rel| 300 s away), after it the straight lines meet
+    # 300 s past the horizon's end (closed form), and that intrusion is scored; the same
+    # crosser meeting at 1300 s lies beyond the second horizon and is not
+    col = make_colav('sbmpc', ship=SHIP)
+    near, far = (_target_on_collision_course(270.0, t) for t in (900.0, 1300.0))
+    sc = col.scenarios(OWN, [near, far], 0.0, 1.0)
+    assert sc.dist[0].min(axis=1).min() > P.d_safe_m
+    assert sc.tcpa_beyond[0, 0] == pytest.approx(900.0 - P.horizon_s, rel=1e-9)
+    assert sc.dcpa_beyond[0, 0] == pytest.approx(0.0, abs=1e-6)
+    assert sc.dcpa_beyond[0, 1] == np.inf
+    risk = col._risk_beyond_horizon(sc)
+    assert risk[0, 0] > P.w_collision and risk[0, 1] == 0.0
 
 
 def test_vo_widens_the_cone_of_a_give_way_target_to_port():
@@ -319,3 +352,15 @@ def test_avoidance_holds_its_anchor_while_the_nominal_drifts_back(method):
     # no threat: back to the nominal as given, the anchor dropped
     clear = col.decide(2.0, OWN, [], math.radians(-10.0), 1.0)
     assert clear.mode == 'nominal' and clear.course == math.radians(-10.0) and col.anchor is None
+
+
+@pytest.mark.parametrize('method', METHODS)
+@pytest.mark.parametrize('target_course_deg', [180.0, 270.0])
+def test_give_way_alteration_is_readily_apparent(method, target_course_deg):
+    # Rule 8(b): head-on and crossing give-way (Imazu cases 1 and 2, closest point 480 s ahead):
+    # the first alteration is a course change of at least apparent_course_change or a speed cut
+    # to half or less, for VO as for SB-MPC (both carry the not-apparent penalty)
+    target = _target_on_collision_course(target_course_deg, 480.0)
+    d = make_colav(method, ship=SHIP).decide(0.0, OWN, [target], 0.0, 1.0)
+    assert d.mode == 'avoid'
+    assert abs(d.course_offset) >= P.apparent_course_change - 1e-9 or d.speed_multiplier <= 0.5

@@ -89,6 +89,14 @@ def test_stand_on_holds_until_the_last_window():
     assert set(early['penalties']) == {'not_holding'}
     port = evaluate_target(turning(1000.0, -40.0), tgt, REF)
     assert set(port['penalties']) == {'port_turn'}
+    # a run may widen the window to its ship's Rule 17(b) moment, never narrow it
+    at_800 = turning(800.0, 40.0)
+    assert set(evaluate_target(at_800, tgt, REF)['penalties']) == {'not_holding'}
+    assert evaluate_target(at_800, tgt, REF, stand_on_window_s=450.0)['penalties'] == {}
+    assert evaluate_target(turning(1000.0, 40.0), tgt, REF,
+                           stand_on_window_s=10.0)['penalties'] == {}
+    run = evaluate_run(at_800, {'ts': tgt}, REF, stand_on_windows={'ts': 450.0})
+    assert run['targets']['ts']['stand_on_window_s'] == 450.0 and run['rule_score'] == 1.0
 
 
 def test_path_deviation_and_time_lost():

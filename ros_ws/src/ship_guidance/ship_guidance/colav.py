@@ -13,12 +13,21 @@ and role (ship_guidance.colregs). The steps:
    A threat's COLREGs situation is latched when it becomes one (by target name) and kept while it
    stays one: the own ship's manoeuvre changes the bearings (a head-on target ends up on the
    port bow) but not the encounter's rules.
-3. Stand-on (Rule 17(a)): when every threat is one the own ship stands on for, the nominal is kept,
-   unless the nominal prediction brings a stand-on threat closer than ``stand_on_dcpa_m`` within
-   ``stand_on_act_time_s`` (Rule 17(b): the give-way ship is not acting and it is getting close;
-   the time until the distance is lost, not until the closest point, so that a slowly closing
-   target is met as early in distance as a fast one); then the own ship acts like a give-way
-   ship (no turn to port, Rule 17(c)).
+3. Stand-on (Rule 17(a)(i)): when every threat is one the own ship stands on for, the nominal is
+   kept, unless the nominal prediction passes a stand-on threat closer than ``stand_on_dcpa_m``
+   with its closest point at most ``stand_on_act_time_s`` ahead; then the own ship acts like a
+   give-way ship (no turn to port, Rule 17(c)). The moment is Rule 17(a)(ii)'s: the stand-on
+   ship may act alone "as soon as it becomes apparent" that the give-way ship is not taking
+   appropriate action, and a give-way ship's action is due "early" (Rule 16), which the
+   evaluator (colav_evaluation) fixes at ``early_s`` before the closest point; so the default
+   equals ``early_s`` and the evaluator's stand-on window is the same. Acting at the first
+   moment allowed rather than at Rule 17(b)'s last one keeps the most room for a slow turner;
+   a ship that needs longer than that to open d_safe by its own manoeuvre cannot keep d_safe
+   from a give-way ship that never acts (doc/colav.md). Rule 17(b) can come first for such a
+   ship: it acts, too, as soon as its best own manoeuvre (no port turn) is predicted to pass the
+   target closer than ``stand_on_dcpa_m`` (``Scenarios.must_act``), which depends on its turning
+   ability through the own-ship model; the benchmark's evaluator widens its stand-on window to
+   the same moment (scripts/imazu/evaluate.py).
 4. Otherwise the method (ship_guidance.sbmpc or ship_guidance.velocity_obstacles) picks a
    scenario; ties go to the first in a fixed order: the larger speed multiplier first, then
    offsets 0, +15, -15, +30, ... deg (smaller first, starboard before port).
@@ -42,7 +51,7 @@ from ship_guidance import colregs
 from ship_guidance.colav_params import ColavParams
 from ship_guidance.cpa import cpa, velocity
 from ship_guidance.own_ship_prediction import (OwnShipModel, predict_own, predict_targets,
-                                               segment_min_distance, time_grid)
+                                               segment_min_distance, speed_response, time_grid)
 from ship_sim.frames import wrap_angle
 
 
@@ -113,6 +122,14 @@ class Scenarios:
     codes: np.ndarray        # (M,) situation codes now
     threat: np.ndarray       # (M,) bool
     acting_stand_on: bool    # Rule 17(b) in force
+    v_own_end: np.ndarray = None   # (S, 2) own NED velocity at the horizon's end (m/s)
+    # Straight-line closest approach after the horizon (the scenario held, the target on its
+    # line), within one more horizon: time after the horizon's end (s), distance (m, inf when
+    # not within it) and relative speed (m/s), (S, M) each.
+    tcpa_beyond: np.ndarray = None
+    dcpa_beyond: np.ndarray = None
+    v_rel_beyond: np.ndarray = None
+    must_act: np.ndarray = None    # (M,) bool: Rule 17(b) moment for a stand-on target (step 3)
 
 
 class CollisionAvoidance:
@@ -194,6 +211,8 @@ class CollisionAvoidance:
         p_own0 = np.array([own.north, own.east], dtype=float)
         p_own, chi = predict_own(own.north, own.east, own.course, own.speed, chi_c, u_c, self._t,
                                  self.ship)
+        u_end = speed_response(own.speed, u_c, self._t[-1:], self.ship)[:, 0]
+        v_own_end = velocity(chi[:, -1], u_end)
         p_tgt0 = np.array([[tg.north, tg.east] for tg in targets], dtype=float)
         v_tgt = velocity(np.array([tg.course for tg in targets]), np.array([tg.speed for tg in targets]))
         p_tgt = predict_targets(p_tgt0, v_tgt, self._t)
@@ -204,13 +223,24 @@ class CollisionAvoidance:
         d_nom = dist[0].min(axis=1)
         threat = d_nom < p.threat_m
         codes = self._latch(targets, codes, threat)
-        lost = dist[0] < p.stand_on_dcpa_m                                     # (M, N)
-        t_lost = np.where(lost.any(axis=1), self._t[lost.argmax(axis=1)], np.inf)   # step start
+        tcpa_b, dcpa_b = cpa(p_own[:, None, -1], v_own_end[:, None], p_tgt[None, :, -1],
+                             v_tgt[None])
+        beyond = (tcpa_b > 0.0) & (tcpa_b <= p.horizon_s)
+        dcpa_b = np.where(beyond, dcpa_b, np.inf)
+        v_rel_b = np.hypot(*(v_tgt[None] - v_own_end[:, None]).transpose(2, 0, 1))
+        n_min = dist[0].argmin(axis=1)                                         # (M,)
+        m_idx = np.arange(len(targets))
+        t_min = self._t[n_min] + frac[0, m_idx, n_min] * p.dt_s     # nominal closest point, s
         stand_on = threat & np.isin(codes, STAND_ON_CODES)
-        acting = bool((stand_on & (t_lost <= p.stand_on_act_time_s)).any())
+        # Rule 17(b): the best manoeuvre of the own ship alone (no turn to port, 17(c)) can no
+        # longer keep stand_on_dcpa_m, counting the pass beyond the horizon too
+        clear = np.minimum(dist.min(axis=2), dcpa_b)[self._offsets >= 0.0].max(axis=0)   # (M,)
+        must = stand_on & (clear < p.stand_on_dcpa_m)
+        late = stand_on & (d_nom < p.stand_on_dcpa_m) & (t_min <= p.stand_on_act_time_s)
+        acting = bool((late | must).any())
         return Scenarios(self._offsets, self._multipliers, chi_c, u_c, max(float(u_nom), 0.1),
                          self._t, p_own, chi, p_own0, p_tgt, p_tgt0, v_tgt, dist, frac, step,
-                         codes, threat, acting)
+                         codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must)
 
     def _assess(self, own, targets, sc):
         if sc is None:
@@ -247,6 +277,16 @@ class CollisionAvoidance:
         if not np.isin(sc.codes[sc.threat], NO_PORT_TURN_CODES).any():
             return np.zeros_like(sc.offsets)
         return np.where(sc.offsets < 0.0, self.params.w_port_turn, 0.0)
+
+    def not_apparent_penalty(self, sc):
+        """(S,) ``w_not_apparent`` for give-way alterations that are neither a course change of
+        at least ``apparent_course_change`` nor a speed cut to half or less, while a threat is
+        one the own ship gives way to (Rule 8(b): "large enough to be readily apparent")."""
+        p = self.params
+        if not np.isin(sc.codes[sc.threat], GIVE_WAY_CODES).any():
+            return np.zeros_like(sc.offsets)
+        small = (np.abs(sc.offsets) > 0.0) & (np.abs(sc.offsets) < p.apparent_course_change - 1e-9)
+        return np.where(small & (sc.multipliers > 0.5), p.w_not_apparent, 0.0)
 
     def _choose(self, sc):
         raise NotImplementedError

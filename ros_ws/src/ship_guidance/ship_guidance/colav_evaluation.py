@@ -36,8 +36,10 @@ in the same run without traffic (the reference):
       through the target across its course) at the closest approach (Rule 15)  gamma_ahead_cr
   stand-on (crossing stand-on, being overtaken):
     not holding: a manoeuvre starting more than ``stand_on_window_s`` before t_cpa
-      (Rule 17(a)(i); Rule 17(b) allows action when the give-way ship alone cannot avoid
-      the collision, taken as that last window)                             gamma_so
+      (Rule 17(a)(i); 17(a)(ii) allows action once the give-way ship is late, i.e. its action
+      due ``early_s`` before t_cpa has not come, so the default window equals early_s; a run
+      may widen it per target to the moment Rule 17(b) requires action of a slow-turning own
+      ship, computed with the own ship's prediction model by the caller)   gamma_so
     port turn (crossing stand-on): the first departure beyond ``theta_sm_lim`` is to port
       (Rule 17(c))                                                          gamma_ho_nsm
 
@@ -75,7 +77,7 @@ class EvaluationParams:
     delta_speed_reduction_app: float = 0.5  # apparent speed reduction (fraction)
     theta_sm_lim_deg: float = 10.0      # departure beyond which a manoeuvre has a side
     early_s: float = 300.0              # give-way action at least this long before the CPA
-    stand_on_window_s: float = 300.0    # stand-on may act only this close to the CPA (17(b))
+    stand_on_window_s: float = 300.0    # stand-on may act only this close to the CPA: early_s
     gamma_min: float = 0.2
     gamma_nm: float = 0.3
     gamma_col: float = 0.5
@@ -141,10 +143,14 @@ def unmanoeuvred_cpa_time(target, reference):
     return float(target.t[int(np.argmin(np.hypot(target.north - n, target.east - e)))])
 
 
-def evaluate_target(own, target, reference, params=None, situation=None):
+def evaluate_target(own, target, reference, params=None, situation=None,
+                    stand_on_window_s=None):
     """dict of the metrics of one target (see the module docstring); ``situation`` overrides
-    the classification at the first sample."""
+    the classification at the first sample, ``stand_on_window_s`` the parameter's window (never
+    narrower than it)."""
     p = params or EvaluationParams()
+    window = p.stand_on_window_s if stand_on_window_s is None else \
+        max(p.stand_on_window_s, stand_on_window_s)
     d = np.hypot(target.north - own.north, target.east - own.east)
     k = int(np.argmin(d))
     d_min = float(d[k])
@@ -176,7 +182,7 @@ def evaluate_target(own, target, reference, params=None, situation=None):
             penalties['crossing_ahead'] = p.gamma_ahead_cr
         role = colregs.GIVE_WAY
     elif situation in STAND_ON_SITUATIONS:
-        if t_start is not None and t_cpa - t_start > p.stand_on_window_s:
+        if t_start is not None and t_cpa - t_start > window:
             penalties['not_holding'] = p.gamma_so
         if situation == 'crossing-stand-on' and first_side(dchi, p, k) < 0:
             penalties['port_turn'] = p.gamma_ho_nsm
@@ -191,7 +197,7 @@ def evaluate_target(own, target, reference, params=None, situation=None):
             'below_safe': d_min < p.r_min_m, 'safety_score': float(safety),
             'manoeuvre_start_s': t_start,
             'max_departure_deg': float(np.degrees(dchi[np.argmax(np.abs(dchi[:k + 1]))])),
-            'min_speed_ratio': float(ratio[:k + 1].min()),
+            'min_speed_ratio': float(ratio[:k + 1].min()), 'stand_on_window_s': window,
             'penalties': penalties,
             'rule_score': max(0.0, 1.0 - sum(penalties.values()))}
 
@@ -222,12 +228,15 @@ def time_lost(own, reference):
     return float(own.t[-1] - np.interp(s_own, s_mono, reference.t))
 
 
-def evaluate_run(own, targets, reference, params=None, situations=None):
+def evaluate_run(own, targets, reference, params=None, situations=None, stand_on_windows=None):
     """dict: per target (``evaluate_target`` with its name), the run's minimum distance, counts
     of collisions / near misses / below safe, mean rule score, path deviation and time lost.
-    ``targets``: {name: Track}; ``situations``: {name: situation} overrides."""
+    ``targets``: {name: Track}; ``situations``: {name: situation}, ``stand_on_windows``:
+    {name: s} overrides."""
     situations = situations or {}
-    per = {name: evaluate_target(own, tr, reference, params, situations.get(name))
+    windows = stand_on_windows or {}
+    per = {name: evaluate_target(own, tr, reference, params, situations.get(name),
+                                 windows.get(name))
            for name, tr in targets.items()}
     scored = [v['rule_score'] for v in per.values() if v['role'] != 'none']
     return {'targets': per,

@@ -79,10 +79,10 @@ SCALARS = (
      'weight', 0.0, 1e9, ''),
     ('w_change_course_port', DEFAULTS.w_change_course_port, 'change to port weight', 0.0, 1e9, ''),
     ('w_change_speed', DEFAULTS.w_change_speed, 'speed change weight', 0.0, 1e9, ''),
-    ('stand_on_dcpa_m', DEFAULTS.stand_on_dcpa_m, 'Rule 17(b): act below this distance ...', 0.0,
-     1e5, 'm'),
-    ('stand_on_act_time_s', DEFAULTS.stand_on_act_time_s, '... within this time', 0.0, 7200.0,
-     's'),
+    ('stand_on_dcpa_m', DEFAULTS.stand_on_dcpa_m, 'Rule 17(a)(ii): a stand-on ship acts when '
+     'the nominal passes closer than this ...', 0.0, 1e5, 'm'),
+    ('stand_on_act_time_s', DEFAULTS.stand_on_act_time_s, '... with the closest point this near '
+     '(the give-way ship is late)', 0.0, 7200.0, 's'),
     ('course_time_constant_s', SHIP.course_time_constant_s, 'own-ship model: course lag', 1e-3,
      1e4, 's'),
     ('max_turn_rate', float(SHIP.max_turn_rate), 'own-ship model: turn-rate cap', 1e-6, 10.0, 'rad/s'),

@@ -48,8 +48,9 @@ class ColavParams:
     w_change_course_port: float = 1.5      # per rad^2 of offset change to port
     w_change_speed: float = 2.0            # per unit of speed factor change
     # --- stand-on (Rule 17) ---
-    stand_on_dcpa_m: float = 926.0         # act (17(b)) when the nominal prediction comes closer ...
-    stand_on_act_time_s: float = 300.0     # ... within this time
+    stand_on_dcpa_m: float = 926.0         # act (17(a)(ii)) when the nominal passes closer ...
+    stand_on_act_time_s: float = 300.0     # ... with the closest point this near: the give-way
+    #                                        ship is late (evaluator's early_s, Rule 16)
 
     def __post_init__(self):
         if not 0.0 < self.collision_m < self.near_miss_m < self.d_safe_m <= self.threat_m:

@@ -10,6 +10,14 @@ own-ship model and scored, all scenarios x targets x steps at once:
   the relative speed on that step (floored at ``relative_speed_floor`` U, so a slow overtaking
   still costs), U the nominal speed, t the time of the closest point on the step (at least one
   step) and T_h the horizon;
+- beyond the horizon: the same R at the straight-line closest approach (ship_guidance.cpa) of
+  the own ship continuing with its velocity at the horizon's end (the scenario's course and
+  speed, held) and the target on its line, if it falls within a second horizon (t <= 2 T_h).
+  A scenario is a command held, and a meeting just past the horizon is still its consequence:
+  without this term a slow-closing pair of beam crossers (Imazu 19, 21: 1.6 m/s closing, all
+  ships meeting at 1200 s) looked safe with the 600 s horizon on a straight course and a slow
+  turner (the MSS tanker) held it until the meeting entered the horizon and no turn could clear
+  it. Beyond 2 T_h the targets' straight lines are not trusted;
 - COLREGs (mu, for threats passing closer than d_close at their predicted closest point):
   head-on (Rule 14) passed with the target on the own starboard side, or crossing give-way
   (Rule 15) passed ahead of the target; ``port_k``: a port offset while a threat is head-on or
@@ -24,7 +32,7 @@ here the situation is the one classified now (it does not flicker as the scenari
 import numpy as np
 
 from ship_guidance import colregs
-from ship_guidance.colav import GIVE_WAY_CODES, CollisionAvoidance
+from ship_guidance.colav import CollisionAvoidance
 
 
 class SBMPC(CollisionAvoidance):
@@ -41,10 +49,21 @@ class SBMPC(CollisionAvoidance):
             when = (p.horizon_s / np.maximum(t_step, p.dt_s)) ** p.risk_time_exponent
             depth = (p.d_safe_m / np.maximum(sc.dist[inside], 1e-3)) ** p.risk_distance_exponent
             risk[inside] = p.w_collision * speed * when * depth
-        risk = risk.max(axis=2)
+        risk = np.maximum(risk.max(axis=2), self._risk_beyond_horizon(sc))
         per_target = risk + p.w_wrong_side * self._wrong_side(sc)
-        return (per_target.max(axis=1) + self.port_turn_penalty(sc) + self._not_apparent(sc)
+        return (per_target.max(axis=1) + self.port_turn_penalty(sc) + self.not_apparent_penalty(sc)
                 + self.deviation_cost(sc))
+
+    def _risk_beyond_horizon(self, sc):
+        """(S, M) risk of the straight-line closest approach after the horizon (module doc)."""
+        p = self.params
+        if sc.dcpa_beyond is None:
+            return np.zeros(sc.dist.shape[:2])
+        hit = sc.dcpa_beyond < p.d_safe_m
+        speed = np.maximum(sc.v_rel_beyond / sc.u_ref, p.relative_speed_floor) ** 2
+        when = (p.horizon_s / (p.horizon_s + sc.tcpa_beyond)) ** p.risk_time_exponent
+        depth = (p.d_safe_m / np.maximum(sc.dcpa_beyond, 1e-3)) ** p.risk_distance_exponent
+        return np.where(hit, p.w_collision * speed * when * depth, 0.0)
 
     def _choose(self, sc):
         cost = self.costs(sc)
@@ -66,10 +85,3 @@ class SBMPC(CollisionAvoidance):
         wrong = np.where(sc.codes == colregs.HEAD_ON, starboard,
                          np.where(sc.codes == colregs.CROSSING_GIVE_WAY, ahead, False))
         return (wrong & close & sc.threat).astype(float)
-
-    def _not_apparent(self, sc):
-        p = self.params
-        if not np.isin(sc.codes[sc.threat], GIVE_WAY_CODES).any():
-            return np.zeros_like(sc.offsets)
-        small = (np.abs(sc.offsets) > 0.0) & (np.abs(sc.offsets) < p.apparent_course_change - 1e-9)
-        return np.where(small & (sc.multipliers > 0.5), p.w_not_apparent, 0.0)

@@ -12,8 +12,10 @@ multiplier x nominal speed). Against each target, with the relative motion a str
   / port to port.
 
 The admissible candidate closest to the nominal is chosen (the deviation and change cost of
-CollisionAvoidance, plus the port-turn penalty while a threat is head-on or crossing); ties go
-to the fixed scenario order. With none admissible, the candidate that keeps every target
+CollisionAvoidance, plus the port-turn penalty while a threat is head-on or crossing and SB-MPC's
+Rule 8(b) penalty on a give-way alteration too small to be readily apparent: without it VO took
+the smallest admissible 15 deg, marked not apparent in every single-target Imazu give-way case);
+ties go to the fixed scenario order. With none admissible, the candidate that keeps every target
 outside d_safe the longest is taken (then the shared last-resort check applies).
 """
 import numpy as np
@@ -45,7 +47,7 @@ class VelocityObstacles(CollisionAvoidance):
 
     def _choose(self, sc):
         ok, first_entry = self.admissible(sc)
-        cost = self.deviation_cost(sc) + self.port_turn_penalty(sc)
+        cost = self.deviation_cost(sc) + self.port_turn_penalty(sc) + self.not_apparent_penalty(sc)
         if ok.any():
             k = int(np.argmin(np.where(ok, cost, np.inf)))
             return k, float(cost[k])

@@ -339,15 +339,20 @@ def _reached_duration(run, wall_timeout_s):
     return run_dir
 
 
-def run_twice_complete(launch, scenario, duration_s, wall_timeout_s=150.0, colav_ns=None):
+def run_twice_complete(launch, scenario, duration_s, wall_timeout_s=240.0, colav_ns=None):
     """Run a lockstep ``scenario`` twice through the launcher, each to ``duration_s`` (the
     launcher's ``--duration``), and assert what a repeat needs: both exits clean at the
     duration, both records complete, the two runs' ``vessels`` and ``traffic`` metrics equal and,
     with ``colav_ns``, that vessel's heading_cmd / colav_targets / colav_decision messages equal
     byte for byte. Returns (run folders, the first run's metrics, the first run's colav
-    messages or None)."""
+    messages or None).
+
+    The two runs go at the same time, the second on a domain its launcher leases: in lockstep a
+    run's messages do not depend on timing or load, which is what the repeat checks (each run
+    loads the other's CPUs on top; hence the longer wall timeout)."""
     args = ('--wall-timeout', wall_timeout_s, '--duration', duration_s)
-    runs = [_reached_duration(launch(scenario, *args), wall_timeout_s) for _ in range(2)]
+    started = [launch(scenario, *args), launch(scenario, *args, own_domain=True)]
+    runs = [_reached_duration(run, wall_timeout_s) for run in started]
     metrics = [json.loads((run / 'metrics.json').read_text()) for run in runs]
     for m in metrics:
         assert m['record']['complete'], m['record']

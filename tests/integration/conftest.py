@@ -36,13 +36,13 @@ def ros_graph(tmp_path, monkeypatch):
 
 @pytest.fixture
 def launch(ros_graph, tmp_path):
-    """launch(scenario, *args) -> Launch; every launch is ended at teardown."""
+    """launch(scenario, *args, own_domain=False) -> Launch; every launch is ended at teardown."""
     launches = []
 
-    def start(scenario, *args):
+    def start(scenario, *args, own_domain=False):
         folder = tmp_path / f'launch{len(launches)}'
         folder.mkdir()
-        launches.append(Launch(ros_graph, folder, scenario, args))
+        launches.append(Launch(ros_graph, folder, scenario, args, own_domain=own_domain))
         return launches[-1]
 
     yield start

@@ -28,6 +28,7 @@ Usage (fixture ``ros_graph`` from conftest.py)::
         assert tn.wait_for_message(odom, timeout=10.0) is not None
         assert ros_graph.stop(sim) == 0
 """
+import json
 import os
 import re
 import signal
@@ -40,6 +41,7 @@ import yaml
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 
+from mission.encounter import colav_messages
 from mission.processes import die_with_parent, executable, format_param
 from ship_sim.ros.qos import STREAM
 
@@ -325,12 +327,43 @@ class RosGraph:
 def run_to_duration(launch, scenario, wall_timeout_s=150.0):
     """Run ``scenario`` through the launcher (the ``launch`` fixture) to its duration, asserting
     a clean exit and that outcome; returns the run folder."""
-    run = launch(scenario, '--wall-timeout', wall_timeout_s)
+    return _reached_duration(launch(scenario, '--wall-timeout', wall_timeout_s), wall_timeout_s)
+
+
+def _reached_duration(run, wall_timeout_s):
+    """The run folder of a started launch, once it exited cleanly at its duration."""
     assert run.wait(wall_timeout_s + 20.0) == 0, run.report()
     run_dir = run.run_dir()
     info = yaml.safe_load((run_dir / 'run.json').read_text())
     assert info['outcome'] == 'duration reached', info
     return run_dir
+
+
+def run_twice_complete(launch, scenario, duration_s, wall_timeout_s=240.0, colav_ns=None):
+    """Run a lockstep ``scenario`` twice through the launcher, each to ``duration_s`` (the
+    launcher's ``--duration``), and assert what a repeat needs: both exits clean at the
+    duration, both records complete, the two runs' ``vessels`` and ``traffic`` metrics equal and,
+    with ``colav_ns``, that vessel's heading_cmd / colav_targets / colav_decision messages equal
+    byte for byte. Returns (run folders, the first run's metrics, the first run's colav
+    messages or None).
+
+    The two runs go at the same time, the second on a domain its launcher leases: in lockstep a
+    run's messages do not depend on timing or load, which is what the repeat checks (each run
+    loads the other's CPUs on top; hence the longer wall timeout)."""
+    args = ('--wall-timeout', wall_timeout_s, '--duration', duration_s)
+    started = [launch(scenario, *args), launch(scenario, *args, own_domain=True)]
+    runs = [_reached_duration(run, wall_timeout_s) for run in started]
+    metrics = [json.loads((run / 'metrics.json').read_text()) for run in runs]
+    for m in metrics:
+        assert m['record']['complete'], m['record']
+    assert metrics[0]['vessels'] == metrics[1]['vessels']
+    assert metrics[0].get('traffic') == metrics[1].get('traffic')
+    if colav_ns is None:
+        return runs, metrics[0], None
+    msgs = [colav_messages(run / 'bag', colav_ns) for run in runs]
+    for topic in ('heading_cmd', 'colav_targets', 'colav_decision'):
+        assert msgs[0][topic] == msgs[1][topic], topic
+    return runs, metrics[0], msgs[0]
 
 
 def answer_each_odom(tn, namespace, command):

@@ -63,14 +63,16 @@ def _program(argv):
 
 
 class Launch:
-    """One run_mission.py process; stdout/stderr in files."""
+    """One run_mission.py process; stdout/stderr in files. On the test's domain, or with
+    ``own_domain`` on one the launcher leases itself (a second graph running at the same time)."""
 
-    def __init__(self, ros_graph, folder, scenario, args):
+    def __init__(self, ros_graph, folder, scenario, args, own_domain=False):
         self.runs = Path(folder) / 'runs'
         self.out_path = Path(folder) / 'run_mission.out'
         self.err_path = Path(folder) / 'run_mission.err'
+        domain = [] if own_domain else ['--domain-id', str(ros_graph.domain_id)]
         self.cmd = [sys.executable, str(RUN_MISSION), str(scenario), '--runs', str(self.runs),
-                    '--domain-id', str(ros_graph.domain_id), *map(str, args)]
+                    *domain, *map(str, args)]
         with open(self.out_path, 'wb') as out, open(self.err_path, 'wb') as err:
             self.popen = subprocess.Popen(self.cmd, stdout=out, stderr=err, env=ros_graph.env,
                                           stdin=subprocess.DEVNULL, start_new_session=True,

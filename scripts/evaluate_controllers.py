@@ -360,13 +360,13 @@ def tune(models, jobs=1, grid=None, controller='los_lead', duration=1000.0):
 
 
 def evaluate(models, n_starts, duration, controllers, policy_template=None, jobs=1,
-             condition='calm', wave_filter=False):
+             condition='calm', wave_filter=False, currents=CURRENTS):
     """Every (model, current, controller) run; ``jobs`` > 1 runs them in processes."""
     starts = start_states(n_starts)
     tasks = [(model, current, ctrl, starts, duration,
               policy_template.format(model=model) if policy_template else None, condition,
               wave_filter)
-             for model in models for current in CURRENTS for ctrl in controllers]
+             for model in models for current in currents for ctrl in controllers]
     if jobs > 1:
         import multiprocessing
         with multiprocessing.Pool(jobs) as pool:
@@ -399,7 +399,7 @@ def markdown(results, models, controllers, duration, n_starts):
         cells = []
         for m, c in cols:
             r = results.get(f'{m}/{c}/{ctrl}', {})
-            cells.append('error' if 'error' in r or not r else
+            cells.append('-' if not r else 'error' if 'error' in r else
                          f'{r["mean_abs_e"]:.1f} / {r["max_abs_e"]:.0f} / '
                          f'{r["rudder_rate_deg_s"]:.2f}')
         lines.append(f'| {LABELS[ctrl]} | ' + ' | '.join(cells) + ' |')
@@ -409,7 +409,7 @@ def markdown(results, models, controllers, duration, n_starts):
         cells = []
         for m, c in cols:
             r = results.get(f'{m}/{c}/{ctrl}', {})
-            cells.append('error' if 'error' in r or 'rudder_tv_deg' not in r else
+            cells.append('-' if not r else 'error' if 'error' in r else
                          f'{r.get("max_abs_e_settled", math.nan):.0f} / '
                          f'{r["rudder_tv_deg"]:.0f} / '
                          f'{100 * r.get("rudder_saturated_fraction", math.nan):.1f}')
@@ -468,6 +468,8 @@ def main(argv=None):
     p.add_argument('--wave-filter', action='store_true',
                    help="the classical autopilots filter heading and yaw rate (ship_autopilot."
                         "wave_filter, tuned to the sea); '_filter' is appended to --out")
+    p.add_argument('--currents', default=','.join(f'{c:g}' for c in CURRENTS),
+                   help='current speeds (m/s) of the table\'s columns (default %(default)s)')
     p.add_argument('--batched', action='store_true',
                    help='calm only: every cell in the batched closed loop (ship_autopilot.'
                         "batch_closed_loop, equal to this loop to rounding; no saturation or "
@@ -498,7 +500,8 @@ def main(argv=None):
     if args.batched and (args.condition != 'calm' or args.wave_filter):
         p.error('--batched runs the calm condition only')
     starts, results = evaluate(models, n_starts, duration, controllers, args.policy, args.jobs,
-                               'batched' if args.batched else args.condition, args.wave_filter)
+                               'batched' if args.batched else args.condition, args.wave_filter,
+                               tuple(float(c) for c in args.currents.split(',')))
     md = (f'Condition: {CONDITIONS[args.condition].describe()}'
           + (', classical autopilots behind the wave filter' if args.wave_filter else '')
           + '\n\n' + markdown(results, models, controllers, duration, n_starts))

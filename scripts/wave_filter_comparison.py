@@ -160,7 +160,7 @@ def flagship_run(variant, duration=1250.0):
                                                        * (1 - 1e-9))),
             'rudder_power_below_0.25_rad_s': float(power[f < 0.25].sum() / power.sum()),
             'rudder_peak_frequency_rad_s': float(f[1:][np.argmax(power[1:])]),
-            'heading_cmd_wf_rms_deg': float(np.degrees(_high_pass_rms(np.unwrap(cmd[ok])))),
+            'heading_cmd_rms_above_0.25_rad_s_deg': float(np.degrees(_high_pass_rms(np.unwrap(cmd[ok])))),
             'time_to_complete_s': finish}
 
 

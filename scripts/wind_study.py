@@ -55,8 +55,9 @@ def variant(source, speed, args, folder):
     return path
 
 
-def condition_variant(source, name, folder):
-    """Copy of the scenario file in condition ``name`` (mission.conditions), absolute routes."""
+def condition_variant(source, name, folder, start_timeout=None):
+    """Copy of the scenario file in condition ``name`` (mission.conditions), absolute routes;
+    ``start_timeout`` (s): every simulator's lockstep_start_timeout (a loaded machine)."""
     from ship_planner.route_loader import load_route
     data = yaml.safe_load(source.read_text())
     platoon = data.get('platoon') if isinstance(data.get('platoon'), dict) else None
@@ -80,6 +81,8 @@ def condition_variant(source, name, folder):
         _, waves = conditions.scenario_blocks(cond, course, conditions.SEED + i)
         if waves:
             v['waves'] = waves
+        if start_timeout:
+            v['vessel'] = dict(v.get('vessel') or {}, lockstep_start_timeout=start_timeout)
     data['name'] = f"{data['name']}_{name}"
     path = folder / f"{data['name']}.yaml"
     path.write_text(yaml.safe_dump(data, sort_keys=False))
@@ -135,6 +138,9 @@ def main(argv=None):
     ap.add_argument('--quick', action='store_true', help='300 s runs (development)')
     ap.add_argument('--conditions', nargs='+', choices=tuple(conditions.CONDITIONS),
                     help='wind-and-wave conditions (mission.conditions) instead of --speeds')
+    ap.add_argument('--start-timeout', type=float, default=None,
+                    help="with --conditions: every simulator's lockstep_start_timeout (s), for "
+                         'many vessels on a loaded machine (timing only, not the physics)')
     args = ap.parse_args(argv)
     args.runs.mkdir(parents=True, exist_ok=True)
     rows = []
@@ -144,7 +150,8 @@ def main(argv=None):
         for speed, cond in cases:
             if cond:
                 print(f'wind_study: {conditions.CONDITIONS[cond].describe()} ...', flush=True)
-                scenario = load_scenario(condition_variant(args.scenario, cond, args.runs))
+                scenario = load_scenario(condition_variant(args.scenario, cond, args.runs,
+                                                           args.start_timeout))
             else:
                 print(f'wind_study: {speed:g} m/s from {args.direction_deg:g} deg ...',
                       flush=True)

@@ -4,6 +4,7 @@
     scripts/evaluate_controllers.py [--quick] [--models mariner,container,tanker]
                                     [--starts 5] [--out runs/eval/controllers]
                                     [--condition calm|wind10|wind20] [--wave-filter]
+                                    [--currents 0,0.9] [--batched]
 
 Source: Martinsen and Lekkas 2018, Table I ("Cumulative Gaussian
 reward for the curved path following problem", LOS vs DRL, Mariner / Container / Tanker at

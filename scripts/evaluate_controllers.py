@@ -142,13 +142,15 @@ def guidance_for(route, design, speed):
 
 
 def run(model, route, controller, starts, current, duration, policy_file=None, tuning=None,
-        current_field=None, condition='calm', wave_filter=False):
+        current_field=None, condition='calm', wave_filter=False, activity=False):
     """Simulate every start with one controller; returns per-start metric arrays.
     ``tuning``: (omega_n_nd, lookahead_L) for 'los_lead' / 'ilos_lead' instead of TUNED /
     TUNED_ILOS. ``current_field``: a ship_sim.current.OceanCurrent of shape (len(starts),)
     advanced every step (a varying current) instead of the constant one of the starts.
     ``condition``: wind and waves (mission.conditions name; module docstring), ``wave_filter``
-    the classical autopilots' wave filter."""
+    the classical autopilots' wave filter; ``activity`` adds the max |e| of the second half,
+    the rudder's total variation and its saturated fraction (the batched loop has no such
+    metrics, so they are not returned by default)."""
     k = len(starts)
     cond = CONDITIONS[condition]
     course = route_course(route)
@@ -222,14 +224,17 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
         if not ok.all():
             raise RuntimeError(f'{model}/{controller}: state left the model domain')
     settle = abs_e[n_steps // 2:]
-    return {'gaussian': gauss, 'mean_abs_e': abs_e.mean(0), 'max_abs_e': abs_e.max(0),
-            'rms_e': np.sqrt(np.mean(abs_e ** 2, axis=0)),
-            'mean_abs_e_settled': settle.mean(0), 'max_abs_e_settled': settle.max(0),
-            'rudder_rate_deg_s': np.degrees(np.abs(np.diff(rudder, axis=0)).mean(0) / SIM_DT),
-            'rudder_tv_deg': np.degrees(np.abs(np.diff(rudder, axis=0)).sum(0)),
-            'mean_abs_rudder_deg': np.degrees(np.abs(rudder).mean(0)),
-            'rudder_saturated_fraction': np.mean(np.abs(rudder[1:]) >= m.rudder_max * (1 - 1e-9),
-                                                 axis=0)}
+    out = {'gaussian': gauss, 'mean_abs_e': abs_e.mean(0), 'max_abs_e': abs_e.max(0),
+           'rms_e': np.sqrt(np.mean(abs_e ** 2, axis=0)),
+           'mean_abs_e_settled': settle.mean(0),
+           'rudder_rate_deg_s': np.degrees(np.abs(np.diff(rudder, axis=0)).mean(0) / SIM_DT),
+           'mean_abs_rudder_deg': np.degrees(np.abs(rudder).mean(0))}
+    if activity:
+        out.update(max_abs_e_settled=settle.max(0),
+                   rudder_tv_deg=np.degrees(np.abs(np.diff(rudder, axis=0)).sum(0)),
+                   rudder_saturated_fraction=np.mean(np.abs(rudder[1:]) >= m.rudder_max
+                                                     * (1 - 1e-9), axis=0))
+    return out
 
 
 def measured(env, waves, t):
@@ -283,7 +288,7 @@ def _task(args):
             r['rudder_tv_deg'] = r['rudder_rate_deg_s'] * duration
         else:
             r = run(model, route, ctrl, starts, current, duration, policy_file,
-                    condition=condition, wave_filter=wave_filter)
+                    condition=condition, wave_filter=wave_filter, activity=True)
     except Exception as exc:  # noqa: BLE001 (report a missing policy etc. in the table)
         print(f'{model:9s} {current:.1f} m/s {ctrl:10s} ERROR {exc}', flush=True)
         return {'error': str(exc)}

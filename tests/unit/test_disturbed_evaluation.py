@@ -116,7 +116,7 @@ def test_scenario_blocks_give_the_same_sea(name):
 def _table1(controller, condition, duration=60.0, wave_filter=False, n_starts=2):
     route = load_route(ROUTES / 'curved_path_mariner_000.yaml').route
     return ec.run('mariner', route, controller, ec.start_states(n_starts), 0.9, duration,
-                  condition=condition, wave_filter=wave_filter)
+                  condition=condition, wave_filter=wave_filter, activity=True)
 
 
 def test_disturbed_run_repeats_and_differs_from_calm():

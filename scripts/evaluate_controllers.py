@@ -3,6 +3,8 @@
 
     scripts/evaluate_controllers.py [--quick] [--models mariner,container,tanker]
                                     [--starts 5] [--out runs/eval/controllers]
+                                    [--condition calm|wind10|wind20] [--wave-filter]
+                                    [--currents 0,0.9] [--batched]
 
 Source: Martinsen and Lekkas 2018, Table I ("Cumulative Gaussian
 reward for the curved path following problem", LOS vs DRL, Mariner / Container / Tanker at
@@ -37,9 +39,22 @@ Setup (the same for every controller):
   'ilos_lead' = the same with integral LOS (sigma = U0 / 4) for the steady drift of a current,
   tuned by the same procedure (``--tune --tune-controller ilos_lead``; TUNED_ILOS).
 
-Metrics per run: cumulative Gaussian (mean over starts), mean and max |e| (m), mean |e| over the
-last 500 s (settled), rudder activity = mean |d delta / dt| of the actual rudder (deg/s) and
-mean |delta| (deg). Output: <out>.json, <out>.md (also printed) and <out>.html (the same tables,
+Wind and waves (``--condition``, mission.conditions: calm, wind10, wind20; issue 14): the wind
+loads enter the plant (learning.env's ``wind``: relative wind from the velocity over ground,
+each model's own force equations, gusts seeded); the wave-frequency motion of start i (seed
+conditions.SEED + i, the same for every controller) is superposed on what every controller
+measures, as vessel_node superposes it on odom (ship_sim.environment.sea_state.superpose:
+position, heading, body velocities; RAOs at the speed through the water). The policies never
+saw wind or waves in training. ``--wave-filter`` passes heading and yaw rate of the classical
+autopilots through ship_autopilot.wave_filter tuned to the sea, as the autopilot node does;
+the guidance still sees the unfiltered position and heading (as in the graph). Tracking metrics
+and the reward use the measured (total: manoeuvring + wave-frequency) motion, as the graph's
+metrics use odom. Calm runs are the undisturbed computation, bit for bit.
+
+Metrics per run: cumulative Gaussian (mean over starts), mean and max |e| (m), mean and max |e|
+over the last 500 s (settled), rudder activity = mean |d delta / dt| of the actual rudder
+(deg/s), its total variation over the episode (deg), mean |delta| (deg) and the fraction of
+samples with the rudder at its limit. Output: <out>.json, <out>.md (also printed) and <out>.html (the same tables,
 mission.html_report).
 """
 import argparse
@@ -59,6 +74,9 @@ from ship_autopilot.learning.policy import LearnedSteering, load_policy
 from ship_autopilot.pd import pd_gains
 from ship_guidance.guidance import Guidance
 from ship_planner.route_loader import load_route
+from ship_autopilot.wave_filter import WaveFilter
+from ship_sim.environment.sea_state import ShipWaves, rao_table_for, superpose
+from mission.conditions import CONDITIONS, SEED, route_course, sea_state, wind_field
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -124,16 +142,30 @@ def guidance_for(route, design, speed):
 
 
 def run(model, route, controller, starts, current, duration, policy_file=None, tuning=None,
-        current_field=None):
+        current_field=None, condition='calm', wave_filter=False, activity=False):
     """Simulate every start with one controller; returns per-start metric arrays.
     ``tuning``: (omega_n_nd, lookahead_L) for 'los_lead' / 'ilos_lead' instead of TUNED /
     TUNED_ILOS. ``current_field``: a ship_sim.current.OceanCurrent of shape (len(starts),)
-    advanced every step (a varying current) instead of the constant one of the starts."""
+    advanced every step (a varying current) instead of the constant one of the starts.
+    ``condition``: wind and waves (mission.conditions name; module docstring), ``wave_filter``
+    the classical autopilots' wave filter; ``activity`` adds the max |e| of the second half,
+    the rudder's total variation and its saturated fraction (the batched loop has no such
+    metrics, so they are not returned by default)."""
     k = len(starts)
+    cond = CONDITIONS[condition]
+    course = route_course(route)
     env = PathFollowingBatch(model, k, EnvConfig(mode='straight', sim_dt=SIM_DT,
-                                                 control_dt=SIM_DT), routes=[route])
+                                                 control_dt=SIM_DT), routes=[route],
+                             wind=wind_field(cond, course, SEED, shape=(k,)))
     env.reset(starts=[dict(s, current_speed=current) for s in starts])
     m = env.model
+    seas = [sea_state(cond, course, SEED + i) for i in range(k)]
+    waves = None if seas[0] is None else [ShipWaves(sea, rao_table_for(m.name, m.length))
+                                          for sea in seas]
+    filters = None
+    if wave_filter and waves is not None and controller != 'policy':
+        filters = [WaveFilter(peak_frequency=sea.peak_frequency, direction=sea.direction)
+                   for sea in seas]
     gains = autopilot_gains(m.name)
     speed = env.speed0
     d = loop_design(m.name, controller, speed, env.length, tuning)
@@ -159,6 +191,9 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
     for step in range(n_steps + 1):
         t = step * SIM_DT
         north, east, psi = env.x[:, m.IX], env.x[:, m.IY], env.x[:, m.IPSI]
+        r = env.x[:, m.IR]
+        if waves is not None:   # what the controllers measure (module docstring)
+            north, east, psi, u_m, v_m, r = measured(env, waves, t)
         outs = [g.update(north[i], east[i], psi[i], SIM_DT if step else 0.0)
                 for i, g in enumerate(guides)]
         e = np.array([o.cross_track for o in outs])
@@ -170,14 +205,18 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
             break
         if controller == 'policy':
             if t - t_feat >= control_dt - 1e-9:   # features at the policy's own step
-                u, v, r = env.ground_velocity()
+                u, v, r = env.ground_velocity() if waves is None else (u_m, v_m, r)
                 raw = features(e, [o.path_angle for o in outs], [o.curvature for o in outs],
                                psi, u, v, r, 0.0 if t_feat == -math.inf else t - t_feat)
                 cmd = np.array([st.update(raw[i], t) for i, st in enumerate(steering)])
                 t_feat = t
         else:
             psi_c = np.array([o.heading_cmd for o in outs])
-            cmd = np.asarray(autopilot.update(psi, env.x[:, m.IR], psi_c, SIM_DT))
+            if filters is not None:
+                filt = [f.update(t, psi[i], r[i], math.hypot(u_m[i], v_m[i]))
+                        for i, f in enumerate(filters)]
+                psi, r = np.array([p for p, _ in filt]), np.array([q for _, q in filt])
+            cmd = np.asarray(autopilot.update(psi, r, psi_c, SIM_DT))
         if current_field is not None:
             env.current[:, 0], env.current[:, 1] = current_field.velocity_ne()
             current_field.advance(SIM_DT)
@@ -185,11 +224,29 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
         if not ok.all():
             raise RuntimeError(f'{model}/{controller}: state left the model domain')
     settle = abs_e[n_steps // 2:]
-    return {'gaussian': gauss, 'mean_abs_e': abs_e.mean(0), 'max_abs_e': abs_e.max(0),
-            'rms_e': np.sqrt(np.mean(abs_e ** 2, axis=0)),
-            'mean_abs_e_settled': settle.mean(0),
-            'rudder_rate_deg_s': np.degrees(np.abs(np.diff(rudder, axis=0)).mean(0) / SIM_DT),
-            'mean_abs_rudder_deg': np.degrees(np.abs(rudder).mean(0))}
+    out = {'gaussian': gauss, 'mean_abs_e': abs_e.mean(0), 'max_abs_e': abs_e.max(0),
+           'rms_e': np.sqrt(np.mean(abs_e ** 2, axis=0)),
+           'mean_abs_e_settled': settle.mean(0),
+           'rudder_rate_deg_s': np.degrees(np.abs(np.diff(rudder, axis=0)).mean(0) / SIM_DT),
+           'mean_abs_rudder_deg': np.degrees(np.abs(rudder).mean(0))}
+    if activity:
+        out.update(max_abs_e_settled=settle.max(0),
+                   rudder_tv_deg=np.degrees(np.abs(np.diff(rudder, axis=0)).sum(0)),
+                   rudder_saturated_fraction=np.mean(np.abs(rudder[1:]) >= m.rudder_max
+                                                     * (1 - 1e-9), axis=0))
+    return out
+
+
+def measured(env, waves, t):
+    """(north, east, psi, u, v, r) arrays every controller measures at time t: the plant's
+    state over ground plus each vessel's wave-frequency motion (sea_state.superpose)."""
+    m, x = env.model, env.x
+    u, v, r = env.ground_velocity()
+    speed = np.hypot(m.surge_speed(x), x[:, m.IV])     # through the water (the RAOs' U)
+    rows = [superpose(*w.motion(t, float(speed[i]), float(x[i, m.IPSI])), float(x[i, m.IX]),
+                      float(x[i, m.IY]), float(x[i, m.IPSI]), float(u[i]), float(v[i]),
+                      float(r[i])) for i, w in enumerate(waves)]
+    return tuple(np.array(c) for c in zip(*rows))
 
 
 def run_batched(model, routes, controller, starts, duration, tunings=None):
@@ -218,11 +275,20 @@ def run_batched(model, routes, controller, starts, duration, tunings=None):
 
 
 def _task(args):
-    model, current, ctrl, starts, duration, policy_file = args
+    model, current, ctrl, starts, duration, policy_file, condition, wave_filter = args
     route = load_route(ROOT / 'scenarios' / 'routes' / f'curved_path_{model}_000.yaml').route
     t0 = time.perf_counter()
     try:
-        r = run(model, route, ctrl, starts, current, duration, policy_file)
+        if condition == 'batched':   # calm, in the batched closed loop (equal to run)
+            if policy_file:
+                raise ValueError('--batched runs the shipped policies only')
+            r = run_batched(model, [route], ctrl, [dict(s, current_speed=current)
+                                                   for s in starts], duration)
+            r = {k: v for k, v in r.items() if k not in ('finished', 'finish_time_s', 'failed')}
+            r['rudder_tv_deg'] = r['rudder_rate_deg_s'] * duration
+        else:
+            r = run(model, route, ctrl, starts, current, duration, policy_file,
+                    condition=condition, wave_filter=wave_filter, activity=True)
     except Exception as exc:  # noqa: BLE001 (report a missing policy etc. in the table)
         print(f'{model:9s} {current:.1f} m/s {ctrl:10s} ERROR {exc}', flush=True)
         return {'error': str(exc)}
@@ -299,12 +365,14 @@ def tune(models, jobs=1, grid=None, controller='los_lead', duration=1000.0):
     return out
 
 
-def evaluate(models, n_starts, duration, controllers, policy_template=None, jobs=1):
+def evaluate(models, n_starts, duration, controllers, policy_template=None, jobs=1,
+             condition='calm', wave_filter=False, currents=CURRENTS):
     """Every (model, current, controller) run; ``jobs`` > 1 runs them in processes."""
     starts = start_states(n_starts)
     tasks = [(model, current, ctrl, starts, duration,
-              policy_template.format(model=model) if policy_template else None)
-             for model in models for current in CURRENTS for ctrl in controllers]
+              policy_template.format(model=model) if policy_template else None, condition,
+              wave_filter)
+             for model in models for current in currents for ctrl in controllers]
     if jobs > 1:
         import multiprocessing
         with multiprocessing.Pool(jobs) as pool:
@@ -337,9 +405,20 @@ def markdown(results, models, controllers, duration, n_starts):
         cells = []
         for m, c in cols:
             r = results.get(f'{m}/{c}/{ctrl}', {})
-            cells.append('error' if 'error' in r or not r else
+            cells.append('-' if not r else 'error' if 'error' in r else
                          f'{r["mean_abs_e"]:.1f} / {r["max_abs_e"]:.0f} / '
                          f'{r["rudder_rate_deg_s"]:.2f}')
+        lines.append(f'| {LABELS[ctrl]} | ' + ' | '.join(cells) + ' |')
+    lines += ['', 'Max |e| over the last half (m) / rudder total variation per episode (deg) / '
+              'rudder at its limit (% of samples)', '', head, sep]
+    for ctrl in controllers:
+        cells = []
+        for m, c in cols:
+            r = results.get(f'{m}/{c}/{ctrl}', {})
+            cells.append('-' if not r else 'error' if 'error' in r else
+                         f'{r.get("max_abs_e_settled", math.nan):.0f} / '
+                         f'{r["rudder_tv_deg"]:.0f} / '
+                         f'{100 * r.get("rudder_saturated_fraction", math.nan):.1f}')
         lines.append(f'| {LABELS[ctrl]} | ' + ' | '.join(cells) + ' |')
     return '\n'.join(lines) + '\n'
 
@@ -389,6 +468,18 @@ def main(argv=None):
                         'into TUNED_ILOS)')
     p.add_argument('--grid', default=None, metavar='K1,K2/D1,D2',
                    help='with --tune: omega_n values (U/L) / look-aheads (L) instead of TUNE_GRID')
+    p.add_argument('--condition', default='calm', choices=tuple(CONDITIONS),
+                   help='wind and waves (mission.conditions; default %(default)s); not calm: '
+                        "'_<condition>' is appended to --out")
+    p.add_argument('--wave-filter', action='store_true',
+                   help="the classical autopilots filter heading and yaw rate (ship_autopilot."
+                        "wave_filter, tuned to the sea); '_filter' is appended to --out")
+    p.add_argument('--currents', default=','.join(f'{c:g}' for c in CURRENTS),
+                   help='current speeds (m/s) of the table\'s columns (default %(default)s)')
+    p.add_argument('--batched', action='store_true',
+                   help='calm only: every cell in the batched closed loop (ship_autopilot.'
+                        "batch_closed_loop, equal to this loop to rounding; no saturation or "
+                        "settled max); '_batched' is appended to --out")
     args = p.parse_args(argv)
     models = [m for m in args.models.split(',') if m]
     controllers = [c for c in args.controllers.split(',') if c]
@@ -412,15 +503,25 @@ def main(argv=None):
         return 0
     n_starts, duration = (1, 300.0) if args.quick else (args.starts, args.duration)
     t0 = time.perf_counter()
-    starts, results = evaluate(models, n_starts, duration, controllers, args.policy, args.jobs)
-    md = markdown(results, models, controllers, duration, n_starts)
+    if args.batched and (args.condition != 'calm' or args.wave_filter):
+        p.error('--batched runs the calm condition only')
+    starts, results = evaluate(models, n_starts, duration, controllers, args.policy, args.jobs,
+                               'batched' if args.batched else args.condition, args.wave_filter,
+                               tuple(float(c) for c in args.currents.split(',')))
+    md = (f'Condition: {CONDITIONS[args.condition].describe()}'
+          + (', classical autopilots behind the wave filter' if args.wave_filter else '')
+          + '\n\n' + markdown(results, models, controllers, duration, n_starts))
     print(md)
-    out = Path(args.out)
+    out = Path(args.out + ('' if args.condition == 'calm' else f'_{args.condition}')
+               + ('_filter' if args.wave_filter else '') + ('_batched' if args.batched else ''))
     out.parent.mkdir(parents=True, exist_ok=True)
     doc = {'source': 'Martinsen and Lekkas 2018 Table I layout (scripts/evaluate_controllers.py)',
            'policy_files': args.policy or 'ship_autopilot/data/policies/<model>.npz',
            'duration_s': duration, 'sim_dt_s': SIM_DT, 'starts': starts,
            'lookahead_ship_lengths': LOOKAHEAD_SHIP_LENGTHS, 'seed_table': SEED_TABLE,
+           'condition': {'name': args.condition,
+                         'description': CONDITIONS[args.condition].describe(),
+                         'wave_filter': args.wave_filter},
            'results': results, 'wall_s': round(time.perf_counter() - t0, 1)}
     out.with_suffix('.json').write_text(json.dumps(doc, indent=2))
     out.with_suffix('.md').write_text(md)

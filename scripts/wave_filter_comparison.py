@@ -17,6 +17,17 @@ total variation of the rudder (deg per hour) of the actual rudder, RMS of the lo
 heading error (the plant's own heading against the command, deg) after each command has settled
 (the first 200 s of each half excluded), and the RMS wave-frequency yaw (deg). Writes
 <out>/wave_filter.json and a plot.
+
+``--flagship``: why the filter behaves differently in the graph's flagship
+(scenarios/flagship_mariner_waves.yaml: ILOS + turn-rate lead, PD at omega_n = 0.12 rad/s, sea
+of 15 m/s wind towards 120 deg). The same loop in process (guidance, PD, wave filter as the
+nodes build them, 10 Hz), with the suspects switched one at a time: 'no filter'; 'wave filter'
+(as the graph: heading and yaw rate filtered, the guidance steers by the odometry with the
+wave motion); 'wave filter, guidance on the low-frequency position' (the guidance given the
+plant's own position and heading: no wave motion in the heading command); 'ideal filter' (the
+PD given the plant's own heading and yaw rate: no wave motion and no lag). And the loop's phase
+margin on the identified Nomoto model, without and with the filter at the encounter
+frequencies of the route's legs. Writes <out>/wave_filter_flagship.json.
 """
 import argparse
 import json
@@ -77,6 +88,114 @@ def run(model_name, sea, filtered, duration):
                       'heading_error_deg': d(err[::10]).tolist()}}
 
 
+FLAGSHIP_VARIANTS = ('no filter', 'wave filter',
+                     'wave filter, guidance on the low-frequency position', 'ideal filter')
+
+
+def flagship_run(variant, duration=1250.0):
+    """The flagship with waves in process (module docstring); returns its metrics."""
+    from ship_autopilot.gains import heading_loop_design
+    from ship_guidance.guidance import Guidance
+    from ship_planner.route_loader import load_route
+    from ship_sim.current import OceanCurrent
+    from ship_sim.environment.sea_state import superpose
+    from mission.waves import wave_filter_parameters, wave_parameters
+    import yaml
+    scenario = Path(__file__).resolve().parents[1] / 'scenarios' / 'flagship_mariner_waves.yaml'
+    spec = yaml.safe_load(scenario.read_text())['vessels']['vessel_0']
+    g, a = spec['guidance'], spec['autopilot']
+    route = load_route(scenario.parent / spec['route']).route
+    wp = wave_parameters(spec['waves'], str(scenario), 'waves.')
+    sea = SeaState.from_wind(wp['waves_wind_speed'], spectrum='JONSWAP',
+                             direction=math.radians(wp['waves_direction_deg']),
+                             spreading=True, n_directions=wp['waves_n_directions'],
+                             n_frequencies=wp['waves_n_frequencies'], seed=wp['waves_seed'])
+    fp = wave_filter_parameters(wp, {'wave_filter': True})
+    model = make_model('mariner')
+    n0, e0, gamma = route.point_at(0.0)
+    cross = spec['start']['cross_m']
+    sim = VesselSimulator(model, dt=DT, north=float(n0 - cross * math.sin(gamma)),
+                          east=float(e0 + cross * math.cos(gamma)),
+                          psi=math.radians(spec['start']['heading_deg']),
+                          current=OceanCurrent(spec['current']['speed_mps'],
+                                               math.radians(spec['current']['direction_deg'])))
+    waves = ShipWaves(sea, rao_table_for('mariner', model.length))
+    guide = Guidance(route, g['law'], g['lookahead_m'], integral_gain=g['integral_gain'],
+                     zeta=g['autopilot_zeta'], omega_n=g['autopilot_omega_n'], speed=g['speed'],
+                     curvature_lead=g['curvature_lead'])
+    gains = heading_loop_design('mariner', 'pd', omega_n=a['omega_n'], zeta=a['zeta']).gains
+    steer = HeadingSteering(build_autopilot('pd', gains, model.rudder_max, model.rudder_rate_max))
+    filt = None if variant in ('no filter', 'ideal filter') else WaveFilter(
+        peak_frequency=2 * math.pi / fp['wave_filter_peak_period'],
+        direction=math.radians(fp['wave_filter_direction_deg']))
+    n = int(round(duration / DT))
+    rudder, xte, t_s, cmd = (np.full(n, np.nan) for _ in range(4))
+    finish = math.nan
+    for k in range(n):
+        t, north, east, psi, u, v, r = sim.nav_state()
+        eta, nu = waves.motion(t, sim.speed_water(), psi)
+        odom = superpose(eta, nu, north, east, psi, u, v, r)
+        gin = (north, east, psi) if variant.endswith('low-frequency position') else odom[:3]
+        out = guide.update(*gin, DT if k else 0.0)
+        xte[k] = out.cross_track
+        if out.finished:
+            finish = t
+            break
+        psi_m, r_m = (psi, r) if variant == 'ideal filter' else (odom[2], odom[5])
+        if filt is not None:
+            psi_m, r_m = filt.update(t, psi_m, r_m, math.hypot(odom[3], odom[4]))
+        rudder[k], t_s[k], cmd[k] = sim.rudder(), t, out.heading_cmd
+        sim.step(steer.update(t, psi_m, r_m, out.heading_cmd))
+    ok = ~np.isnan(rudder) & (t_s >= 200.0)
+    d_rudder = np.abs(np.diff(rudder[~np.isnan(rudder)]))
+    rd = rudder[ok]
+    f = np.fft.rfftfreq(rd.size, DT) * 2 * math.pi
+    power = np.abs(np.fft.rfft(rd - rd.mean())) ** 2
+    return {'xte_rms_m': float(np.sqrt(np.mean(xte[ok] ** 2))),
+            'xte_max_m': float(np.max(np.abs(xte[ok]))),
+            'rudder_mean_abs_rad': float(np.mean(np.abs(rd))),
+            'rudder_tv_rad_per_s': float(d_rudder.sum() / (np.count_nonzero(~np.isnan(rudder))
+                                                           * DT)),
+            'rudder_saturated_fraction': float(np.mean(np.abs(rd) >= model.rudder_max
+                                                       * (1 - 1e-9))),
+            'rudder_power_below_0.25_rad_s': float(power[f < 0.25].sum() / power.sum()),
+            'rudder_peak_frequency_rad_s': float(f[1:][np.argmax(power[1:])]),
+            'heading_cmd_rms_above_0.25_rad_s_deg': float(np.degrees(_high_pass_rms(np.unwrap(cmd[ok])))),
+            'time_to_complete_s': finish}
+
+
+def _high_pass_rms(x, corner=0.25):
+    """RMS of the part of x (sampled at DT) above ``corner`` rad/s (Parseval on the FFT)."""
+    X = np.fft.rfft(x - x.mean())
+    f = np.fft.rfftfreq(x.size, DT) * 2 * math.pi
+    return math.sqrt(2.0 * np.sum(np.abs(X[f > corner]) ** 2)) / x.size
+
+
+def phase_margins(omega_n=0.12, zeta=0.8, encounter=(0.33, 0.49, 0.51, 0.70), notch_zeta=0.1):
+    """Phase margin (deg) and crossover (rad/s) of the PD heading loop on the Mariner's Nomoto
+    model, L(s) = -b (k1 + k2 s) / (s (s - a)), alone and times the wave filter's
+    h(s) = (s^2 + 2 zeta_n w_e s + w_e^2) / (s + w_e)^2 / (s / w_e + 1) at each w_e."""
+    from ship_autopilot.gains import nomoto_gains
+    from ship_autopilot.pd import pd_gains
+    nom = nomoto_gains('mariner')
+    a, b = nom['a'], nom['b']
+    k1, k2 = pd_gains(a, b, omega_n=omega_n, zeta=zeta)
+    w = np.logspace(-3, 1, 200001)
+    s = 1j * w
+    L = -b * (k1 + k2 * s) / (s * (s - a))
+
+    def margin(loop):
+        i = np.flatnonzero(np.abs(loop) >= 1.0)[-1]
+        return float(w[i]), float(180.0 + np.degrees(np.angle(loop[i])))
+    out = {'without filter': margin(L)}
+    for we in encounter:
+        h = (s ** 2 + 2 * notch_zeta * we * s + we ** 2) / (s + we) ** 2 / (s / we + 1)
+        wc, pm = margin(L * h)
+        out[f'filter at w_e {we:g} rad/s'] = (wc, pm, float(-np.degrees(np.angle(
+            h[np.searchsorted(w, wc)]))))
+    return out
+
+
 def plot(results, out):
     import matplotlib
     matplotlib.use('Agg')
@@ -103,7 +222,22 @@ def main():
     ap.add_argument('--models', nargs='+', default=['mariner', 'container', 'tanker'])
     ap.add_argument('--duration', type=float, default=3600.0, help='s per run')
     ap.add_argument('--out', type=Path, default=Path('runs/wave_filter'))
+    ap.add_argument('--flagship', action='store_true',
+                    help="the graph flagship's filter result taken apart (module docstring)")
     args = ap.parse_args()
+    if args.flagship:
+        args.out.mkdir(parents=True, exist_ok=True)
+        table = heading_loop_design('mariner', 'pd')
+        res = {'phase_margins': phase_margins(), 'phase_margins_gain_table': phase_margins(
+            omega_n=table.omega_n, zeta=table.zeta)}
+        for variant in FLAGSHIP_VARIANTS:
+            t0 = time.perf_counter()
+            res[variant] = flagship_run(variant)
+            print(variant, res[variant], f'{time.perf_counter() - t0:.0f} s', flush=True)
+        print(json.dumps(res['phase_margins'], indent=1))
+        print(json.dumps(res['phase_margins_gain_table'], indent=1))
+        (args.out / 'wave_filter_flagship.json').write_text(json.dumps(res, indent=1))
+        return
     models, duration = (['mariner'], 1200.0) if args.quick else (args.models, args.duration)
     args.out.mkdir(parents=True, exist_ok=True)
     results, rows = {}, []

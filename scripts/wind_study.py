@@ -4,6 +4,9 @@ and rudder activity (issue 14, wind part).
 
     .venv/bin/python scripts/wind_study.py                       # flagship at 0 / 10 / 20 m/s
     .venv/bin/python scripts/wind_study.py --speeds 0 15 --direction-deg 45 --quick
+    .venv/bin/python scripts/wind_study.py --conditions calm wind10 wind20   # wind and waves
+    .venv/bin/python scripts/wind_study.py --scenario scenarios/platoon_mariner_5.yaml \
+        --conditions wind10 --runs runs/wind_study_platoon
 
 Each run is the scenario with a top-level `wind:` block (mission.wind_block; from
 --direction-deg, gusts of sd --gust-fraction x speed, Gauss-Markov time constant
@@ -13,6 +16,10 @@ variant scenario files, wind_study.json and wind_study.md (the table). Metrics a
 launcher's (mission.metrics) after the scenario's settle_s: cross-track error RMS / max,
 heading error RMS, mean |rudder|, mean |rudder rate| (total variation per second) and the total
 variation over the window.
+
+``--conditions`` runs the study's wind-and-wave conditions instead (mission.conditions: calm,
+wind10, wind20, directions relative to the route's overall course): the wind as a top-level
+`wind:` block, the sea as each vessel's `waves:` block (vessel i of a platoon: seed SEED + i).
 """
 import argparse
 import json
@@ -22,6 +29,7 @@ from pathlib import Path
 
 import yaml
 
+from mission import conditions
 from mission.launcher import MissionFailed, check_scenario, run_scenario
 from mission.scenario import ScenarioError, load_scenario
 
@@ -47,6 +55,40 @@ def variant(source, speed, args, folder):
     return path
 
 
+def condition_variant(source, name, folder, start_timeout=None):
+    """Copy of the scenario file in condition ``name`` (mission.conditions), absolute routes;
+    ``start_timeout`` (s): every simulator's lockstep_start_timeout (a loaded machine)."""
+    from ship_planner.route_loader import load_route
+    data = yaml.safe_load(source.read_text())
+    platoon = data.get('platoon') if isinstance(data.get('platoon'), dict) else None
+    for section in ('vessels', 'traffic'):
+        for entry in (data.get(section) or {}).values():
+            if isinstance(entry, dict) and isinstance(entry.get('route'), str):
+                entry['route'] = str((source.parent / entry['route']).resolve())
+    if platoon:
+        platoon['route'] = str((source.parent / platoon['route']).resolve())
+        vessels = platoon['vessels']
+        route = platoon['route']
+    else:
+        vessels = list(data['vessels'].values())
+        route = vessels[0]['route']
+    course = conditions.route_course(load_route(route).route)
+    cond = conditions.condition(name)
+    wind, _ = conditions.scenario_blocks(cond, course)
+    if wind:
+        data['wind'] = wind
+    for i, v in enumerate(vessels):
+        _, waves = conditions.scenario_blocks(cond, course, conditions.SEED + i)
+        if waves:
+            v['waves'] = waves
+        if start_timeout:
+            v['vessel'] = dict(v.get('vessel') or {}, lockstep_start_timeout=start_timeout)
+    data['name'] = f"{data['name']}_{name}"
+    path = folder / f"{data['name']}.yaml"
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
+    return path
+
+
 def row(speed, m):
     """Table row of one vessel's metrics (angles in deg)."""
     span = m['duration_s'] - m['settle_s']
@@ -61,7 +103,7 @@ def row(speed, m):
             'rudder_saturated_fraction': m['rudder_saturated_fraction']}
 
 
-COLUMNS = [('wind_mps', 'wind (m/s)', '{:g}'), ('vessel', 'vessel', '{}'),
+COLUMNS = [('condition', 'condition', '{}'), ('wind_mps', 'wind (m/s)', '{:g}'), ('vessel', 'vessel', '{}'),
            ('finished', 'finished', '{}'), ('xte_rms_m', 'XTE RMS (m)', '{:.2f}'),
            ('xte_max_m', 'XTE max (m)', '{:.2f}'), ('heading_rms_deg', 'heading err RMS (deg)',
                                                    '{:.2f}'),
@@ -94,19 +136,33 @@ def main(argv=None):
     ap.add_argument('--seed', type=int, default=1, help='gust random seed')
     ap.add_argument('--runs', type=Path, default=REPO / 'runs' / 'wind_study')
     ap.add_argument('--quick', action='store_true', help='300 s runs (development)')
+    ap.add_argument('--conditions', nargs='+', choices=tuple(conditions.CONDITIONS),
+                    help='wind-and-wave conditions (mission.conditions) instead of --speeds')
+    ap.add_argument('--start-timeout', type=float, default=None,
+                    help="with --conditions: every simulator's lockstep_start_timeout (s), for "
+                         'many vessels on a loaded machine (timing only, not the physics)')
     args = ap.parse_args(argv)
     args.runs.mkdir(parents=True, exist_ok=True)
     rows = []
+    cases = ([(conditions.CONDITIONS[c].wind_speed, c) for c in args.conditions]
+             if args.conditions else [(v, None) for v in args.speeds])
     try:
-        for speed in args.speeds:
-            print(f'wind_study: {speed:g} m/s from {args.direction_deg:g} deg ...', flush=True)
-            scenario = load_scenario(variant(args.scenario, speed, args, args.runs))
+        for speed, cond in cases:
+            if cond:
+                print(f'wind_study: {conditions.CONDITIONS[cond].describe()} ...', flush=True)
+                scenario = load_scenario(condition_variant(args.scenario, cond, args.runs,
+                                                           args.start_timeout))
+            else:
+                print(f'wind_study: {speed:g} m/s from {args.direction_deg:g} deg ...',
+                      flush=True)
+                scenario = load_scenario(variant(args.scenario, speed, args, args.runs))
             if args.quick:
                 scenario.duration_s = min(scenario.duration_s, 300.0)
             check_scenario(scenario)
             run, metrics = run_scenario(scenario, runs_root=args.runs, progress=lambda s: None)
             for ns, m in metrics['vessels'].items():
-                rows.append({'vessel': ns, **row(speed, m), 'run': str(run)})
+                rows.append({'vessel': ns, **row(speed, m), 'condition': cond or '-',
+                             'run': str(run)})
                 print(table(rows[-1:]).splitlines()[-1], flush=True)
     except ScenarioError as exc:
         print(f'wind_study: {exc}', file=sys.stderr)
@@ -116,7 +172,8 @@ def main(argv=None):
         return 1
     text = table(rows)
     (args.runs / 'wind_study.json').write_text(json.dumps(
-        {'scenario': str(args.scenario), 'direction_deg': args.direction_deg,
+        {'scenario': str(args.scenario), 'conditions': args.conditions,
+         'direction_deg': args.direction_deg,
          'gust_fraction': args.gust_fraction, 'time_constant_s': args.time_constant,
          'seed': args.seed, 'rows': rows}, indent=1))
     (args.runs / 'wind_study.md').write_text(text + '\n')

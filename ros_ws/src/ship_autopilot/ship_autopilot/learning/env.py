@@ -45,6 +45,13 @@ curves, as in scenarios/routes/curved_path_<model>_000.yaml), a pool of ``n_rout
 per environment with amplitude, wavelength and phase randomised around the ship's nominal curve
 (smallest radius of curvature kept >= 0.8 x the nominal one).
 
+Wind (optional, evaluation under disturbances; training never used it): ``wind`` a
+ship_sim.environment.wind.WindField of shape () or (N,); its loads (relative wind from the
+velocity over ground minus still air's, ship_sim.environment.wind.wind_disturbance) are
+computed at the start of every sim step, held over it and enter the model's own force
+equations, then the gusts advance: the same step as ship_sim.simulator's. Without it the
+integration is the computation it always was.
+
 Classes: ``PathFollowingBatch`` steps N vessels of one model together (numpy batched RK4; the
 vectorised variant used for training); ``PathFollowingEnv`` is the gymnasium.Env of one vessel on
 the same core. Observations are float32 (9,) normalised states (path_state.normalise); actions
@@ -58,6 +65,7 @@ import numpy as np
 
 from ship_guidance.path import Line, Route
 from ship_guidance.path_state import CLIP, OBS_DIM, PathFeatures, default_scales, normalise
+from ship_sim.environment.wind import wind_disturbance, wind_profile
 from ship_sim.models import make_model
 
 from .reward import gaussian_reward, rudder_change_penalty
@@ -147,9 +155,11 @@ class PathFollowingBatch:
     and returns (obs, reward, terminated, truncated, info) with arrays of length N; it does not
     reset finished vessels (call ``reset(done)``). ``routes`` may be given (list of Route) to
     replace the generated pool; ``starts`` in ``reset`` fixes start states (evaluation).
+    ``wind``: an optional WindField (module docstring) with ``wind_coefficients``.
     """
 
-    def __init__(self, model, n_envs=1, config=None, seed=0, routes=None):
+    def __init__(self, model, n_envs=1, config=None, seed=0, routes=None, wind=None,
+                 wind_coefficients='blendermann94'):
         self.config = config or EnvConfig()
         self.model = make_model(model) if isinstance(model, str) else model
         self.n = int(n_envs)
@@ -178,6 +188,11 @@ class PathFollowingBatch:
         self.features = PathFeatures((n,))
         self.proj = np.zeros((n, 3))              # cross_track, path_angle, curvature
         self.raw = np.zeros((n, OBS_DIM))
+        self.wind, self.wind_coefficients = wind, wind_coefficients
+        if wind is not None:
+            if wind.shape not in ((), (n,)):
+                raise ValueError(f'wind shape {wind.shape} does not match {n} vessels')
+            self.wind_profile = wind_profile(m.name)
 
     # -- episodes ------------------------------------------------------------------------------
     def sample_starts(self, k):
@@ -236,7 +251,14 @@ class PathFollowingBatch:
         m, h = self.model, self.config.sim_dt
         u_in = m.inputs(rudder_cmd)
         drift = self.current * h
-        if self.n == 1:  # the model's float fast path for one vessel
+        if self.wind is not None:
+            x = self.x
+            for _ in range(steps):
+                x = m.step(x, u_in, h, loads=self.wind_loads(x))
+                x[:, m.IX] += drift[:, 0]
+                x[:, m.IY] += drift[:, 1]
+                self.wind.advance(h)
+        elif self.n == 1:  # the model's float fast path for one vessel
             x1, u1, d = self.x[0], u_in[0], drift[0]
             for _ in range(steps):
                 x1 = m.step(x1, u1, h)
@@ -265,6 +287,13 @@ class PathFollowingBatch:
         # A vessel that left the domain keeps its last valid state (its episode ends).
         self.x = np.where(ok[:, None], x, self.x)
         return ok
+
+    def wind_loads(self, x=None):
+        """Wind loads (X, Y, K, N) (N, N m) on states x (default the present ones)."""
+        u, v, _ = self.ground_velocity(x)
+        x = self.x if x is None else x
+        return wind_disturbance(self.wind_profile, u, v, x[:, self.model.IPSI], self.wind.speed,
+                                self.wind.direction_from, self.wind_coefficients)
 
     def project(self, idx):
         """Update the closest-point projection of vessels idx (progress window around s)."""

@@ -136,6 +136,16 @@ class ShipWaves:
         return peak_encounter_frequency(self.sea.peak_frequency, U, self.sea.direction - psi)
 
 
+def superpose(eta, nu, north, east, psi, u, v, r):
+    """What a sensor sees (output superposition, Fossen 2021, Sec. 10.4): the manoeuvring
+    (north, east, psi, u, v, r) (NED m, rad; body FRD m/s, rad/s) plus the wave-frequency motion
+    (eta_WF, nu_WF of ``ShipWaves.motion``): position + the surge/sway displacement rotated by
+    the heading, heading + yaw, body velocities + the wave-frequency rates. Floats."""
+    c, s = math.cos(psi), math.sin(psi)
+    return (north + c * eta[0] - s * eta[1], east + s * eta[0] + c * eta[1], psi + eta[5],
+            u + nu[0], v + nu[1], r + nu[5])
+
+
 def peak_encounter_frequency(w0, U, beta):
     """|w0 - w0^2 U cos(beta) / g| (rad/s): beta = wave direction - heading (0 following)."""
     return abs(w0 - w0 ** 2 * U * math.cos(beta) / G)

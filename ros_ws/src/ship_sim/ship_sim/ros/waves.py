@@ -13,7 +13,7 @@ import math
 
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension
 
-from ship_sim.environment.sea_state import SeaState, ShipWaves, rao_table_for
+from ship_sim.environment.sea_state import SeaState, ShipWaves, rao_table_for, superpose
 from ship_sim.environment.sea_state_relations import vw2hs
 from ship_sim.frames import psi_to_yaw
 from ship_sim.ros.conversions import fill_odometry
@@ -95,9 +95,7 @@ class WaveOdometry:
     def fill(self, msg, t, north, east, psi, u, v, r, speed):
         """fill_odometry with the wave-frequency motion at time t (s) and speed (m/s) added."""
         eta, nu = self.waves.motion(t, speed, psi)
-        c, s = math.cos(psi), math.sin(psi)
-        fill_odometry(msg, t, north + c * eta[0] - s * eta[1], east + s * eta[0] + c * eta[1],
-                      psi + eta[5], u + nu[0], v + nu[1], r + nu[5])
+        fill_odometry(msg, t, *superpose(eta, nu, north, east, psi, u, v, r))
         msg.pose.pose.position.z = -float(eta[2])
         roll, pitch, yaw = float(eta[3]), -float(eta[4]), float(psi_to_yaw(psi + eta[5]))
         cr, sr = math.cos(roll / 2), math.sin(roll / 2)

@@ -330,12 +330,21 @@ def plot_curves(folders, png):
     plt.close(fig)
 
 
-def time_to(rows, threshold, key):
-    """First value of column ``key`` at which the curved evaluation reaches ``threshold``."""
+def time_to(rows, threshold, key, scale=1.0):
+    """First value of column ``key`` at which the curved evaluation, times ``scale``, reaches
+    ``threshold``."""
     for r in rows:
-        if r['phase'] == 'curved' and float(r['eval_gaussian']) >= threshold:
+        if r['phase'] == 'curved' and scale * float(r['eval_gaussian']) >= threshold:
             return float(r[key])
     return None
+
+
+def score_scale(folder):
+    """Factor that puts a run's evaluation on the 1 s step's scale: the evaluation sums the
+    Gaussian once per policy step, so a 1000 s episode scores at most 1000 / control_dt."""
+    summary = folder / 'summary.json'
+    control_dt = json.loads(summary.read_text()).get('control_dt', 1.0) if summary.exists() else 1.0
+    return float(control_dt)
 
 
 def compare(args):
@@ -356,13 +365,15 @@ def compare(args):
             continue
         folders += list(pair.values())
         logs = {s: read_log(f / 'log.csv') for s, f in pair.items()}
+        scale = {s: score_scale(f) for s, f in pair.items()}
         entry = {s: {'transitions_total': int(logs[s][-1]['transitions']),
+                     'score_scale': scale[s],
                      'straight_transitions': max([int(r['transitions']) for r in logs[s]
                                                   if r['phase'] == 'straight'], default=0),
-                     'best_eval': max(float(r['eval_gaussian']) for r in logs[s]
-                                      if r['phase'] == 'curved')} for s in logs}
+                     'best_eval': scale[s] * max(float(r['eval_gaussian']) for r in logs[s]
+                                                 if r['phase'] == 'curved')} for s in logs}
         for thr in args.thresholds:
-            t = {s: time_to(logs[s], thr, 'transitions') for s in logs}
+            t = {s: time_to(logs[s], thr, 'transitions', scale[s]) for s in logs}
             censored = {s: t[s] is None for s in t}
             t_or_end = {s: t[s] if t[s] is not None else entry[s]['transitions_total']
                         for s in t}
@@ -439,7 +450,8 @@ def main(argv=None):
     c.add_argument('--runs', default=str(RUNS / 'transfer_study'),
                    help='folder with <model>_scratch_s<seed> and <model>_transfer_s<seed> runs')
     c.add_argument('--thresholds', type=float, nargs='+', default=[500.0, 700.0, 850.0],
-                   help='curved evaluation scores (Gaussian sum per 1000 s at 1 s, max 1000)')
+                   help='curved evaluation scores on the 1 s step\'s scale (Gaussian sum per '
+                        '1000 s, max 1000; a run at a longer control_dt is scaled by it)')
     g = sub.add_parser('plot')
     g.add_argument('folders', nargs='+')
     g.add_argument('--png', required=True)

@@ -146,3 +146,22 @@ def test_a_bad_route_is_refused_with_the_reason_and_a_good_one_decoded():
     good = route_to_path_msg(Route([Line((0.0, 0.0), (100.0, 50.0))]), Time())
     route = accept_route(good, log)
     assert route.length == pytest.approx(math.hypot(100.0, 50.0)) and len(log.lines) == 1
+
+
+# -- shutdown --------------------------------------------------------------------------------
+
+def test_wait_for_acks_is_quiet_when_a_signal_has_shut_the_context_down(make_node):
+    # vessel_node waits for reliable subscribers after its last step; a signal arriving then
+    # made rcl refuse and the EventsExecutor log a FATAL callback exception.
+    from rclpy._rclpy_pybind11 import RCLError
+    from rclpy.duration import Duration
+    from std_msgs.msg import Float64
+
+    from ship_sim.ros.run import wait_for_acks
+    node, _ = make_node()
+    pub = node.create_publisher(Float64, 'acks_test', 10)
+    wait_for_acks(node, (pub, None), timeout_s=0.1)      # context alive, nobody listening
+    node.context.try_shutdown()
+    with pytest.raises(RCLError, match='context is invalid'):
+        pub.wait_for_all_acked(Duration(seconds=0.1))    # what rcl does without the guard
+    wait_for_acks(node, (pub, None), timeout_s=0.1)

@@ -57,7 +57,6 @@ import math
 from nav_msgs.msg import Odometry
 import rclpy.logging
 from rclpy.clock import Clock, ClockType
-from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock as ClockMsg
@@ -71,7 +70,7 @@ from ship_sim.pacing import LockstepPacer, RealtimePacer, StepGate
 from ship_sim.ros.conversions import base_link_frame, fill_odometry, time_to_msg
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import DISPLAY, LATCHED, STREAM
-from ship_sim.ros.run import finish, run_node
+from ship_sim.ros.run import finish, run_node, wait_for_acks
 from ship_sim.ros.waves import WaveOdometry, declare_waves
 from ship_sim.simulator import VesselSimulator
 from ship_sim.speed_factor import scaled_shaft
@@ -418,9 +417,7 @@ class VesselNode(Node):
         self._running = False
         if code == 0:
             # Let reliable subscribers get the last step before the node goes away.
-            for pub in (self._odom_pub, self._rudder_pub, self._display_pub):
-                if pub is not None:
-                    pub.wait_for_all_acked(Duration(seconds=2.0))
+            wait_for_acks(self, (self._odom_pub, self._rudder_pub, self._display_pub))
         finish(self, code)
 
     def _after_publish(self):

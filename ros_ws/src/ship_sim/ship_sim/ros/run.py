@@ -59,6 +59,23 @@ def finish(node, code=0):
     node.context.try_shutdown()
 
 
+def wait_for_acks(node, publishers, timeout_s=2.0):
+    """Give reliable subscribers of ``publishers`` up to ``timeout_s`` each to acknowledge what
+    was published, unless the context is shutting down (a signal that lands while we wait makes
+    rcl refuse with "publisher's context is invalid": a normal end, not an error). None entries
+    are skipped."""
+    from rclpy.duration import Duration
+    for pub in publishers:
+        if pub is None or not node.context.ok():
+            return
+        try:
+            pub.wait_for_all_acked(Duration(seconds=timeout_s))
+        except RCLError:
+            if node.context.ok():
+                raise
+            return
+
+
 def spin(node, executor=None):
     """Spin ``node`` until its context shuts down.
 

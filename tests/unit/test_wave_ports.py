@@ -13,8 +13,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from ship_sim.environment.closed_form_wave_response import wave_response_345
 from ship_sim.environment.wave_directional import wave_directional_spectrum
-from ship_sim.environment.wave_rao import RaoTable, WaveResponse, load_rao_table
+from ship_sim.environment.wave_rao import RaoTable, WaveResponse, load_rao_table, spheroid_rao
 from ship_sim.environment.wave_spectra import (WaveSpectrumWarning, torset_spectrum,
                                                wave_spectrum)
 
@@ -90,12 +91,16 @@ def test_wave_directional_spectrum_equals_mss(case):
 
 def _scenarios(name):
     doc = _load(name)
-    return doc, [c for c in doc['cases'] if doc['scenarios'][c['scenario']]['vessel'] in
-                 ('s175', 'supply')]
+    return doc, doc['cases']
+
+
+#: The force file's AUV scenario: spheroidRAO(vessel, 1.2, 0.3, 5, false) (its vessel_files).
+SPHEROID = {'spheroid_a1.2_b0.3_zn5': (1.2, 0.3, 5.0)}
 
 
 def _response(scenario, kind):
-    table = load_rao_table(scenario['vessel'], kind)
+    name = scenario['vessel']
+    table = spheroid_rao(*SPHEROID[name]) if name in SPHEROID else load_rao_table(name, kind)
     n_w = scenario['n_w']
     table = RaoTable(w=table.w[:n_w], headings=table.headings, amp=table.amp[:, :n_w],
                      phase=table.phase[:, :n_w], g=table.g, length=table.length, kind=kind,
@@ -127,11 +132,69 @@ def test_wave_motion_rao_equals_mss(case):
         _close(ours, case['outputs'][key])
 
 
+SPHEROID_CASES = _load('spheroidRAO')['cases']
+
+
+@pytest.mark.parametrize('case', SPHEROID_CASES, ids=[str(c['id']) for c in SPHEROID_CASES])
+def test_spheroid_rao_equals_mss(case):
+    i, ref = case['inputs'], case['outputs']
+    table = spheroid_rao(i['a'], i['b'], i['zn'])
+    _close(table.w, ref['w'])
+    _close(table.headings, ref['headings'])
+    for dof in range(6):
+        _close(table.amp[dof], ref['amp'][dof])
+        _close(table.amp[dof] * np.cos(table.phase[dof]), np.abs(ref['Re'][dof]))  # as coded
+    assert ref['phase_all_zero'] and not table.phase.any()
+    signed = spheroid_rao(i['a'], i['b'], i['zn'], signed=True)
+    for dof in range(6):
+        _close(signed.amp[dof] * np.cos(signed.phase[dof]), ref['Re'][dof])
+
+
+def test_spheroid_rao_physics():
+    # Froude-Krylov heave force per metre of wave amplitude: rho g pi b^2 (MSS's section
+    # area), decaying with depth as exp(-k zn), k = w^2 / g in deep water; a beam sea has no
+    # surge force, and the signed table's sway force changes sign from 90 to 270 deg.
+    t = spheroid_rao(2.0, 1.0, 5.0, signed=True)
+    re = t.amp * np.cos(t.phase)
+    k = t.w ** 2 / 9.81
+    assert re[2, :, 0] == pytest.approx(1025.0 * 9.81 * np.pi * np.exp(-k * 5.0), rel=1e-12)
+    i90, i270 = 9, 27
+    assert re[0, :, i90] == pytest.approx(np.zeros(t.w.size), abs=1e-9 * re[2, 0, 0])
+    assert re[1, :, i270] == pytest.approx(-re[1, :, i90], rel=1e-12)
+    with pytest.raises(ValueError, match='submerged'):
+        spheroid_rao(1.0, 0.5, 0.0)
+
+
+RESPONSE345 = _load('waveresponse345')['cases']
+
+
+@pytest.mark.parametrize('case', RESPONSE345, ids=[str(c['id']) for c in RESPONSE345])
+def test_wave_response_345_equals_mss(case):
+    i = {k: v for k, v in case['inputs'].items() if not k.endswith('_nominal')}
+    ref = case['outputs']
+    t, z, phi, theta = wave_response_345(**i)
+    _close(t, ref['t'])
+    _close(z, ref['z'])
+    _close(np.rad2deg(phi), ref['phi'])       # MSS plots degrees
+    _close(np.rad2deg(theta), ref['theta'])
+
+
+def test_wave_response_345_physics():
+    # Following sea (beta = 0) has no roll moment; the heave of a very long wave on a short
+    # box at rest tends to the wave itself (Jensen et al. 2004: F -> 1, far below resonance).
+    hull = dict(zeta4=0.2, T4=6.0, GMT=1.0, Cb=0.65, L=82.8, B=19.2, T=6.0)
+    _, z, phi, _ = wave_response_345(2.0, 0.0, 10.0, U=5.0, **hull)
+    assert not np.any(phi)
+    _, z, _, _ = wave_response_345(1.0, np.pi, 200.0, U=0.0, **hull)
+    assert np.max(np.abs(z)) == pytest.approx(1.0, rel=0.02)
+    with pytest.raises(ValueError, match='encounter frequency'):
+        wave_response_345(1.0, 0.0, 5.0, U=20.0, **hull)
+
+
 def test_every_shared_case_is_used():
-    # The spheroid (spheroidRAO, an AUV) scenario of the force file is not ported (S-175 and
-    # supply vessel only); every other case is.
     assert len(SPECTRUM) == 28 and len(TORSET) == 47 and len(DIRECTIONAL) == 7
-    assert len(MOTION) == 30 and len(FORCE) == 30
+    assert len(MOTION) == 30 and len(FORCE) == 35
+    assert len(SPHEROID_CASES) == 2 and len(RESPONSE345) == 5
 
 
 def test_packaged_tables_are_the_mss_tables():

@@ -16,6 +16,9 @@ extrapolation in frequency and in direction (no wrap-around: beta in (350, 360) 
 extrapolated from the 340-350 deg segment) unless ``wrap_headings=True`` (the plant's choice:
 a 360 deg column equal to the 0 deg one). MSS draws the phases with rng(12345) in MATLAB's
 generator; here they are an input (or drawn from a numpy Generator).
+
+``spheroid_rao`` builds the Froude-Krylov force table of a submerged prolate spheroid (an
+AUV hull, e.g. the NPS AUV II), MSS ``spheroidRAO.m``.
 """
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -68,6 +71,34 @@ def load_rao_table(vessel='s175', kind='motion'):
         return RaoTable(w=d[f'{kind}_w'], headings=d['headings'], amp=d[f'{kind}_amp'],
                         phase=d[f'{kind}_phase'], g=float(d['g']), length=float(d['Lpp']),
                         kind=kind, vessel=vessel)
+
+
+def spheroid_rao(a, b, zn, *, signed=False):
+    """Froude-Krylov wave force RAO table of a prolate spheroid of semi-axes ``a`` (along the
+    body, m) and ``b`` (m) whose centre is ``zn`` m below the surface, MSS ``spheroidRAO.m``.
+
+    Deep water, k = w^2 / g on w = 0.05..4 rad/s (100 points), headings 0..350 deg: heave
+    F3 = rho g pi b^2 exp(-k zn), surge and sway F3 cos/sin(beta), roll and pitch moments
+    F5 sin/cos(beta) with F5 = (a^2 - b^2) / (5 a) k F3, no yaw; headings 190..350 deg mirror
+    170..10 deg with signs (1, -1, 1, -1, 1, -1). As coded in MSS the table is real and its
+    amplitude is |Re| with phase 0, so waveForceRAO loses the sign: the sway force at 270 deg
+    equals the one at 90 deg. ``signed=True`` knowingly fixes that (phase pi where Re < 0)."""
+    if not zn > 0.0:
+        raise ValueError(f'spheroid depth zn = {zn!r} m: must be > 0 (submerged)')
+    g, rho = 9.81, 1025.0                      # the values coded in spheroidRAO.m
+    w = np.linspace(0.05, 4.0, 100)
+    k = w ** 2 / g
+    F3 = rho * g * np.pi * b ** 2 * np.exp(-k * zn)
+    F5 = (a ** 2 - b ** 2) / (5.0 * a) * k * F3
+    half = np.deg2rad(np.arange(0.0, 190.0, 10.0))          # 0..180 deg
+    c, s = np.cos(half)[None, :], np.sin(half)[None, :]
+    re_half = np.stack([F3[:, None] * c, F3[:, None] * s, np.repeat(F3[:, None], half.size, 1),
+                        F5[:, None] * s, F5[:, None] * c, np.zeros((w.size, half.size))])
+    signs = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0])[:, None, None]
+    re = np.concatenate([re_half, signs * re_half[:, :, 17:0:-1]], axis=2)
+    phase = np.where(re < 0.0, np.pi, 0.0) if signed else np.zeros_like(re)
+    return RaoTable(w=w, headings=np.deg2rad(np.arange(0.0, 360.0, 10.0)), amp=np.abs(re),
+                    phase=phase, g=g, length=2.0 * a, kind='force', vessel='spheroid')
 
 
 def _interp_extrap(x, xq):

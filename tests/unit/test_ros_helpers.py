@@ -4,6 +4,7 @@ Frames (DESIGN.md): x_E = y_N, y_E = x_N, yaw_ENU = pi/2 - psi_NED, v_FLU = -v_F
 r_FLU = -r_FRD; Odometry pose in 'map' (ENU), twist in the body frame FLU.
 """
 import math
+import time
 
 import pytest
 from rclpy.parameter import Parameter
@@ -165,3 +166,32 @@ def test_wait_for_acks_is_quiet_when_a_signal_has_shut_the_context_down(make_nod
     with pytest.raises(RCLError, match='context is invalid'):
         pub.wait_for_all_acked(Duration(seconds=0.1))    # what rcl does without the guard
     wait_for_acks(node, (pub, None), timeout_s=0.1)
+
+
+def test_a_per_step_clock_subscriber_matched_after_step_0_still_hears_it(make_node):
+    # traffic_node and ais_node act on every /clock step; in lockstep colav_node waits for
+    # their step-0 samples. The simulator's /clock publisher may match them only after step 0
+    # is out (discovery on a loaded machine), which the subscriptions created here after the
+    # publish stand for: the transient_local pair delivers it, a volatile one could not.
+    import rclpy
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+    from rosgraph_msgs.msg import Clock
+
+    from ship_sim.ros.qos import CLOCK, CLOCK_STEPS
+    sim, _ = make_node()
+    listener, _ = make_node()
+    pub = sim.create_publisher(Clock, '/clock_test', CLOCK)
+    step0 = Clock()
+    step0.clock.sec = 0
+    pub.publish(step0)
+    heard, missed = [], []
+    listener.create_subscription(Clock, '/clock_test', heard.append, CLOCK_STEPS)
+    listener.create_subscription(Clock, '/clock_test', missed.append,
+                                 QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE))
+    ex = rclpy.executors.SingleThreadedExecutor(context=sim.context)
+    ex.add_node(listener)
+    deadline = time.monotonic() + 10.0
+    while not heard and time.monotonic() < deadline:
+        ex.spin_once(timeout_sec=0.1)
+    assert len(heard) == 1 and heard[0].clock.sec == 0
+    assert missed == []

@@ -32,14 +32,13 @@ import socket
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
-from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock as ClockMsg
 from std_msgs.msg import MultiArrayDimension, UInt64MultiArray
 
 from ship_guidance.ais import BAD_REASONS, STALE_AFTER_S, AisTracker, parse_replay
 from ship_sim.ros.conversions import make_odometry
 from ship_sim.ros.params import NodeParameters, ParameterError
-from ship_sim.ros.qos import STREAM
+from ship_sim.ros.qos import CLOCK_STEPS, STREAM
 from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
 
@@ -47,8 +46,6 @@ COUNT_NAMES = ('decoded', 'ignored', 'pending_fragments', 'targets') + BAD_REASO
 SYNC_NAMES = ('stamp_ns', 'targets')
 UDP_POLL_S = 0.02          # wall-clock period of the UDP poll
 NS_PER_S = 1_000_000_000
-#: /clock as the simulator publishes it (reliable): no step is lost between it and us.
-CLOCK_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
 
 
 def child_frame(mmsi):
@@ -124,7 +121,7 @@ class AisNode(Node):
             self.m_sync = UInt64MultiArray()
             self.m_sync.layout.dim = [MultiArrayDimension(label=','.join(SYNC_NAMES),
                                                           size=len(SYNC_NAMES), stride=1)]
-            self.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK_QOS)
+            self.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK_STEPS)
             self.ready = ReadyWhenMatched(self, lambda: (self.pub, self.pub_sync), wait)
         else:
             self.create_timer(period, self._tick)

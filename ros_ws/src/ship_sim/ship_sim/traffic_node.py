@@ -1,6 +1,7 @@
 """traffic_node: light target ships on the graph (thin plumbing around ship_sim.light_traffic).
 
-Subscribes /clock (rosgraph_msgs/Clock, reliable) and for every /clock message publishes one
+Subscribes /clock (rosgraph_msgs/Clock, reliable + transient_local, ship_sim.ros.qos.CLOCK_STEPS:
+step 0 reaches it even when the simulator's publisher matches it late) and for every /clock message publishes one
 nav_msgs/Odometry per light target on ``/<name>/odom`` (QoS ship_sim.ros.qos.STREAM), stamped
 with exactly that clock time: pose ENU (frame ``map``), child ``<name>/base_link``, twist in
 body FLU with the body along the course (surge = speed, no sway, no yaw rate). colav_node can
@@ -17,18 +18,15 @@ line naming the target and the problem).
 """
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
-from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock as ClockMsg
 
 from ship_sim.light_traffic import parse_targets
 from ship_sim.ros.conversions import MAP_FRAME, base_link_frame, fill_odometry
 from ship_sim.ros.params import NodeParameters
-from ship_sim.ros.qos import STREAM
+from ship_sim.ros.qos import CLOCK_STEPS, STREAM
 from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
 
-#: /clock as the simulator publishes it (reliable): no step is lost between it and us.
-CLOCK_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
 _NS_PER_S = 1_000_000_000
 
 
@@ -53,7 +51,8 @@ class TrafficNode(Node):
                          lo=0, hi=1000, read_only=True)
         self.traffic = parse_targets(text)
         # /clock first: once the odom publishers are visible, the clock subscription exists.
-        self._clock_sub = self.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK_QOS)
+        self._clock_sub = self.create_subscription(ClockMsg, '/clock', self._on_clock,
+                                                   CLOCK_STEPS)
         self._pubs, self._msgs = [], []
         for name in self.traffic.names:
             self._pubs.append(self.create_publisher(Odometry, f'/{name}/odom', STREAM))

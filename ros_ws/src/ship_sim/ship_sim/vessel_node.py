@@ -5,8 +5,11 @@ ship_sim.ros.qos.STREAM = reliable, keep-last 100):
   publishes  odom        nav_msgs/Odometry   ENU pose, frame 'map', child '<ns>/base_link',
                                              twist in body FLU over ground (REP-103/105)
              rudder      std_msgs/Float64    actual rudder angle (rad, positive turns to port)
-             /clock      rosgraph_msgs/Clock sim time, when clock_master (reliable, depth 10;
-                                             rclpy's best-effort /clock subscribers match it)
+             /clock      rosgraph_msgs/Clock sim time, when clock_master (reliable +
+                                             transient_local, depth 10, ship_sim.ros.qos.CLOCK:
+                                             a per-step subscriber matched late still hears
+                                             step 0; rclpy's best-effort /clock subscribers
+                                             match it)
              ready       std_msgs/Bool       true once step 0 is out (latched: reliable +
                                              transient_local); the launcher starts a platoon
                                              follower's simulator after it
@@ -69,7 +72,7 @@ from ship_sim.models import MODEL_NAMES, ModelStateError, make_model
 from ship_sim.pacing import LockstepPacer, RealtimePacer, StepGate
 from ship_sim.ros.conversions import base_link_frame, fill_odometry, time_to_msg
 from ship_sim.ros.params import NodeParameters, ParameterError
-from ship_sim.ros.qos import DISPLAY, LATCHED, STREAM
+from ship_sim.ros.qos import CLOCK, DISPLAY, LATCHED, STREAM
 from ship_sim.ros.run import finish, run_node, wait_for_acks
 from ship_sim.ros.waves import WaveOdometry, declare_waves
 from ship_sim.simulator import VesselSimulator
@@ -85,7 +88,8 @@ MODEL_KWARGS = {
     'nomoto2': {'preset': 'preset', 'U0': 'U'},
     'nps_auv2': {'U0': 'U'},
 }
-CLOCK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+#: The recorder's step acknowledgements (std_msgs/UInt64), as it publishes them.
+ACK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
 
 class VesselNode(Node):
@@ -299,7 +303,7 @@ class VesselNode(Node):
         self._rudder_pub = self.create_publisher(Float64, 'rudder', STREAM)
         self._display_pub = (self.create_publisher(Odometry, 'odom_display', DISPLAY)
                              if self.display_every else None)
-        self._clock_pub = (self.create_publisher(ClockMsg, '/clock', CLOCK_QOS)
+        self._clock_pub = (self.create_publisher(ClockMsg, '/clock', CLOCK)
                            if self.clock_master else None)
         # Reused messages: publishing copies them, so one object per topic is enough.
         self._odom = Odometry()
@@ -323,7 +327,7 @@ class VesselNode(Node):
                 gates.append(self._gate(StepGate(f'the recorder ({self.record_topic})',
                                                  self.record_window, needed_at_start=True),
                                         UInt64, self.record_topic,
-                                        lambda g, msg: g.acknowledge(msg.data), CLOCK_QOS))
+                                        lambda g, msg: g.acknowledge(msg.data), ACK_QOS))
             gates += self._speed_factor_gates()
             for topic in filter(None, (t.strip() for t in self.follower_topics.split(','))):
                 gates.append(self._gate(StepGate(f'follower {topic}', self.follower_window,

@@ -9,6 +9,13 @@
   transient_local with DISPLAY_DEPTH messages kept: a display that subscribes late or falls
   behind still gets every frame from step 0 (its frames are then the same on every run), and
   nobody waits for it (keep-last never blocks the publisher).
+- CLOCK (vessel_node's /clock as clock master) and CLOCK_STEPS (nodes that act on every /clock
+  step: traffic_node, ais_node with publish_on_clock): reliable + transient_local. In lockstep
+  such a node must hear step 0, but a new publisher and an existing subscription match whenever
+  discovery gets to it, which can be after step 0 has gone out on a loaded machine; a
+  transient_local subscription that matches late gets the steps it missed from the publisher's
+  history. rclpy's own (best-effort, volatile) /clock subscriptions match CLOCK as before; a
+  CLOCK_STEPS subscription needs a transient_local /clock publisher.
 """
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
@@ -25,3 +32,11 @@ DISPLAY_DEPTH = 1000
 DISPLAY = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=DISPLAY_DEPTH,
                      reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+CLOCK = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+                   reliability=ReliabilityPolicy.RELIABLE,
+                   durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+CLOCK_STEPS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+                         reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)

@@ -57,12 +57,14 @@ from ship_sim.frames import wrap_angle
 
 @dataclass(frozen=True)
 class ShipState:
-    """Position (m, NED), course and speed over ground (rad, m/s); heading (rad) defaults to course."""
+    """Position (m, NED), course and speed over ground (rad, m/s); heading (rad) defaults to
+    course; yaw rate (rad/s, + to starboard): the own ship's prediction starts turning at it."""
     north: float
     east: float
     course: float
     speed: float
     heading: float | None = None
+    yaw_rate: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -210,7 +212,7 @@ class CollisionAvoidance:
         u_c = self._multipliers * u_nom
         p_own0 = np.array([own.north, own.east], dtype=float)
         p_own, chi = predict_own(own.north, own.east, own.course, own.speed, chi_c, u_c, self._t,
-                                 self.ship)
+                                 self.ship, own.yaw_rate)
         u_end = speed_response(own.speed, u_c, self._t[-1:], self.ship)[:, 0]
         v_own_end = velocity(chi[:, -1], u_end)
         p_tgt0 = np.array([[tg.north, tg.east] for tg in targets], dtype=float)

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import yaml
 
+from ship_guidance import colregs
 from ship_guidance.colav import ShipState, Target
 from ship_guidance.colav_io import NODE_KEYS
 from ship_guidance.colav_evaluation import EvaluationParams
@@ -130,6 +131,30 @@ def test_a_slow_turner_acts_as_stand_on_when_its_own_manoeuvre_alone_can_no_long
         assert d.targets[0].situation == 'being-overtaken' and d.mode == mode
         assert bool(col.scenarios(OWN, [target], 0.0, 1.0).must_act[0]) == (mode == 'avoid')
     assert d.course_offset > 0.0
+
+
+def test_rule_17b_is_judged_against_every_threat_at_once():
+    # Crossing from port, closest point 550 s ahead: alone, the mariner (course changes only)
+    # can still clear it later and holds (test above). Add a ship overtaking at twice its speed
+    # 1000 m off the starboard side (being overtaken, passing at 1000 m > stand_on_dcpa_m):
+    # alone, holding course clears it. Together every manoeuvre without a port turn (17(c))
+    # closes one of them within stand_on_dcpa_m (a starboard turn runs towards the overtaker),
+    # so Rule 17(b) is in force now for both, and the own ship does not hold
+    ship = dataclasses.replace(SHIP, has_shaft=False)
+    crosser = _target_on_collision_course(45.0, 550.0, name='crosser')
+    overtaker = Target(-1000.0, 1000.0, 0.0, 2.0 * U, name='overtaker')
+    for target in (crosser, overtaker):
+        col = make_colav('sbmpc', ship=ship)
+        assert not col.scenarios(OWN, [target], 0.0, 1.0).must_act.any()
+        assert col.decide(0.0, OWN, [target], 0.0, 1.0).mode == 'stand-on'
+    col = make_colav('sbmpc', ship=ship)
+    sc = col.scenarios(OWN, [crosser, overtaker], 0.0, 1.0)
+    assert [colregs.SITUATIONS[c] for c in sc.codes] == ['crossing-stand-on', 'being-overtaken']
+    clear = np.minimum(sc.dist.min(axis=2), sc.dcpa_beyond)[sc.offsets >= 0.0]
+    assert clear.max(axis=0).min() >= P.stand_on_dcpa_m > clear.min(axis=1).max()
+    assert sc.must_act.all()
+    assert make_colav('sbmpc', ship=ship).decide(0.0, OWN, [crosser, overtaker], 0.0, 1.0).mode \
+        == 'avoid'
 
 
 def test_sbmpc_scores_a_meeting_just_beyond_its_horizon():

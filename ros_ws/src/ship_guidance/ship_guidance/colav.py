@@ -26,8 +26,10 @@ and role (ship_guidance.colregs). The steps:
    from a give-way ship that never acts (doc/colav.md). Rule 17(b) can come first for such a
    ship: it acts, too, as soon as its best own manoeuvre (no port turn) is predicted to pass the
    target closer than ``stand_on_dcpa_m`` (``Scenarios.must_act``), which depends on its turning
-   ability through the own-ship model; the benchmark's evaluator widens its stand-on window to
-   the same moment (scripts/imazu/evaluate.py).
+   ability through the own-ship model; the manoeuvre must keep that distance from every threat
+   at once (a starboard turn that clears the stand-on target but closes another is no way out).
+   The benchmark's evaluator widens its stand-on window to the same moment, computed with all
+   the case's targets (scripts/imazu/evaluate.py).
 4. Otherwise the method (ship_guidance.sbmpc or ship_guidance.velocity_obstacles) picks a
    scenario; ties go to the first in a fixed order: the larger speed multiplier first, then
    offsets 0, +15, -15, +30, ... deg (smaller first, starboard before port).
@@ -235,9 +237,12 @@ class CollisionAvoidance:
         t_min = self._t[n_min] + frac[0, m_idx, n_min] * p.dt_s     # nominal closest point, s
         stand_on = threat & np.isin(codes, STAND_ON_CODES)
         # Rule 17(b): the best manoeuvre of the own ship alone (no turn to port, 17(c)) can no
-        # longer keep stand_on_dcpa_m, counting the pass beyond the horizon too
-        clear = np.minimum(dist.min(axis=2), dcpa_b)[self._offsets >= 0.0].max(axis=0)   # (M,)
-        must = stand_on & (clear < p.stand_on_dcpa_m)
+        # longer keep stand_on_dcpa_m from every threat at once, counting the pass beyond the
+        # horizon too (one manoeuvre must clear them all: judged per target, a starboard turn
+        # that clears the stand-on target but runs into another threat counted as a way out)
+        clear = np.minimum(dist.min(axis=2), dcpa_b)[self._offsets >= 0.0]       # (S', M)
+        joint = clear[:, threat].min(axis=1).max() if threat.any() else np.inf
+        must = stand_on & (joint < p.stand_on_dcpa_m)
         late = stand_on & (d_nom < p.stand_on_dcpa_m) & (t_min <= p.stand_on_act_time_s)
         acting = bool((late | must).any())
         return Scenarios(self._offsets, self._multipliers, chi_c, u_c, max(float(u_nom), 0.1),

@@ -454,3 +454,26 @@ def test_give_way_alteration_is_readily_apparent(method, target_course_deg):
     assert d.mode == 'avoid'
     assert abs(d.course_offset) >= P.apparent_course_change - 1e-9 or d.speed_multiplier <= 0.5
 
+
+def test_a_speed_reduction_is_apparent_only_when_the_predicted_speed_has_halved_by_the_cpa():
+    # Rule 8(b) as the evaluator scores it: the speed at the closest point at most half the
+    # nominal. Head-on, closest point 300 s ahead on the nominal, no course change (slowing
+    # moves the closest point later, so at least 300 s): with the mariner's surge lag (95 s) a
+    # stop has slowed below U exp(-300 / 95) < U / 2 by then (apparent), a halved shaft only
+    # tends to U / 2 (never at or below it, not apparent); with the tanker's (793 s) a stop
+    # keeps above U / 2 for 793 ln 2 = 550 s, and while it does the ships close at 1.5 U or
+    # more: the 2 U 300 s = 3.7 km are gone within 400 s (not apparent). So the tanker-like
+    # ship gives way with a course change of at least 30 deg
+    target = _target_on_collision_course(180.0, 300.0)
+    tanker = dataclasses.replace(SHIP, speed_time_constant_s=793.0)
+    for ship, stop_apparent in ((SHIP, True), (tanker, False)):
+        col = make_colav('sbmpc', ship=ship)
+        sc = col.scenarios(OWN, [target], 0.0, 1.0)
+        penalty = col.not_apparent_penalty(sc)
+        straight = sc.offsets == 0.0
+        for mult, apparent in ((1.0, True), (0.5, False), (0.0, stop_apparent)):
+            k = int(np.flatnonzero(straight & (sc.multipliers == mult))[0])
+            assert penalty[k] == (0.0 if apparent else P.w_not_apparent), (ship, mult)
+        assert (penalty[np.abs(sc.offsets) >= P.apparent_course_change] == 0.0).all()
+    d = make_colav('sbmpc', ship=tanker).decide(0.0, OWN, [target], 0.0, 1.0)
+    assert d.mode == 'avoid' and d.course_offset >= P.apparent_course_change - 1e-9

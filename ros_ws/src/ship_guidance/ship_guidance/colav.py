@@ -134,6 +134,7 @@ class Scenarios:
     dcpa_beyond: np.ndarray = None
     v_rel_beyond: np.ndarray = None
     must_act: np.ndarray = None    # (M,) bool: Rule 17(b) moment for a stand-on target (step 3)
+    u: np.ndarray = None           # (S, N+1) predicted speed through the water, m/s
 
 
 class CollisionAvoidance:
@@ -247,7 +248,8 @@ class CollisionAvoidance:
         acting = bool((late | must).any())
         return Scenarios(self._offsets, self._multipliers, chi_c, u_c, max(float(u_nom), 0.1),
                          self._t, p_own, chi, p_own0, p_tgt, p_tgt0, v_tgt, dist, frac, step,
-                         codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must)
+                         codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must,
+                         speed_response(own.speed, u_c, self._t, self.ship))
 
     def _assess(self, own, targets, sc):
         if sc is None:
@@ -287,13 +289,21 @@ class CollisionAvoidance:
 
     def not_apparent_penalty(self, sc):
         """(S,) ``w_not_apparent`` for give-way alterations that are neither a course change of
-        at least ``apparent_course_change`` nor a speed cut to half or less, while a threat is
-        one the own ship gives way to (Rule 8(b): "large enough to be readily apparent")."""
+        at least ``apparent_course_change`` nor predicted to bring the speed down to
+        ``apparent_speed_ratio`` x the nominal by the closest point of every give-way threat,
+        while a threat is one the own ship gives way to (Rule 8(b): "large enough to be readily
+        apparent"). The predicted speed, not the commanded factor: the tanker's surge lag
+        (793 s) keeps it above half speed long after a halved or stopped shaft."""
         p = self.params
-        if not np.isin(sc.codes[sc.threat], GIVE_WAY_CODES).any():
+        give_way = sc.threat & np.isin(sc.codes, GIVE_WAY_CODES)
+        if not give_way.any():
             return np.zeros_like(sc.offsets)
-        small = (np.abs(sc.offsets) > 0.0) & (np.abs(sc.offsets) < p.apparent_course_change - 1e-9)
-        return np.where(small & (sc.multipliers > 0.5), p.w_not_apparent, 0.0)
+        n = sc.dist[:, give_way].argmin(axis=2)                               # (S, G) steps
+        u_cpa = np.take_along_axis(sc.u, n, axis=1)                           # speed then
+        slow = (u_cpa <= p.apparent_speed_ratio * sc.u_ref + 1e-9).all(axis=1)
+        acted = (sc.offsets != 0.0) | (sc.multipliers < 1.0)
+        small = np.abs(sc.offsets) < p.apparent_course_change - 1e-9
+        return np.where(acted & small & ~slow, p.w_not_apparent, 0.0)
 
     def _choose(self, sc):
         raise NotImplementedError

@@ -72,6 +72,8 @@ SCALARS = (
     ('w_port_turn', DEFAULTS.w_port_turn, 'port-turn penalty (Rules 14, 15, 17(c))', 0.0, 1e9, ''),
     ('w_not_apparent', DEFAULTS.w_not_apparent, 'Rule 8(b) not-apparent penalty', 0.0, 1e9, ''),
     ('apparent_course_change_deg', 30.0, 'apparent course change (Rule 8(b))', 0.0, 180.0, 'deg'),
+    ('apparent_speed_ratio', DEFAULTS.apparent_speed_ratio, 'apparent speed reduction (Rule '
+     '8(b)): predicted speed at the closest point at most this x nominal', 0.0, 1.0, ''),
     ('w_course_starboard', DEFAULTS.w_course_starboard, 'starboard deviation weight', 0.0, 1e9, ''),
     ('w_course_port', DEFAULTS.w_course_port, 'port deviation weight', 0.0, 1e9, ''),
     ('w_speed', DEFAULTS.w_speed, 'speed reduction weight', 0.0, 1e9, ''),

@@ -63,7 +63,27 @@ def own_ship_model(ship, speed_mps):
     if make_model(ship).has_shaft:
         out['speed_at_factor_one_mps'] = float(speed_mps)
         out['speed_time_constant_s'] = speed_time_constant(ship, float(speed_mps))
+        out['stop_turn_authority'] = stop_turn_authority(ship, float(speed_mps))
     return out
+
+
+@functools.lru_cache(maxsize=None)
+def stop_turn_authority(ship, speed_mps, dt_s=1.0, window_s=120.0):
+    """Turn authority of ``ship``'s plant with the shaft stopped, for colav's course model: from
+    the trim at ``speed_mps``, full rudder for ``window_s`` (the first part of an avoidance
+    turn) with the shaft stopped and with it kept, the ratio of the mean turn rates."""
+    from ship_sim.models import make_model
+    from ship_sim.simulator import VesselSimulator
+    rates = []
+    for factor in (0.0, 1.0):
+        model = make_model(ship)
+        sim = VesselSimulator(model, dt=dt_s, speed=speed_mps)
+        shaft = factor * sim.shaft_command
+        total = 0.0
+        for _ in range(int(round(window_s / dt_s))):
+            total += abs(sim.step(model.rudder_max, shaft).nav_state()[6])
+        rates.append(total)
+    return float(min(rates[0] / rates[1], 1.0))
 
 
 @functools.lru_cache(maxsize=None)

@@ -477,3 +477,22 @@ def test_a_speed_reduction_is_apparent_only_when_the_predicted_speed_has_halved_
         assert (penalty[np.abs(sc.offsets) >= P.apparent_course_change] == 0.0).all()
     d = make_colav('sbmpc', ship=tanker).decide(0.0, OWN, [target], 0.0, 1.0)
     assert d.mode == 'avoid' and d.course_offset >= P.apparent_course_change - 1e-9
+
+
+def test_a_stopped_shaft_turns_with_the_rudder_authority_left():
+    # a rudder in the propeller race: the demanded turn rate scales with a_0 + (1 - a_0) P;
+    # with a 90 deg command the autopilot holds full rudder over the first 20 s whatever the
+    # authority (saturated demand), so the course turned scales with it exactly
+    model = OwnShipModel(stop_turn_authority=0.3)
+    np.testing.assert_allclose(model.turn_authority([1.0, 0.5, 0.0]), [1.0, 0.65, 0.3])
+    t = time_grid(20.0, 5.0)
+    a = model.turn_authority([1.0, 0.0])
+    chi = course_response(0.0, np.full(2, math.pi / 2), t, model, authority=a)
+    assert chi[1, -1] == pytest.approx(0.3 * chi[0, -1], rel=1e-12) and chi[0, -1] > 0.0
+    with pytest.raises(ValueError):
+        OwnShipModel(stop_turn_authority=1.5)
+    # the default model (no shaft dependence) turns the same at every speed factor
+    sc = make_colav('sbmpc', ship=SHIP).scenarios(OWN, [_target_on_collision_course(180.0, 480.0)],
+                                                  0.0, 1.0)
+    same = np.isclose(sc.offsets, math.radians(45.0))
+    assert np.ptp(sc.chi[same][:, 12]) == 0.0

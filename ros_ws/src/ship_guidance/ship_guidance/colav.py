@@ -215,7 +215,8 @@ class CollisionAvoidance:
         u_c = self._multipliers * u_nom
         p_own0 = np.array([own.north, own.east], dtype=float)
         p_own, chi = predict_own(own.north, own.east, own.course, own.speed, chi_c, u_c, self._t,
-                                 self.ship, own.yaw_rate)
+                                 self.ship, own.yaw_rate,
+                                 self.ship.turn_authority(self._multipliers))
         u_end = speed_response(own.speed, u_c, self._t[-1:], self.ship)[:, 0]
         v_own_end = velocity(chi[:, -1], u_end)
         p_tgt0 = np.array([[tg.north, tg.east] for tg in targets], dtype=float)

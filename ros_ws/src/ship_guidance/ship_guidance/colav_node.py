@@ -94,6 +94,8 @@ SCALARS = (
      'autopilot', 1e-3, 10.0, ''),
     ('speed_time_constant_s', SHIP.speed_time_constant_s, 'own-ship model: speed lag', 1e-3, 1e5,
      's'),
+    ('stop_turn_authority', SHIP.stop_turn_authority, 'own-ship model: turn authority with '
+     'the shaft stopped (1: rudder independent of the shaft)', 0.0, 1.0, ''),
     ('speed_at_factor_one_mps', 0.0, 'own-ship model: speed at factor 1 (0: current speed)', 0.0,
      100.0, 'm/s'),
 )
@@ -305,7 +307,8 @@ def _stamp_ns(msg):
 
 
 OWN_SHIP_KEYS = ('course_time_constant_s', 'max_turn_rate', 'heading_loop_omega_n',
-                 'heading_loop_zeta', 'speed_time_constant_s', 'speed_at_factor_one_mps')
+                 'heading_loop_zeta', 'speed_time_constant_s', 'stop_turn_authority',
+                 'speed_at_factor_one_mps')
 
 
 def main(args=None):

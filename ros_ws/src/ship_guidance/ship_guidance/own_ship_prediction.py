@@ -16,7 +16,11 @@ cheap model of the ship under its own autopilot rather than the full plant:
   current one towards r_max with T (the MSS tanker at 12 kn, T 212 s, needs minutes to reach
   its steady turn, which a model turning at r_max from the first second put 25 deg ahead of
   the plant after 4 min). r_d is held over each prediction step and the linear lag integrated
-  exactly over it (a zero-order hold), the steps all scenarios at once;
+  exactly over it (a zero-order hold), the steps all scenarios at once. A rudder in the
+  propeller race loses authority when the shaft slows: r_d is scaled by
+  a = a_0 + (1 - a_0) P for the speed multiplier P of the scenario, a_0 the authority with the
+  shaft stopped (the MSS tanker's rudder inflow is c^2 = cun u n + cnn n^2: stopped, it kept
+  0.31 of its full-rudder turn over the first 2 min, the container 0.66);
 - speed: a first-order response towards the commanded speed, u_dot = (u_c - u) / T_u;
 - position: the NED velocity (u cos chi, u sin chi) integrated by the trapezoidal rule on the
   prediction grid, so a prediction restarted on the grid reproduces the samples of a longer one.
@@ -49,6 +53,9 @@ class OwnShipModel:
     heading_loop_omega_n: float = 0.048
     heading_loop_zeta: float = 0.8
     speed_time_constant_s: float = 95.0
+    #: Turn authority with the shaft stopped, relative to the shaft at the nominal command
+    #: (1: the rudder does not depend on the shaft, e.g. a ship without a shaft command).
+    stop_turn_authority: float = 1.0
     #: Speed through the water at speed factor 1 (m/s); None: the current speed is taken as the
     #: speed of the nominal command.
     speed_at_factor_one_mps: float | None = None
@@ -60,6 +67,8 @@ class OwnShipModel:
                      'heading_loop_zeta', 'speed_time_constant_s'):
             if not getattr(self, name) > 0.0:
                 raise ValueError(f'{name} = {getattr(self, name)!r} must be > 0')
+        if not 0.0 <= self.stop_turn_authority <= 1.0:
+            raise ValueError(f'stop_turn_authority = {self.stop_turn_authority!r} must lie in [0, 1]')
 
     @classmethod
     def from_dict(cls, values):
@@ -74,6 +83,11 @@ class OwnShipModel:
     def from_nomoto(cls, K, T, rudder_max, **kwargs):
         """The model of a ship with first-order Nomoto gains K (1/s), T (s) and rudder limit (rad)."""
         return cls(course_time_constant_s=float(T), max_turn_rate=float(abs(K) * rudder_max), **kwargs)
+
+    def turn_authority(self, multipliers):
+        """(S,) scale of the demanded turn rate at speed multipliers P (module doc)."""
+        a0 = self.stop_turn_authority
+        return a0 + (1.0 - a0) * np.asarray(multipliers, dtype=float)
 
     @property
     def heading_gain(self):
@@ -95,10 +109,11 @@ def time_grid(horizon_s, dt_s):
     return np.arange(n + 1) * float(dt_s)
 
 
-def course_response(chi0, chi_c, t, model, r0=0.0, with_rate=False):
+def course_response(chi0, chi_c, t, model, r0=0.0, with_rate=False, authority=1.0):
     """(S, N+1) predicted courses (rad, not wrapped) for commanded courses ``chi_c`` (S,), from
-    course ``chi0`` turning at ``r0`` (rad/s), on the grid ``t`` (module doc); with
-    ``with_rate`` also the (S,) turn rates at the last sample (to restart a prediction there)."""
+    course ``chi0`` turning at ``r0`` (rad/s), on the grid ``t``, with the turn authority
+    (scalar or (S,), ``OwnShipModel.turn_authority``) (module doc); with ``with_rate`` also the
+    (S,) turn rates at the last sample (to restart a prediction there)."""
     chi_c = np.asarray(chi_c, dtype=float)
     e0 = wrap_angle(chi_c - chi0)            # the shorter way round, as the autopilot turns
     T, r_max = model.course_time_constant_s, model.max_turn_rate
@@ -111,7 +126,7 @@ def course_response(chi0, chi_c, t, model, r0=0.0, with_rate=False):
     e = err[:, 0].copy()
     r = np.full(chi_c.shape, float(r0))
     for n in range(dt.size):
-        r_d = np.clip(g_e * e - g_r * r, -r_max, r_max)
+        r_d = authority * np.clip(g_e * e - g_r * r, -r_max, r_max)
         e -= r_d * dt[n] + (r - r_d) * gain[n]
         r = r_d + (r - r_d) * lag[n]
         err[:, n + 1] = e
@@ -125,10 +140,10 @@ def speed_response(u0, u_c, t, model):
     return u_c + (u0 - u_c) * np.exp(-t / model.speed_time_constant_s)
 
 
-def predict_own(north, east, chi0, u0, chi_c, u_c, t, model, r0=0.0):
+def predict_own(north, east, chi0, u0, chi_c, u_c, t, model, r0=0.0, authority=1.0):
     """(S, N+1, 2) NED positions and (S, N+1) courses of the own ship under each command, from
-    course ``chi0`` turning at ``r0`` (rad/s) and speed ``u0``."""
-    chi = course_response(chi0, chi_c, t, model, r0)
+    course ``chi0`` turning at ``r0`` (rad/s) and speed ``u0``, with the turn ``authority``."""
+    chi = course_response(chi0, chi_c, t, model, r0, authority=authority)
     u = speed_response(u0, u_c, t, model)
     v = np.stack((u * np.cos(chi), u * np.sin(chi)), axis=-1)
     dt = np.diff(t)[None, :, None]

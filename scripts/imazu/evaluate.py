@@ -24,7 +24,7 @@ def evaluate(result, reference, case, ship=None, case_no=None):
         for t in case['targets']:
             if t['colregs'] in ('crossing-stand-on', 'being-overtaken'):
                 windows[t['name']] = stand_on_window(ship, case_no, t['name'], reference,
-                                                     targets[t['name']], case['own'])
+                                                     targets, case['own'])
     return evaluate_run(track(result), targets, track(reference), situations=situations,
                         stand_on_windows=windows)
 
@@ -32,13 +32,14 @@ def evaluate(result, reference, case, ship=None, case_no=None):
 _WINDOWS = {}
 
 
-def stand_on_window(ship, case_no, name, reference, target, own):
+def stand_on_window(ship, case_no, name, reference, targets, own):
     """Seconds before the unmanoeuvred closest point at which ``ship`` must act on its own
     (Rule 17(b)) against the target ``name`` that never gives way: the first instant (every
     STAND_ON_SCAN_S along the no-traffic run) at which colav's prediction with the ship's own
-    model finds that no manoeuvre of the own ship alone keeps stand_on_dcpa_m
-    (``Scenarios.must_act``, the same test colav applies); 0 if none before the closest point.
-    The targets hold course and speed, so the answer depends only on ship, case and target."""
+    model, given all the case's ``targets`` ({name: Track}), finds that no manoeuvre of the own
+    ship alone keeps stand_on_dcpa_m from every threat at once (``Scenarios.must_act``, the
+    same test colav applies); 0 if none before the closest point. The targets hold course and
+    speed, so the answer depends only on ship, case and target."""
     key = (ship, case_no, name)
     if key in _WINDOWS and case_no is not None:
         return _WINDOWS[key]
@@ -48,17 +49,21 @@ def stand_on_window(ship, case_no, name, reference, target, own):
     colav, _ = build_colav({'method': 'sbmpc', **own_ship_model(ship, own['speed_mps'])},
                            bool(make_model(ship).has_shaft))
     ref = track(reference)
-    t_cpa = unmanoeuvred_cpa_time(target, ref)
+    names = sorted(targets)
+    index = names.index(name)
+    t_cpa = unmanoeuvred_cpa_time(targets[name], ref)
     window = 0.0
     for t in np.arange(0.0, t_cpa, STAND_ON_SCAN_S):
         i = int(np.searchsorted(ref.t, t))
-        j = int(np.searchsorted(target.t, t))
         o = ShipState(ref.north[i], ref.east[i], ref.course[i], ref.speed[i])
-        tg = Target(target.north[j], target.east[j], target.course[j], target.speed[j],
-                    name=name)
+        now = []
+        for n in names:
+            tr = targets[n]
+            j = int(np.searchsorted(tr.t, t))
+            now.append(Target(tr.north[j], tr.east[j], tr.course[j], tr.speed[j], name=n))
         colav.reset()
-        sc = colav.scenarios(o, [tg], ref.course[i], 1.0)
-        if sc.must_act is not None and bool(sc.must_act[0]):
+        sc = colav.scenarios(o, now, ref.course[i], 1.0)
+        if sc.must_act is not None and bool(sc.must_act[index]):
             window = float(t_cpa - ref.t[i])
             break
     _WINDOWS[key] = window

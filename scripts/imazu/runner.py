@@ -22,6 +22,7 @@ Targets never avoid (light targets): where a case's target should give way to th
 it does not, the own ship stands on until Rule 17(a)(ii) / (b) and then acts; targets may pass
 through each other (only own ship - target distances are judged).
 """
+import dataclasses
 import functools
 import math
 from dataclasses import dataclass, field
@@ -43,20 +44,46 @@ ROUTE_LENGTH_M = 40000.0
 def own_ship_model(ship, speed_mps):
     """colav_node's own-ship model keys for ``ship`` at ``speed_mps``: the identified Nomoto
     model (ship_autopilot/data/nomoto_gains.yaml, nondimensional K', T') scaled to this speed
-    (K = K' U / L, T = T' L / U), the turn rate capped at K times the rudder limit; for a ship
+    (K = K' U / L, T = T' L / U), the turn rate capped at K times the rudder limit, the design
+    (omega_n, zeta) that the autopilot's PD gains (the gain table, as the runs use it) place
+    on the Nomoto model at this speed (ship_guidance.heading_loop.pd_design); for a ship
     with a shaft also the speed at factor 1 (the route speed) and the surge time constant
     identified on the plant (``speed_time_constant``)."""
-    from ship_autopilot.gains import nomoto_gains
+    from ship_autopilot.gains import heading_loop_design, nomoto_gains
+    from ship_guidance.heading_loop import pd_design
     from ship_sim.models import make_model
     g = nomoto_gains(ship)
     K = g['K_nd'] * speed_mps / g['length_m']
     T = g['T_nd'] * g['length_m'] / speed_mps
+    pd = heading_loop_design(ship).gains['pd']
+    zeta, omega_n = pd_design(-1.0 / T, -K / T, k1=pd['k1'], k2=pd['k2'])
     out = {'course_time_constant_s': float(T),
-           'max_turn_rate': float(K * math.radians(g['rudder_max_deg']))}
+           'max_turn_rate': float(K * math.radians(g['rudder_max_deg'])),
+           'heading_loop_omega_n': float(omega_n), 'heading_loop_zeta': float(zeta)}
     if make_model(ship).has_shaft:
         out['speed_at_factor_one_mps'] = float(speed_mps)
         out['speed_time_constant_s'] = speed_time_constant(ship, float(speed_mps))
+        out['stop_turn_authority'] = stop_turn_authority(ship, float(speed_mps))
     return out
+
+
+@functools.lru_cache(maxsize=None)
+def stop_turn_authority(ship, speed_mps, dt_s=1.0, window_s=120.0):
+    """Turn authority of ``ship``'s plant with the shaft stopped, for colav's course model: from
+    the trim at ``speed_mps``, full rudder for ``window_s`` (the first part of an avoidance
+    turn) with the shaft stopped and with it kept, the ratio of the mean turn rates."""
+    from ship_sim.models import make_model
+    from ship_sim.simulator import VesselSimulator
+    rates = []
+    for factor in (0.0, 1.0):
+        model = make_model(ship)
+        sim = VesselSimulator(model, dt=dt_s, speed=speed_mps)
+        shaft = factor * sim.shaft_command
+        total = 0.0
+        for _ in range(int(round(window_s / dt_s))):
+            total += abs(sim.step(model.rudder_max, shaft).nav_state()[6])
+        rates.append(total)
+    return float(min(rates[0] / rates[1], 1.0))
 
 
 @functools.lru_cache(maxsize=None)
@@ -145,8 +172,7 @@ def build_colav(colav_params, has_shaft):
     from ship_guidance.colav_methods import make_colav
     from ship_guidance.colav_params import ColavParams
     from ship_guidance.own_ship_prediction import OwnShipModel
-    ship_keys = {'course_time_constant_s', 'max_turn_rate', 'speed_time_constant_s',
-                 'speed_at_factor_one_mps'}
+    ship_keys = {f.name for f in dataclasses.fields(OwnShipModel)} - {'has_shaft'}
     values = dict(colav_params)
     method = values.pop('method', 'sbmpc')
     period = float(values.pop('decision_period_s', 1.0))
@@ -195,7 +221,7 @@ def run_scenario(path, progress=None):
     child = f'{spec.namespace}/base_link'
     for k in range(steps):
         o = odometry_to_ned(make_odometry(*sim.nav_state(), child))
-        state = colav_io.ship_state(o.north, o.east, o.psi, o.u, o.v)
+        state = colav_io.ship_state(o.north, o.east, o.psi, o.u, o.v, o.r)
         t_out[k] = o.t
         own[k] = state.north, state.east, state.course, state.speed
         heading[k] = o.psi

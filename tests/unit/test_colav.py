@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import yaml
 
+from ship_guidance import colregs
 from ship_guidance.colav import ShipState, Target
 from ship_guidance.colav_io import NODE_KEYS
 from ship_guidance.colav_evaluation import EvaluationParams
@@ -132,6 +133,30 @@ def test_a_slow_turner_acts_as_stand_on_when_its_own_manoeuvre_alone_can_no_long
     assert d.course_offset > 0.0
 
 
+def test_rule_17b_is_judged_against_every_threat_at_once():
+    # Crossing from port, closest point 550 s ahead: alone, the mariner (course changes only)
+    # can still clear it later and holds (test above). Add a ship overtaking at twice its speed
+    # 1000 m off the starboard side (being overtaken, passing at 1000 m > stand_on_dcpa_m):
+    # alone, holding course clears it. Together every manoeuvre without a port turn (17(c))
+    # closes one of them within stand_on_dcpa_m (a starboard turn runs towards the overtaker),
+    # so Rule 17(b) is in force now for both, and the own ship does not hold
+    ship = dataclasses.replace(SHIP, has_shaft=False)
+    crosser = _target_on_collision_course(45.0, 550.0, name='crosser')
+    overtaker = Target(-1000.0, 1000.0, 0.0, 2.0 * U, name='overtaker')
+    for target in (crosser, overtaker):
+        col = make_colav('sbmpc', ship=ship)
+        assert not col.scenarios(OWN, [target], 0.0, 1.0).must_act.any()
+        assert col.decide(0.0, OWN, [target], 0.0, 1.0).mode == 'stand-on'
+    col = make_colav('sbmpc', ship=ship)
+    sc = col.scenarios(OWN, [crosser, overtaker], 0.0, 1.0)
+    assert [colregs.SITUATIONS[c] for c in sc.codes] == ['crossing-stand-on', 'being-overtaken']
+    clear = np.minimum(sc.dist.min(axis=2), sc.dcpa_beyond)[sc.offsets >= 0.0]
+    assert clear.max(axis=0).min() >= P.stand_on_dcpa_m > clear.min(axis=1).max()
+    assert sc.must_act.all()
+    assert make_colav('sbmpc', ship=ship).decide(0.0, OWN, [crosser, overtaker], 0.0, 1.0).mode \
+        == 'avoid'
+
+
 def test_sbmpc_scores_a_meeting_just_beyond_its_horizon():
     # a crosser from starboard meeting the own ship at 900 s (horizon 600 s): within the horizon
     # the nominal keeps it beyond d_safe (|v_rel| 300 s away), after it the straight lines meet
@@ -215,16 +240,18 @@ def _closed_loop(col, target, duration_s, own=OWN, period_s=10.0):
     Steps on the decision's own grid, so what the ship does is what the decision predicted."""
     p = col.params
     t_step = time_grid(period_s, p.dt_s)
-    p_o, chi, u = np.array([own.north, own.east]), own.course, own.speed
+    p_o, chi, u, r = np.array([own.north, own.east]), own.course, own.speed, own.yaw_rate
     p_t, v_t = np.array([target.north, target.east]), velocity(target.course, target.speed)
     d_min, at_cpa, decisions = np.inf, None, []
     for k in range(int(round(duration_s / period_s))):
         tgt = dataclasses.replace(target, north=float(p_t[0]), east=float(p_t[1]))
-        d = col.decide(k * period_s, ShipState(float(p_o[0]), float(p_o[1]), float(chi), float(u)),
-                       [tgt], 0.0, 1.0)
+        d = col.decide(k * period_s, ShipState(float(p_o[0]), float(p_o[1]), float(chi), float(u),
+                                               yaw_rate=float(r)), [tgt], 0.0, 1.0)
         decisions.append(d)
         u_c = np.array([d.speed_factor * col.ship.speed_at_factor_one_mps])
-        pos, course = predict_own(p_o[0], p_o[1], chi, u, np.array([d.course]), u_c, t_step, col.ship)
+        pos, course = predict_own(p_o[0], p_o[1], chi, u, np.array([d.course]), u_c, t_step, col.ship,
+                                  r)
+        r = float(course_response(chi, np.array([d.course]), t_step, col.ship, r, with_rate=True)[1][0])
         pt = predict_targets(p_t[None], v_t[None], t_step)
         dist, _, _ = segment_min_distance(pos, pt)
         if dist.min() < d_min:
@@ -273,24 +300,86 @@ def test_closed_loop_imazu_single_target_keeps_the_safe_distance(method, enc):
         assert run['decisions'][first].targets[0].situation == 'crossing-stand-on'
 
 
-def test_course_response_matches_the_rate_limited_first_order_lag():
-    # chi_dot = clip((chi_c - chi) / T, -r, r), integrated finely, against the closed form
-    model = OwnShipModel()
-    t = np.arange(0.0, 300.0 + 1e-9, 0.01)
-    for chi_c in (math.radians(90.0), math.radians(-30.0), math.radians(0.5)):
-        chi, out = 0.0, [0.0]
-        for _ in t[1:]:
-            rate = np.clip((chi_c - chi) / model.course_time_constant_s, -model.max_turn_rate,
+def _first_order_course(chi_c, t, model):
+    """The former course model (turning at up to r_max from the first second): chi_dot =
+    clip((chi_c - chi) / T, -r_max, r_max), integrated finely."""
+    h, chi, out = 0.01, 0.0, []
+    for _ in np.arange(0.0, t[-1] + h / 2, h):
+        out.append(chi)
+        chi += h * np.clip((chi_c - chi) / model.course_time_constant_s, -model.max_turn_rate,
                            model.max_turn_rate)
-            chi += rate * 0.01
+    return np.interp(t, np.arange(len(out)) * h, out)
+
+
+def test_course_response_integrates_the_autopilot_nomoto_loop():
+    # r_dot = (r_d - r) / T with r_d = clip(g_e e - g_r r, +-r_max), integrated finely, against
+    # the zero-order hold on the 5 s prediction grid; the turn rate builds up from r0 (a ship
+    # already turning keeps turning at first) and never exceeds the cap
+    model = OwnShipModel()
+    t, h = time_grid(300.0, 5.0), 0.01
+    for chi_c, r0 in ((math.radians(90.0), 0.0), (math.radians(-30.0), 0.0),
+                      (math.radians(0.5), 0.0), (0.0, 0.02)):
+        chi, r, out = 0.0, r0, []
+        for _ in np.arange(0.0, 300.0 + h / 2, h):
             out.append(chi)
-        closed = course_response(0.0, np.array([chi_c]), t, model)[0]
-        np.testing.assert_allclose(closed, out, atol=2e-4)
-    # the turn never exceeds the cap and the speed lag reaches 1 - 1/e of the step after T_u
-    chi = course_response(0.0, np.array([math.pi / 2]), t, model)[0]
-    assert np.diff(chi).max() / 0.01 <= model.max_turn_rate * (1 + 1e-9)
+            r_d = np.clip(model.heading_gain * (chi_c - chi) - model.rate_gain * r,
+                          -model.max_turn_rate, model.max_turn_rate)
+            chi, r = chi + h * r, r + h * (r_d - r) / model.course_time_constant_s
+        fine = np.interp(t, np.arange(len(out)) * h, out)
+        grid = course_response(0.0, np.array([chi_c]), t, model, r0)[0]
+        # the hold delays the demand by at most half a step: |error| <= r_max dt / 2
+        np.testing.assert_allclose(grid, fine, atol=model.max_turn_rate * 2.5)
+        assert np.abs(np.diff(grid)).max() / 5.0 <= model.max_turn_rate * (1 + 1e-9)
+    assert course_response(0.0, np.array([0.0]), t, model, 0.02)[0, 1] > 0.0
     u = speed_response(U, np.array([0.0]), np.array([model.speed_time_constant_s]), model)
     assert u[0, 0] == pytest.approx(U * math.exp(-1.0))
+
+
+def _plant_heading_step(ship, step_deg, duration_s, tmp_path):
+    """Heading (deg) of the MSS plant under its autopilot, as the Imazu runs build them (12 kn),
+    after a heading command ``step_deg`` to starboard, sampled every 5 s from the command."""
+    from benchmarks.closed_loop_inprocess import build_vessel
+    from imazu.runner import case_scenario, write_scenario
+    from mission.scenario import load_scenario
+
+    from ship_autopilot.steering import HeadingSteering
+    from ship_sim.frames import psi_to_yaw
+    case = {'own': {'north_m': 0.0, 'east_m': 0.0, 'course_deg': 0.0, 'speed_mps': U},
+            'targets': []}
+    scenario = load_scenario(write_scenario(*case_scenario(1, case, ship), tmp_path / ship))
+    sim, _, controller, dt = build_vessel(scenario, scenario.vessels[0])
+    steer = HeadingSteering(controller)
+    psi0 = sim.nav_state()[3]
+    command = steer.decode(float(psi_to_yaw(psi0 + math.radians(step_deg))))
+    shaft, every, out = sim.shaft_command, int(round(5.0 / dt)), []
+    for k in range(int(round(duration_s / dt)) + 1):
+        t, _, _, psi, _, _, r = sim.nav_state()
+        if k % every == 0:
+            out.append(math.degrees(psi - psi0))
+        sim.step(steer.update(t, psi, r, command), shaft)
+    return np.array(out)
+
+
+@pytest.mark.parametrize('ship, step_deg', [('mariner', 30.0), ('tanker', 30.0), ('tanker', 90.0)])
+def test_course_model_follows_the_plant_under_its_autopilot(ship, step_deg, tmp_path):
+    # The Imazu runs' own-ship model (Nomoto T, K delta_max and the autopilot's PD design at
+    # 12 kn) against the MSS plant steered by that autopilot, over the 600 s horizon. Bound:
+    # the identified Nomoto model's own accuracy, its heading rms on the 10 deg / 10 deg
+    # zig-zag it was fitted to (nomoto_gains.yaml: 2.3 deg mariner, 2.9 deg tanker) relative
+    # to that 10 deg, times the course change. The former first-order model (full turn rate
+    # from the first second; the tanker's rate builds up over T = 212 s) misses it by more.
+    from imazu.runner import own_ship_model
+
+    from ship_autopilot.gains import nomoto_gains
+    model = OwnShipModel.from_dict(own_ship_model(ship, U))
+    plant = _plant_heading_step(ship, step_deg, 600.0, tmp_path)
+    t = time_grid(600.0, 5.0)
+    predicted = np.degrees(course_response(0.0, np.array([math.radians(step_deg)]), t, model)[0])
+    bound = nomoto_gains(ship)['heading_rms_deg'] / 10.0 * step_deg
+    error = np.abs(predicted - plant).max()
+    first_order = np.degrees(_first_order_course(math.radians(step_deg), t, model))
+    assert error < bound, (ship, step_deg, error, bound)
+    assert np.abs(first_order - plant).max() > 2.0 * error
 
 
 def test_straight_prediction_and_closest_point_between_samples():
@@ -364,3 +453,46 @@ def test_give_way_alteration_is_readily_apparent(method, target_course_deg):
     d = make_colav(method, ship=SHIP).decide(0.0, OWN, [target], 0.0, 1.0)
     assert d.mode == 'avoid'
     assert abs(d.course_offset) >= P.apparent_course_change - 1e-9 or d.speed_multiplier <= 0.5
+
+
+def test_a_speed_reduction_is_apparent_only_when_the_predicted_speed_has_halved_by_the_cpa():
+    # Rule 8(b) as the evaluator scores it: the speed at the closest point at most half the
+    # nominal. Head-on, closest point 300 s ahead on the nominal, no course change (slowing
+    # moves the closest point later, so at least 300 s): with the mariner's surge lag (95 s) a
+    # stop has slowed below U exp(-300 / 95) < U / 2 by then (apparent), a halved shaft only
+    # tends to U / 2 (never at or below it, not apparent); with the tanker's (793 s) a stop
+    # keeps above U / 2 for 793 ln 2 = 550 s, and while it does the ships close at 1.5 U or
+    # more: the 2 U 300 s = 3.7 km are gone within 400 s (not apparent). So the tanker-like
+    # ship gives way with a course change of at least 30 deg
+    target = _target_on_collision_course(180.0, 300.0)
+    tanker = dataclasses.replace(SHIP, speed_time_constant_s=793.0)
+    for ship, stop_apparent in ((SHIP, True), (tanker, False)):
+        col = make_colav('sbmpc', ship=ship)
+        sc = col.scenarios(OWN, [target], 0.0, 1.0)
+        penalty = col.not_apparent_penalty(sc)
+        straight = sc.offsets == 0.0
+        for mult, apparent in ((1.0, True), (0.5, False), (0.0, stop_apparent)):
+            k = int(np.flatnonzero(straight & (sc.multipliers == mult))[0])
+            assert penalty[k] == (0.0 if apparent else P.w_not_apparent), (ship, mult)
+        assert (penalty[np.abs(sc.offsets) >= P.apparent_course_change] == 0.0).all()
+    d = make_colav('sbmpc', ship=tanker).decide(0.0, OWN, [target], 0.0, 1.0)
+    assert d.mode == 'avoid' and d.course_offset >= P.apparent_course_change - 1e-9
+
+
+def test_a_stopped_shaft_turns_with_the_rudder_authority_left():
+    # a rudder in the propeller race: the demanded turn rate scales with a_0 + (1 - a_0) P;
+    # with a 90 deg command the autopilot holds full rudder over the first 20 s whatever the
+    # authority (saturated demand), so the course turned scales with it exactly
+    model = OwnShipModel(stop_turn_authority=0.3)
+    np.testing.assert_allclose(model.turn_authority([1.0, 0.5, 0.0]), [1.0, 0.65, 0.3])
+    t = time_grid(20.0, 5.0)
+    a = model.turn_authority([1.0, 0.0])
+    chi = course_response(0.0, np.full(2, math.pi / 2), t, model, authority=a)
+    assert chi[1, -1] == pytest.approx(0.3 * chi[0, -1], rel=1e-12) and chi[0, -1] > 0.0
+    with pytest.raises(ValueError):
+        OwnShipModel(stop_turn_authority=1.5)
+    # the default model (no shaft dependence) turns the same at every speed factor
+    sc = make_colav('sbmpc', ship=SHIP).scenarios(OWN, [_target_on_collision_course(180.0, 480.0)],
+                                                  0.0, 1.0)
+    same = np.isclose(sc.offsets, math.radians(45.0))
+    assert np.ptp(sc.chi[same][:, 12]) == 0.0

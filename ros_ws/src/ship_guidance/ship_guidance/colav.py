@@ -26,8 +26,10 @@ and role (ship_guidance.colregs). The steps:
    from a give-way ship that never acts (doc/colav.md). Rule 17(b) can come first for such a
    ship: it acts, too, as soon as its best own manoeuvre (no port turn) is predicted to pass the
    target closer than ``stand_on_dcpa_m`` (``Scenarios.must_act``), which depends on its turning
-   ability through the own-ship model; the benchmark's evaluator widens its stand-on window to
-   the same moment (scripts/imazu/evaluate.py).
+   ability through the own-ship model; the manoeuvre must keep that distance from every threat
+   at once (a starboard turn that clears the stand-on target but closes another is no way out).
+   The benchmark's evaluator widens its stand-on window to the same moment, computed with all
+   the case's targets (scripts/imazu/evaluate.py).
 4. Otherwise the method (ship_guidance.sbmpc or ship_guidance.velocity_obstacles) picks a
    scenario; ties go to the first in a fixed order: the larger speed multiplier first, then
    offsets 0, +15, -15, +30, ... deg (smaller first, starboard before port).
@@ -57,12 +59,14 @@ from ship_sim.frames import wrap_angle
 
 @dataclass(frozen=True)
 class ShipState:
-    """Position (m, NED), course and speed over ground (rad, m/s); heading (rad) defaults to course."""
+    """Position (m, NED), course and speed over ground (rad, m/s); heading (rad) defaults to
+    course; yaw rate (rad/s, + to starboard): the own ship's prediction starts turning at it."""
     north: float
     east: float
     course: float
     speed: float
     heading: float | None = None
+    yaw_rate: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -130,6 +134,7 @@ class Scenarios:
     dcpa_beyond: np.ndarray = None
     v_rel_beyond: np.ndarray = None
     must_act: np.ndarray = None    # (M,) bool: Rule 17(b) moment for a stand-on target (step 3)
+    u: np.ndarray = None           # (S, N+1) predicted speed through the water, m/s
 
 
 class CollisionAvoidance:
@@ -210,7 +215,8 @@ class CollisionAvoidance:
         u_c = self._multipliers * u_nom
         p_own0 = np.array([own.north, own.east], dtype=float)
         p_own, chi = predict_own(own.north, own.east, own.course, own.speed, chi_c, u_c, self._t,
-                                 self.ship)
+                                 self.ship, own.yaw_rate,
+                                 self.ship.turn_authority(self._multipliers))
         u_end = speed_response(own.speed, u_c, self._t[-1:], self.ship)[:, 0]
         v_own_end = velocity(chi[:, -1], u_end)
         p_tgt0 = np.array([[tg.north, tg.east] for tg in targets], dtype=float)
@@ -233,14 +239,18 @@ class CollisionAvoidance:
         t_min = self._t[n_min] + frac[0, m_idx, n_min] * p.dt_s     # nominal closest point, s
         stand_on = threat & np.isin(codes, STAND_ON_CODES)
         # Rule 17(b): the best manoeuvre of the own ship alone (no turn to port, 17(c)) can no
-        # longer keep stand_on_dcpa_m, counting the pass beyond the horizon too
-        clear = np.minimum(dist.min(axis=2), dcpa_b)[self._offsets >= 0.0].max(axis=0)   # (M,)
-        must = stand_on & (clear < p.stand_on_dcpa_m)
+        # longer keep stand_on_dcpa_m from every threat at once, counting the pass beyond the
+        # horizon too (one manoeuvre must clear them all: judged per target, a starboard turn
+        # that clears the stand-on target but runs into another threat counted as a way out)
+        clear = np.minimum(dist.min(axis=2), dcpa_b)[self._offsets >= 0.0]       # (S', M)
+        joint = clear[:, threat].min(axis=1).max() if threat.any() else np.inf
+        must = stand_on & (joint < p.stand_on_dcpa_m)
         late = stand_on & (d_nom < p.stand_on_dcpa_m) & (t_min <= p.stand_on_act_time_s)
         acting = bool((late | must).any())
         return Scenarios(self._offsets, self._multipliers, chi_c, u_c, max(float(u_nom), 0.1),
                          self._t, p_own, chi, p_own0, p_tgt, p_tgt0, v_tgt, dist, frac, step,
-                         codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must)
+                         codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must,
+                         speed_response(own.speed, u_c, self._t, self.ship))
 
     def _assess(self, own, targets, sc):
         if sc is None:
@@ -280,13 +290,21 @@ class CollisionAvoidance:
 
     def not_apparent_penalty(self, sc):
         """(S,) ``w_not_apparent`` for give-way alterations that are neither a course change of
-        at least ``apparent_course_change`` nor a speed cut to half or less, while a threat is
-        one the own ship gives way to (Rule 8(b): "large enough to be readily apparent")."""
+        at least ``apparent_course_change`` nor predicted to bring the speed down to
+        ``apparent_speed_ratio`` x the nominal by the closest point of every give-way threat,
+        while a threat is one the own ship gives way to (Rule 8(b): "large enough to be readily
+        apparent"). The predicted speed, not the commanded factor: the tanker's surge lag
+        (793 s) keeps it above half speed long after a halved or stopped shaft."""
         p = self.params
-        if not np.isin(sc.codes[sc.threat], GIVE_WAY_CODES).any():
+        give_way = sc.threat & np.isin(sc.codes, GIVE_WAY_CODES)
+        if not give_way.any():
             return np.zeros_like(sc.offsets)
-        small = (np.abs(sc.offsets) > 0.0) & (np.abs(sc.offsets) < p.apparent_course_change - 1e-9)
-        return np.where(small & (sc.multipliers > 0.5), p.w_not_apparent, 0.0)
+        n = sc.dist[:, give_way].argmin(axis=2)                               # (S, G) steps
+        u_cpa = np.take_along_axis(sc.u, n, axis=1)                           # speed then
+        slow = (u_cpa <= p.apparent_speed_ratio * sc.u_ref + 1e-9).all(axis=1)
+        acted = (sc.offsets != 0.0) | (sc.multipliers < 1.0)
+        small = np.abs(sc.offsets) < p.apparent_course_change - 1e-9
+        return np.where(acted & small & ~slow, p.w_not_apparent, 0.0)
 
     def _choose(self, sc):
         raise NotImplementedError

@@ -53,10 +53,11 @@ def _course_speed(psi, u, v):
     return float(wrap_angle(psi + math.atan2(v, u))), math.hypot(u, v)
 
 
-def ship_state(north, east, psi, u, v):
-    """Own ship: NED position (m), heading psi (rad), FRD velocity over ground (m/s)."""
+def ship_state(north, east, psi, u, v, r=0.0):
+    """Own ship: NED position (m), heading psi (rad), FRD velocity over ground (m/s), yaw
+    rate r (rad/s, FRD: + turning to starboard)."""
     course, speed = _course_speed(psi, u, v)
-    return ShipState(float(north), float(east), course, speed, float(psi))
+    return ShipState(float(north), float(east), course, speed, float(psi), float(r))
 
 
 def target_state(name, north, east, psi, u, v):

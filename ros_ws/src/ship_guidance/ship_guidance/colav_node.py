@@ -72,6 +72,8 @@ SCALARS = (
     ('w_port_turn', DEFAULTS.w_port_turn, 'port-turn penalty (Rules 14, 15, 17(c))', 0.0, 1e9, ''),
     ('w_not_apparent', DEFAULTS.w_not_apparent, 'Rule 8(b) not-apparent penalty', 0.0, 1e9, ''),
     ('apparent_course_change_deg', 30.0, 'apparent course change (Rule 8(b))', 0.0, 180.0, 'deg'),
+    ('apparent_speed_ratio', DEFAULTS.apparent_speed_ratio, 'apparent speed reduction (Rule '
+     '8(b)): predicted speed at the closest point at most this x nominal', 0.0, 1.0, ''),
     ('w_course_starboard', DEFAULTS.w_course_starboard, 'starboard deviation weight', 0.0, 1e9, ''),
     ('w_course_port', DEFAULTS.w_course_port, 'port deviation weight', 0.0, 1e9, ''),
     ('w_speed', DEFAULTS.w_speed, 'speed reduction weight', 0.0, 1e9, ''),
@@ -83,11 +85,17 @@ SCALARS = (
      'the nominal passes closer than this ...', 0.0, 1e5, 'm'),
     ('stand_on_act_time_s', DEFAULTS.stand_on_act_time_s, '... with the closest point this near '
      '(the give-way ship is late)', 0.0, 7200.0, 's'),
-    ('course_time_constant_s', SHIP.course_time_constant_s, 'own-ship model: course lag', 1e-3,
-     1e4, 's'),
+    ('course_time_constant_s', SHIP.course_time_constant_s, 'own-ship model: Nomoto T, the '
+     'turn rate\'s lag', 1e-3, 1e4, 's'),
     ('max_turn_rate', float(SHIP.max_turn_rate), 'own-ship model: turn-rate cap', 1e-6, 10.0, 'rad/s'),
+    ('heading_loop_omega_n', SHIP.heading_loop_omega_n, 'own-ship model: natural frequency '
+     'of the heading autopilot', 1e-6, 10.0, 'rad/s'),
+    ('heading_loop_zeta', SHIP.heading_loop_zeta, 'own-ship model: damping of the heading '
+     'autopilot', 1e-3, 10.0, ''),
     ('speed_time_constant_s', SHIP.speed_time_constant_s, 'own-ship model: speed lag', 1e-3, 1e5,
      's'),
+    ('stop_turn_authority', SHIP.stop_turn_authority, 'own-ship model: turn authority with '
+     'the shaft stopped (1: rudder independent of the shaft)', 0.0, 1.0, ''),
     ('speed_at_factor_one_mps', 0.0, 'own-ship model: speed at factor 1 (0: current speed)', 0.0,
      100.0, 'm/s'),
 )
@@ -244,7 +252,7 @@ class ColavRosNode(Node):
             return
         if self.schedule.due(t_ns):
             self.schedule.decided(t_ns)
-            own = colav_io.ship_state(o.north, o.east, o.psi, o.u, o.v)
+            own = colav_io.ship_state(o.north, o.east, o.psi, o.u, o.v, o.r)
             targets = self.tracks.at(t_ns)
             nominal = yaw_to_psi(ref)
             self.decision = self.colav.decide(o.t, own, targets, nominal, 1.0)
@@ -298,7 +306,8 @@ def _stamp_ns(msg):
     return s.sec * colav_io.NS_PER_S + s.nanosec
 
 
-OWN_SHIP_KEYS = ('course_time_constant_s', 'max_turn_rate', 'speed_time_constant_s',
+OWN_SHIP_KEYS = ('course_time_constant_s', 'max_turn_rate', 'heading_loop_omega_n',
+                 'heading_loop_zeta', 'speed_time_constant_s', 'stop_turn_authority',
                  'speed_at_factor_one_mps')
 
 

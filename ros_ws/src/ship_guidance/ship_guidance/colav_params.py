@@ -39,7 +39,8 @@ class ColavParams:
     w_wrong_side: float = 10.0             # Rule 14 starboard-to-starboard / Rule 15 crossing ahead
     w_port_turn: float = 5.0               # course offset to port in head-on or crossing (14, 15, 17(c))
     w_not_apparent: float = 3.0            # give-way alteration not readily apparent (Rule 8(b))
-    apparent_course_change: float = float(np.deg2rad(30.0))   # rad; or a speed factor <= 0.5
+    apparent_course_change: float = float(np.deg2rad(30.0))   # rad; or the speed below:
+    apparent_speed_ratio: float = 0.5      # predicted speed at the closest point, x nominal
     # --- deviation from the nominal and change from the previous decision ---
     w_course_starboard: float = 1.0        # per rad^2 of course offset to starboard
     w_course_port: float = 2.0             # per rad^2 of course offset to port
@@ -59,6 +60,8 @@ class ColavParams:
             raise ValueError('need 0 < dt_s <= horizon_s')
         if 0.0 not in self.course_offsets or 1.0 not in self.speed_factors:
             raise ValueError('course_offsets must hold 0 and speed_factors 1 (the nominal command)')
+        if not 0.0 <= self.apparent_speed_ratio < 1.0:
+            raise ValueError('apparent_speed_ratio must lie in [0, 1)')
         if any(not 0.0 <= p <= 1.0 for p in self.speed_factors):
             raise ValueError('speed_factors must lie in [0, 1]')
 

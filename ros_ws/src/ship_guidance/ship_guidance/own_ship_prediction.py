@@ -3,10 +3,24 @@
 Scenario-based MPC (Johansen, Perez and Cristofaro 2016) predicts every candidate command with a
 cheap model of the ship under its own autopilot rather than the full plant:
 
-- course: a first-order response to the commanded course, chi_dot = (chi_c - chi) / T, with the
-  turn rate capped at r_max (the ship cannot turn faster than its full-rudder steady turn, the
-  Nomoto steady state r = K delta_max; Nomoto et al. 1957, Fossen 2011 Ch. 7). The error decays
-  linearly at r_max until it is T r_max, then exponentially; the closed form is used;
+- course: the ship's first-order Nomoto yaw response under its heading autopilot (Nomoto et al.
+  1957, Fossen 2011 Ch. 7). The autopilot's PD law, placed at the natural frequency omega_n and
+  damping zeta of its design, demands the rudder whose steady turn rate is
+
+      r_d = clip(omega_n^2 T (chi_c - chi) - (2 zeta omega_n T - 1) r, -r_max, r_max)
+
+  (r_max = K delta_max, the full-rudder steady turn), and the turn rate follows it with the
+  Nomoto time constant T: r_dot = (r_d - r) / T, chi_dot = r. Unsaturated this is the
+  closed loop chi'' + 2 zeta omega_n chi' + omega_n^2 chi = omega_n^2 chi_c the autopilot was
+  designed for (ship_guidance.heading_loop); saturated, the turn rate builds up from the
+  current one towards r_max with T (the MSS tanker at 12 kn, T 212 s, needs minutes to reach
+  its steady turn, which a model turning at r_max from the first second put 25 deg ahead of
+  the plant after 4 min). r_d is held over each prediction step and the linear lag integrated
+  exactly over it (a zero-order hold), the steps all scenarios at once. A rudder in the
+  propeller race loses authority when the shaft slows: r_d is scaled by
+  a = a_0 + (1 - a_0) P for the speed multiplier P of the scenario, a_0 the authority with the
+  shaft stopped (the MSS tanker's rudder inflow is c^2 = cun u n + cnn n^2: stopped, it kept
+  0.31 of its full-rudder turn over the first 2 min, the container 0.66);
 - speed: a first-order response towards the commanded speed, u_dot = (u_c - u) / T_u;
 - position: the NED velocity (u cos chi, u sin chi) integrated by the trapezoidal rule on the
   prediction grid, so a prediction restarted on the grid reproduces the samples of a longer one.
@@ -27,13 +41,21 @@ from ship_sim.frames import wrap_angle
 class OwnShipModel:
     """Constants of the prediction model (SI units, rad).
 
-    Defaults: the mariner. ``course_time_constant_s`` is its identified Nomoto T and
-    ``max_turn_rate`` its K times the 40 deg rudder limit (ship_autopilot/data/nomoto_gains.yaml,
-    rounded); ``speed_time_constant_s`` is the linear surge time constant of the MSS mariner,
-    (m' - X_udot') / |X_u'| L / U (coefficients in ship_sim/models/mariner.py)."""
+    Defaults: the mariner at its identification speed. ``course_time_constant_s`` is its
+    identified Nomoto T (the turn rate's lag) and ``max_turn_rate`` its K times the 40 deg
+    rudder limit (ship_autopilot/data/nomoto_gains.yaml, rounded); ``heading_loop_omega_n`` and
+    ``heading_loop_zeta`` the design of its PD autopilot (ship_autopilot/data/
+    autopilot_gains.yaml: omega_n = U / L, zeta 0.8); ``speed_time_constant_s`` is the linear
+    surge time constant of the MSS mariner, (m' - X_udot') / |X_u'| L / U (coefficients in
+    ship_sim/models/mariner.py)."""
     course_time_constant_s: float = 28.0
     max_turn_rate: float = 0.0587 * np.deg2rad(40.0)
+    heading_loop_omega_n: float = 0.048
+    heading_loop_zeta: float = 0.8
     speed_time_constant_s: float = 95.0
+    #: Turn authority with the shaft stopped, relative to the shaft at the nominal command
+    #: (1: the rudder does not depend on the shaft, e.g. a ship without a shaft command).
+    stop_turn_authority: float = 1.0
     #: Speed through the water at speed factor 1 (m/s); None: the current speed is taken as the
     #: speed of the nominal command.
     speed_at_factor_one_mps: float | None = None
@@ -41,9 +63,12 @@ class OwnShipModel:
     has_shaft: bool = True
 
     def __post_init__(self):
-        for name in ('course_time_constant_s', 'max_turn_rate', 'speed_time_constant_s'):
+        for name in ('course_time_constant_s', 'max_turn_rate', 'heading_loop_omega_n',
+                     'heading_loop_zeta', 'speed_time_constant_s'):
             if not getattr(self, name) > 0.0:
                 raise ValueError(f'{name} = {getattr(self, name)!r} must be > 0')
+        if not 0.0 <= self.stop_turn_authority <= 1.0:
+            raise ValueError(f'stop_turn_authority = {self.stop_turn_authority!r} must lie in [0, 1]')
 
     @classmethod
     def from_dict(cls, values):
@@ -59,6 +84,22 @@ class OwnShipModel:
         """The model of a ship with first-order Nomoto gains K (1/s), T (s) and rudder limit (rad)."""
         return cls(course_time_constant_s=float(T), max_turn_rate=float(abs(K) * rudder_max), **kwargs)
 
+    def turn_authority(self, multipliers):
+        """(S,) scale of the demanded turn rate at speed multipliers P (module doc)."""
+        a0 = self.stop_turn_authority
+        return a0 + (1.0 - a0) * np.asarray(multipliers, dtype=float)
+
+    @property
+    def heading_gain(self):
+        """Demanded turn rate per rad of course error (1/s): omega_n^2 T."""
+        return self.heading_loop_omega_n ** 2 * self.course_time_constant_s
+
+    @property
+    def rate_gain(self):
+        """Demanded turn rate taken off per unit of turn rate: 2 zeta omega_n T - 1."""
+        return 2.0 * self.heading_loop_zeta * self.heading_loop_omega_n * \
+            self.course_time_constant_s - 1.0
+
 
 def time_grid(horizon_s, dt_s):
     """Sample times 0, dt, ..., N dt with N = round(horizon / dt)."""
@@ -68,18 +109,29 @@ def time_grid(horizon_s, dt_s):
     return np.arange(n + 1) * float(dt_s)
 
 
-def course_response(chi0, chi_c, t, model):
-    """(S, N+1) predicted courses (rad, not wrapped) for commanded courses ``chi_c`` (S,)."""
-    chi_c = np.asarray(chi_c, dtype=float)[:, None]
+def course_response(chi0, chi_c, t, model, r0=0.0, with_rate=False, authority=1.0):
+    """(S, N+1) predicted courses (rad, not wrapped) for commanded courses ``chi_c`` (S,), from
+    course ``chi0`` turning at ``r0`` (rad/s), on the grid ``t``, with the turn authority
+    (scalar or (S,), ``OwnShipModel.turn_authority``) (module doc); with ``with_rate`` also the
+    (S,) turn rates at the last sample (to restart a prediction there)."""
+    chi_c = np.asarray(chi_c, dtype=float)
     e0 = wrap_angle(chi_c - chi0)            # the shorter way round, as the autopilot turns
-    T, r = model.course_time_constant_s, model.max_turn_rate
-    knee = T * r                             # |error| below which the exponential is slower than r
-    mag = np.abs(e0)
-    t1 = np.maximum(mag - knee, 0.0) / r     # end of the rate-limited phase
-    linear = mag - r * t
-    exponential = np.minimum(mag, knee) * np.exp(-np.maximum(t - t1, 0.0) / T)
-    err = np.sign(e0) * np.where(t < t1, linear, exponential)
-    return chi0 + e0 - err
+    T, r_max = model.course_time_constant_s, model.max_turn_rate
+    g_e, g_r = model.heading_gain, model.rate_gain
+    dt = np.diff(t)
+    lag = np.exp(-dt / T)                    # r's decay over each step
+    gain = T * (1.0 - lag)                   # its course increment per unit rate
+    err = np.empty((chi_c.size, t.size))     # chi_c - chi, from e0 (the wrap kept out)
+    err[:, 0] = e0
+    e = err[:, 0].copy()
+    r = np.full(chi_c.shape, float(r0))
+    for n in range(dt.size):
+        r_d = authority * np.clip(g_e * e - g_r * r, -r_max, r_max)
+        e -= r_d * dt[n] + (r - r_d) * gain[n]
+        r = r_d + (r - r_d) * lag[n]
+        err[:, n + 1] = e
+    chi = chi0 + e0[:, None] - err
+    return (chi, r) if with_rate else chi
 
 
 def speed_response(u0, u_c, t, model):
@@ -88,9 +140,10 @@ def speed_response(u0, u_c, t, model):
     return u_c + (u0 - u_c) * np.exp(-t / model.speed_time_constant_s)
 
 
-def predict_own(north, east, chi0, u0, chi_c, u_c, t, model):
-    """(S, N+1, 2) NED positions and (S, N+1) courses of the own ship under each command."""
-    chi = course_response(chi0, chi_c, t, model)
+def predict_own(north, east, chi0, u0, chi_c, u_c, t, model, r0=0.0, authority=1.0):
+    """(S, N+1, 2) NED positions and (S, N+1) courses of the own ship under each command, from
+    course ``chi0`` turning at ``r0`` (rad/s) and speed ``u0``, with the turn ``authority``."""
+    chi = course_response(chi0, chi_c, t, model, r0, authority=authority)
     u = speed_response(u0, u_c, t, model)
     v = np.stack((u * np.cos(chi), u * np.sin(chi)), axis=-1)
     dt = np.diff(t)[None, :, None]

@@ -22,7 +22,8 @@ own-ship model and scored, all scenarios x targets x steps at once:
   head-on (Rule 14) passed with the target on the own starboard side, or crossing give-way
   (Rule 15) passed ahead of the target; ``port_k``: a port offset while a threat is head-on or
   crossing (Rules 14, 15, 17(c)); ``apparent_k``: a give-way alteration that is neither a course
-  change of at least ``apparent_course_change`` nor a speed reduction to half or less (Rule 8(b));
+  change of at least ``apparent_course_change`` nor predicted to bring the speed down to
+  ``apparent_speed_ratio`` (half) of the nominal by the closest point (Rule 8(b));
 - f and change: quadratic course deviation and linear speed reduction from the nominal, and the
   change from the previous decision, port weighted more (CollisionAvoidance.deviation_cost).
 

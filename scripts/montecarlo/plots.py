@@ -36,7 +36,7 @@ def _grid(n):
 
 
 def _label(axes, key):
-    return ', '.join(f'{a}={k:g}' if isinstance(k, float) else f'{k}'
+    return ', '.join(f'{a}={k:g}' if isinstance(k, (int, float)) else f'{k}'
                      for a, k in zip(axes, key)) or 'all episodes'
 
 
@@ -58,9 +58,11 @@ def cdf_per_group(rows, grid_axes, path, metric, by, xlabel, title, log=True, ma
             ax.step(v[np.isfinite(v)], y[np.isfinite(v)], where='post', label=value)
         for x, text in marks:
             ax.axvline(x, color='0.4', lw=0.8, ls='--')
-            ax.text(x, 0.02, f' {text}', fontsize=7, color='0.3', rotation=90)
+            ax.text(x, 0.98, f' {text}', fontsize=7, color='0.3', rotation=90, va='top',
+                    transform=ax.get_xaxis_transform())
         if log:
             ax.set_xscale('log')
+        ax.set_ylim(0.0, 1.02)
         ax.set_xlabel(xlabel)
         ax.set_ylabel('fraction of episodes')
         ax.set_title(_label(other, key), fontsize=9)

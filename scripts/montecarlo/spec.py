@@ -83,7 +83,7 @@ PARAMETERS = {
 #: route following's, and the last four belong to encounter sweeps only.
 ENCOUNTER_KEYS = ('model', 'duration_s', 'encounter', 'colav_method', 'encounter_speed_factor',
                   'encounter_miss_m')
-#: Reserved for wind / waves / encounters: refused until the closed loop simulates them.
+#: Reserved for wind / waves: refused until the closed loop simulates them.
 HOOKS = ('wind_speed_mps', 'wind_direction_deg', 'wave_height_m', 'wave_period_s',
          'wave_direction_deg')
 DISTRIBUTIONS = {'uniform': 2, 'normal': 2, 'choice': None}
@@ -173,8 +173,8 @@ def _check_value(where, name, value):
 
 def _check_name(where, name):
     if name in HOOKS:
-        raise SweepError(f'{where}: {name!r} is reserved for wind, waves and encounters, which '
-                         'the closed loop does not simulate yet')
+        raise SweepError(f'{where}: {name!r} is reserved for wind and waves, which the closed '
+                         'loop does not simulate yet')
     if name not in PARAMETERS:
         raise SweepError(f'{where}: unknown parameter {name!r}; allowed: '
                          f'{", ".join(PARAMETERS)}')

@@ -14,7 +14,8 @@ same sweep file and seed whatever the backend, the worker count and the chunk si
 
 Output (default runs/sweeps/<name>/): results.csv (one row per episode), summary.md and
 summary.json (per grid cell: mean and 95 % confidence interval of each metric), plots
-(CDF of max cross-track per controller, metric against each random parameter), run.json
+(CDF of max cross-track per controller, or of min distance per colav method in an encounter
+sweep; metric against each random parameter), run.json
 (backend, workers, chunking, wall time, throughput). Exit codes: 0 done, 1 a chunk failed,
 2 a bad sweep file or arguments.
 
@@ -88,7 +89,8 @@ def main(argv=None):
             return 2
         kinds = {type(v) for v in sweep.grid[axis]}
         try:
-            where[axis] = [float(v) if float in kinds else v for v in value.split(',')]
+            where[axis] = [float(v) if float in kinds else int(v) if int in kinds else v
+                           for v in value.split(',')]
         except ValueError:
             print(f'error: --where {item}: {axis} takes a number', file=sys.stderr)
             return 2
@@ -107,14 +109,15 @@ def main(argv=None):
     except SweepRunError as exc:
         print(f'error: {exc}', file=sys.stderr)
         return 1
-    (out / 'results.csv').write_text(results.table_text(rows, sweep.columns()))
+    kind = results.KINDS[sweep.kind]
+    (out / 'results.csv').write_text(results.table_text(rows, sweep.columns(), kind.metrics))
     group_by = list(sweep.grid)
-    summary = results.summarise(rows, group_by)
-    md = results.summary_markdown(summary, group_by)
+    summary = results.summarise(rows, group_by, kind)
+    md = results.summary_markdown(summary, group_by, kind)
     (out / 'summary.md').write_text(md)
     (out / 'summary.json').write_text(json.dumps(
         {'sweep': str(args.sweep), 'seed': sweep.seed, 'group_by': group_by,
-         'confidence': 'Student-t 95 % (metrics), Wilson 95 % (completion)',
+         'confidence': f'Student-t 95 % (metrics), Wilson 95 % ({", ".join(kind.proportions)})',
          'groups': [dict(zip(group_by, k), **v) for k, v in summary.items()]}, indent=1))
     (out / 'run.json').write_text(json.dumps(run, indent=1))
     print(md)

@@ -62,7 +62,8 @@ def run_sweep(sweep, backend='local', workers=None, chunk_size=None, address=Non
         eps = [e for e in eps if e[axis] in values]
     if duration is not None:
         eps = [dict(e, duration_s=float(duration)) for e in eps]
-    eps = with_route_keys(eps, sweep.source)
+    if sweep.kind == 'route':
+        eps = with_route_keys(eps, sweep.source)
     n_workers = workers or os.cpu_count() or 1
     size = chunk_size or auto_chunk_size(len(eps), n_workers, eps[0]['duration_s'])
     chunks = episode_chunks(eps, size)

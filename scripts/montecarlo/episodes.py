@@ -131,8 +131,12 @@ def run_batch(chunk):
 
 
 def run_chunk(chunk):
-    """Rows (dicts: the episode's parameters and METRICS) for a list of episodes."""
+    """Rows (dicts: the episode's parameters and METRICS) for a list of episodes; encounter
+    episodes (one sweep kind per chunk) by montecarlo.encounters."""
     _maybe_fail_once()
+    if 'encounter' in chunk[0]:
+        from .encounters import run_encounter_chunk
+        return run_encounter_chunk(chunk)
     metrics = {}
     groups = {}
     for ep in chunk:
@@ -160,8 +164,8 @@ def episode_chunks(episodes, chunk_size):
     task runs (the batched loop steps one model and controller at a time)."""
     chunks, cur = [], []
     for ep in episodes:
-        if cur and (len(cur) >= chunk_size or (ep['model'], ep['controller'])
-                    != (cur[0]['model'], cur[0]['controller'])):
+        if cur and (len(cur) >= chunk_size or (ep['model'], ep.get('controller'))
+                    != (cur[0]['model'], cur[0].get('controller'))):
             chunks.append(cur)
             cur = []
         cur.append(ep)

@@ -7,21 +7,43 @@ byte for byte whenever the episodes' results are.
 
 Summary: per grid cell (one value of every grid axis), per metric, the mean with a 95 %
 Student-t confidence interval (mean +- t_{0.975, n-1} s / sqrt(n)), the median and the 95th
-percentile; completion as a proportion with a 95 % Wilson score interval (Wilson 1927), which
-stays inside [0, 1] when every episode completes. Metrics of episodes that did not complete are
-left out of the other means (n says how many remain).
+percentile; the 0/1 columns (completion; collision, near miss, below r_min of an encounter) as
+proportions with a 95 % Wilson score interval (Wilson 1927), which stays inside [0, 1] when
+every episode completes (or none collides). Route following: metrics of episodes that did not
+complete are left out of the other means (n says how many remain). The columns of each sweep
+kind (spec.Sweep.kind) are in KINDS.
 """
 import csv
 import io
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import stats
 
+from . import encounters
 from .episodes import METRICS
 
 ID_COLUMNS = ('episode', 'cell', 'sample', 'seed')
 CI_LEVEL = 0.95
+
+
+@dataclass(frozen=True)
+class Kind:
+    """The table and summary columns of a sweep kind."""
+    metrics: tuple       # metric columns, in table order
+    proportions: tuple   # 0/1 columns: Wilson intervals
+    gate: str            # a proportion: the other metrics are over its rows = 1 (None: all)
+    shown: tuple         # summary.md's columns
+
+
+KINDS = {
+    'route': Kind(METRICS, ('completed',), 'completed',
+                  ('reward', 'rms_e_m', 'max_abs_e_m', 'rudder_rate_deg_s', 'completed')),
+    'encounter': Kind(encounters.METRICS, encounters.PROPORTIONS, None,
+                      ('min_distance_m', 'collision', 'near_miss', 'below_r_min', 'rule_score',
+                       'path_deviation_m', 'time_lost_s')),
+}
 
 
 def _cell(value):
@@ -30,9 +52,9 @@ def _cell(value):
     return str(value)
 
 
-def table_text(rows, param_columns):
+def table_text(rows, param_columns, metrics=METRICS):
     """The CSV text of ``rows`` (dicts), sorted by episode index."""
-    cols = list(ID_COLUMNS) + list(param_columns) + list(METRICS)
+    cols = list(ID_COLUMNS) + list(param_columns) + list(metrics)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator='\n')
     w.writerow(cols)
@@ -81,20 +103,23 @@ def wilson_interval(successes, n, level=CI_LEVEL):
     return p, max(0.0, centre - half), min(1.0, centre + half)
 
 
-def summarise(rows, group_by):
+def summarise(rows, group_by, kind=KINDS['route']):
     """Per group (a tuple of ``group_by`` values, in first-seen episode order):
-    {metric: {'n', 'mean', 'low', 'high', 'median', 'p95'}}."""
+    {metric: {'n', 'mean', 'low', 'high', 'median', 'p95'}} for the metrics of ``kind``."""
     groups = {}
     for row in sorted(rows, key=lambda r: r['episode']):
         groups.setdefault(tuple(row[g] for g in group_by), []).append(row)
     out = {}
     for key, members in groups.items():
-        done = [r for r in members if r['completed'] == 1]
+        done = [r for r in members if kind.gate is None or r[kind.gate] == 1]
         entry = {}
-        p, lo, hi = wilson_interval(len(done), len(members))
-        entry['completed'] = {'n': len(members), 'mean': p, 'low': lo, 'high': hi,
-                              'median': math.nan, 'p95': math.nan}
-        for m in METRICS[1:]:
+        for m in kind.proportions:
+            p, lo, hi = wilson_interval(sum(int(r[m]) for r in members), len(members))
+            entry[m] = {'n': len(members), 'mean': p, 'low': lo, 'high': hi,
+                        'median': math.nan, 'p95': math.nan}
+        for m in kind.metrics:
+            if m in kind.proportions:
+                continue
             v = np.array([r[m] for r in done], dtype=float)
             mean, lo, hi = t_interval(v)
             entry[m] = {'n': int(v.size), 'mean': mean, 'low': lo, 'high': hi,
@@ -104,18 +129,20 @@ def summarise(rows, group_by):
     return out
 
 
-def summary_markdown(summary, group_by, metrics=('reward', 'rms_e_m', 'max_abs_e_m',
-                                                  'rudder_rate_deg_s', 'completed')):
-    """A Markdown table: one line per group, 'mean [low, high]' per metric."""
+def summary_markdown(summary, group_by, kind=KINDS['route']):
+    """A Markdown table: one line per group, 'mean [low, high]' per metric of ``kind.shown``."""
+    metrics = kind.shown
     head = '| ' + ' | '.join(list(group_by) + ['n'] + list(metrics)) + ' |'
+    over = 'over completed episodes' if kind.gate == 'completed' else 'over every episode'
     lines = [f'Mean [{CI_LEVEL:.0%} CI] per group: Student-t for the metrics, Wilson for '
-             'completion; metrics over completed episodes.', '', head,
+             f'{", ".join(kind.proportions)} (proportions); metrics {over}.', '', head,
              '|' + '---|' * len(group_by) + '---:|' * (len(metrics) + 1)]
     for key, entry in summary.items():
-        cells = [_cell(k) for k in key] + [str(entry['completed']['n'])]
+        cells = [_cell(k) for k in key] + [str(entry[kind.proportions[0]]['n'])]
         for m in metrics:
             s = entry[m]
-            fmt = '{:.3f}' if m == 'completed' else '{:.1f}' if abs(s['mean']) >= 10 else '{:.2f}'
+            fmt = ('{:.3f}' if m in kind.proportions or m == 'rule_score' else '{:.1f}'
+                   if abs(s['mean']) >= 10 else '{:.2f}')
             cells.append(f'{fmt.format(s["mean"])} [{fmt.format(s["low"])}, '
                          f'{fmt.format(s["high"])}]' if not math.isnan(s['low'])
                          else fmt.format(s['mean']))

@@ -27,8 +27,22 @@ differences between cells are paired; ``paired: false`` keys the draws by episod
 instead. The same child also gives the episode's own ``seed`` (a varying current's noise).
 Drawing never depends on which process runs the episode, so the table does not either.
 
-Wind, waves and encounters have reserved names (HOOKS): the file is refused with a one-line
-message until their pure modules run in the closed loop.
+Wind and waves have reserved names (HOOKS): the file is refused with a one-line message until
+their pure modules run in the closed loop.
+
+Encounter sweeps: a file that names ``encounter`` (in base or vary) runs Imazu encounters with
+collision avoidance instead of route following (montecarlo.encounters)::
+
+    base: {model: mariner, encounter: 1, colav_method: sbmpc, duration_s: 2000}
+    vary:
+      encounter: [1, 2, 3, 4]                          # Imazu case numbers
+      colav_method: [sbmpc, vo]
+      encounter_speed_factor: {uniform: [0.7, 1.3]}    # targets' speeds x; same meeting point, time
+      encounter_miss_m: {normal: [0, 300]}             # unmanoeuvred closest approach, m
+
+It takes only ENCOUNTER_KEYS (its own ship is one of imazu.runner.SHIPS; duration_s defaults to
+the benchmark's 2000 s); a route-following key there, or an encounter key in a route-following
+file, is refused with one line. One kind of sweep per file.
 """
 import itertools
 import math
@@ -57,10 +71,21 @@ PARAMETERS = {
     'start_along_m': (0.0, 'number', (0.0, 1e6), 'start point along the route, m'),
     'start_cross_m': (0.0, 'number', (-1e4, 1e4), 'start offset, m (+ starboard)'),
     'start_heading_deg': (0.0, 'number', (-180.0, 180.0), 'start heading - path angle, deg'),
+    # Encounter sweeps only (ENCOUNTER_KEYS; montecarlo.encounters.perturbed_case).
+    'encounter': (1, 'case', None, 'Imazu case number, 1-22 (scripts/imazu/cases.py)'),
+    'colav_method': ('sbmpc', 'colav', None, 'collision avoidance (imazu.runner.METHODS)'),
+    'encounter_speed_factor': (1.0, 'number', (0.1, 3.0),
+                               "targets' speeds x this, same meeting point and time"),
+    'encounter_miss_m': (0.0, 'number', (-1e4, 1e4),
+                         "targets' tracks shifted sideways: unmanoeuvred CPA, m"),
 }
-#: Reserved for wind / waves / encounters: refused until the closed loop simulates them.
+#: The parameters of an encounter sweep (a file naming ``encounter``); every other one is
+#: route following's, and the last four belong to encounter sweeps only.
+ENCOUNTER_KEYS = ('model', 'duration_s', 'encounter', 'colav_method', 'encounter_speed_factor',
+                  'encounter_miss_m')
+#: Reserved for wind / waves: refused until the closed loop simulates them.
 HOOKS = ('wind_speed_mps', 'wind_direction_deg', 'wave_height_m', 'wave_period_s',
-         'wave_direction_deg', 'encounter')
+         'wave_direction_deg')
 DISTRIBUTIONS = {'uniform': 2, 'normal': 2, 'choice': None}
 TOP_KEYS = ('name', 'seed', 'episodes', 'paired', 'base', 'vary')
 
@@ -89,10 +114,15 @@ class Sweep:
     def n_episodes(self):
         return self.n_cells * self.episodes
 
+    @property
+    def kind(self):
+        """'encounter' (a file naming ``encounter``) or 'route' (route following)."""
+        return 'encounter' if 'encounter' in self.base else 'route'
+
     def columns(self):
         """Parameter columns of the table: the varied ones first, then the base ones."""
         varied = list(self.grid) + sorted(self.random)
-        return varied + [k for k in PARAMETERS if k not in varied]
+        return varied + [k for k in self.base if k not in varied]
 
 
 def _models():
@@ -117,6 +147,18 @@ def _check_value(where, name, value):
             raise SweepError(f'{where}: controller {value!r} unknown; allowed: '
                              f'{", ".join(_controllers())}')
         return value
+    if kind == 'case':
+        from imazu.cases import load_cases
+        if isinstance(value, bool) or value not in load_cases():
+            raise SweepError(f'{where}: encounter {value!r} unknown; allowed: Imazu cases '
+                             f'1-{len(load_cases())}')
+        return int(value)
+    if kind == 'colav':
+        from imazu.runner import METHODS
+        if value not in METHODS:
+            raise SweepError(f'{where}: colav_method {value!r} unknown; allowed: '
+                             f'{", ".join(METHODS)}')
+        return value
     if kind == 'path':
         if not isinstance(value, str) or not value:
             raise SweepError(f'{where}: {name} must be a file path, got {value!r}')
@@ -131,11 +173,37 @@ def _check_value(where, name, value):
 
 def _check_name(where, name):
     if name in HOOKS:
-        raise SweepError(f'{where}: {name!r} is reserved for wind, waves and encounters, which '
-                         'the closed loop does not simulate yet')
+        raise SweepError(f'{where}: {name!r} is reserved for wind and waves, which the closed '
+                         'loop does not simulate yet')
     if name not in PARAMETERS:
         raise SweepError(f'{where}: unknown parameter {name!r}; allowed: '
                          f'{", ".join(PARAMETERS)}')
+
+
+def _sweep_kind(source, names):
+    """'encounter' or 'route' for a file naming ``names`` (base and vary); SweepError for a
+    parameter of the other kind."""
+    if 'encounter' in names:
+        wrong = [n for n in names if n not in ENCOUNTER_KEYS]
+        if wrong:
+            raise SweepError(f'{source}: {wrong[0]!r} is not a parameter of an encounter sweep '
+                             f"(a file naming 'encounter'); allowed: {', '.join(ENCOUNTER_KEYS)}")
+        return 'encounter'
+    wrong = [n for n in names if n in ENCOUNTER_KEYS[3:]]
+    if wrong:
+        raise SweepError(f"{source}: {wrong[0]!r} belongs to an encounter sweep; name "
+                         "'encounter' (an Imazu case) in base or vary to make one")
+    return 'route'
+
+
+def _check_own_ships(source, base, grid, rand):
+    """An encounter sweep's own ships are those the Imazu runner knows."""
+    from imazu.runner import SHIPS
+    models = [base['model'], *grid.get('model', []), *rand.get('model', (None, []))[1]]
+    bad = [m for m in models if m not in SHIPS]
+    if bad:
+        raise SweepError(f'{source}: model {bad[0]!r} cannot be an encounter\'s own ship; '
+                         f'allowed: {", ".join(SHIPS)}')
 
 
 def _random_spec(where, name, spec):
@@ -177,6 +245,7 @@ def parse(doc, source='<sweep>'):
         raise SweepError(f'{source}: paired must be true or false, got {paired!r}')
     base = dict(doc.get('base') or {})
     vary = dict(doc.get('vary') or {})
+    kind = _sweep_kind(source, [*base, *vary])
     for name, value in base.items():
         _check_name(f'{source}: base', name)
         base[name] = _check_value(f'{source}: base', name, value)
@@ -193,8 +262,15 @@ def parse(doc, source='<sweep>'):
         else:
             raise SweepError(f'{where}: give a list (grid) or a distribution mapping '
                              f'(random), got {spec!r}')
-    full_base = {k: v[0] for k, v in PARAMETERS.items()}
+    if kind == 'encounter':
+        from imazu.runner import DURATION_S
+        full_base = {k: PARAMETERS[k][0] for k in ENCOUNTER_KEYS}
+        full_base['duration_s'] = DURATION_S
+    else:
+        full_base = {k: v[0] for k, v in PARAMETERS.items() if k not in ENCOUNTER_KEYS[2:]}
     full_base.update(base)
+    if kind == 'encounter':
+        _check_own_ships(source, full_base, grid, rand)
     name = doc.get('name') or Path(source).stem
     if not isinstance(name, str) or '/' in name:
         raise SweepError(f'{source}: name must be a plain string, got {name!r}')

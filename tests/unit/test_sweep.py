@@ -11,6 +11,11 @@
   successes is n / (n + z^2).
 - Determinism: the CSV is identical byte for byte for 1 or 2 local workers and any chunk size,
   and a worker killed mid-sweep (test-only hook) leaves every row exactly once.
+- Encounter sweeps (montecarlo.encounters): the speed factor keeps every Imazu target's meeting
+  point and time; the miss offset gives the stated unmanoeuvred CPA (closed form,
+  ship_guidance.cpa) at the same time, on the stated side; a file is one kind of sweep; a tiny
+  encounter sweep's table is the same for any workers and chunks, its rows obey the metric
+  definitions.
 """
 import math
 
@@ -21,8 +26,10 @@ from scipy import stats
 import evaluate_controllers as ec
 import sweep as sweep_cli
 from montecarlo import episodes as mc_episodes
-from montecarlo import results, spec
+from montecarlo import encounters, results, spec
 from montecarlo.driver import run_sweep
+from imazu.cases import load_cases
+from ship_guidance.cpa import velocity
 
 BASE = {'model': 'mariner', 'duration_s': 20.0,
         'route': 'scenarios/routes/curved_path_{model}_000.yaml'}
@@ -90,6 +97,16 @@ def test_unpaired_draws_differ_between_cells_and_the_seed_matters():
     ({'vary': {'start_cross_m': 5}}, 'give a list'),
     ({'episodes': 0}, 'episodes must be an integer >= 1'),
     ({'vary': {'controller': []}}, 'at least one value'),
+    ({'base': {'encounter': 1}, 'vary': {'controller': ['los']}},
+     "'controller' is not a parameter of an encounter sweep"),
+    ({'vary': {'encounter': [1, 2], 'current_speed_mps': [0.5]}},
+     "'current_speed_mps' is not a parameter of an encounter sweep"),
+    ({'vary': {'colav_method': ['sbmpc']}}, "'colav_method' belongs to an encounter sweep"),
+    ({'vary': {'encounter': [1, 23]}}, 'encounter 23 unknown'),
+    ({'vary': {'encounter': {'uniform': [1, 4]}}}, 'needs two numbers and a numeric'),
+    ({'base': {'encounter': 1, 'colav_method': 'mpc'}}, "colav_method 'mpc' unknown"),
+    ({'base': {'encounter': 1, 'model': 'nomoto1'}}, "'nomoto1' cannot be an encounter"),
+    ({'base': {'encounter': 1}, 'vary': {'encounter_speed_factor': [0.05]}}, 'outside [0.1, 3]'),
 ])
 def test_bad_sweep_files_are_refused_in_one_line(doc, message):
     with pytest.raises(spec.SweepError, match=None) as err:
@@ -203,3 +220,116 @@ def test_where_runs_some_cells_with_the_whole_sweeps_rows(reference_table):
     assert part[1:] == text.splitlines()[7:9]
     with pytest.raises(spec.SweepError, match='not a grid axis value'):
         run_sweep(sw, 'local', workers=1, progress=False, where={'controller': 'policy'})
+
+
+def _position_at(target, t):
+    v = velocity(math.radians(target['course_deg']), target['speed_mps'])
+    return np.array([target['north_m'], target['east_m']]) + v * t
+
+
+@pytest.mark.parametrize('factor', [0.7, 1.3, 2.5])
+def test_speed_factor_keeps_every_targets_meeting_point_and_time(factor):
+    for number, case in load_cases().items():
+        new = encounters.perturbed_case(case, speed_factor=factor)
+        for old, t in zip(case['targets'], new['targets']):
+            tcpa, dcpa = encounters.target_cpa(case['own'], old)
+            assert t['speed_mps'] == pytest.approx(factor * old['speed_mps'], rel=1e-15)
+            assert t['course_deg'] == old['course_deg']
+            # At the old TCPA the target is where it was (the own ship did not change) ...
+            assert _position_at(t, tcpa) == pytest.approx(_position_at(old, tcpa), abs=1e-6)
+            # ... so the closest approach stays there (DCPA ~0: the cases meet): the relative
+            # position r0 at the old TCPA is kept, |r0| = DCPA; a new relative velocity v'
+            # moves the closest time by r0.v' / |v'|^2 and can only shorten the miss.
+            tcpa_new, dcpa_new = encounters.target_cpa(case['own'], t)
+            v_rel = (velocity(math.radians(t['course_deg']), t['speed_mps'])
+                     - velocity(0.0, case['own']['speed_mps']))
+            assert dcpa_new <= dcpa + 1e-9
+            assert abs(tcpa_new - tcpa) <= dcpa / np.hypot(*v_rel) + 1e-6
+    assert encounters.perturbed_case(load_cases()[5]) == load_cases()[5]   # f = 1, d = 0
+
+
+@pytest.mark.parametrize('miss', [-450.0, 300.0, 1500.0])
+@pytest.mark.parametrize('factor', [1.0, 0.8])
+def test_miss_offset_gives_the_stated_unmanoeuvred_cpa_at_the_same_time(miss, factor):
+    for number, case in load_cases().items():
+        scaled = encounters.perturbed_case(case, speed_factor=factor)
+        new = encounters.perturbed_case(case, speed_factor=factor, miss_m=miss)
+        for old, t in zip(scaled['targets'], new['targets']):
+            tcpa0, dcpa0 = encounters.target_cpa(case['own'], old)
+            tcpa, dcpa = encounters.target_cpa(case['own'], t)
+            # The shift is perpendicular to the relative velocity: the signed miss grows by d,
+            # |DCPA - |d|| <= DCPA0 (<= 0.07 m in the Imazu set), equal where DCPA0 = 0.
+            assert abs(dcpa - abs(miss)) <= dcpa0 + 1e-6
+            assert tcpa == pytest.approx(tcpa0, abs=1e-6)
+    # Side: head-on (case 1) and overtaking (case 3), d > 0 puts the target to starboard (east)
+    # of the own ship at the CPA; the crossing target from port (case 4) ahead (north) of it.
+    for number, axis in ((1, 1), (3, 1), (4, 0)):
+        case = load_cases()[number]
+        t = encounters.perturbed_case(case, factor, miss)['targets'][0]
+        tcpa, _ = encounters.target_cpa(case['own'], t)
+        own = np.array([velocity(0.0, case['own']['speed_mps'])[0] * tcpa, 0.0])
+        assert np.sign((_position_at(t, tcpa) - own)[axis]) == np.sign(miss)
+
+
+ENC = {'name': 'enc', 'seed': 2, 'episodes': 2, 'base': {'model': 'mariner', 'duration_s': 30.0},
+       'vary': {'encounter': [3], 'colav_method': ['sbmpc', 'vo'],
+                'encounter_speed_factor': {'uniform': [0.7, 1.3]},
+                'encounter_miss_m': {'normal': [0.0, 300.0]}}}
+
+
+@pytest.fixture(scope='module')
+def encounter_table():
+    sw = spec.parse(ENC, 'enc.yaml')
+    rows, _ = run_sweep(sw, 'local', workers=1, chunk_size=100, progress=False)
+    return sw, rows, results.table_text(rows, sw.columns(), encounters.METRICS)
+
+
+def test_an_encounter_sweep_is_its_own_kind_with_the_benchmarks_defaults():
+    sw = spec.parse({'base': {'encounter': 2}}, 'e.yaml')
+    assert sw.kind == 'encounter' and tiny().kind == 'route'
+    assert set(sw.columns()) == set(spec.ENCOUNTER_KEYS)
+    assert sw.base['duration_s'] == 2000.0 and sw.base['colav_method'] == 'sbmpc'
+    assert not set(tiny().columns()) & set(spec.ENCOUNTER_KEYS[2:])
+
+
+def test_encounter_rows_obey_the_metric_definitions(encounter_table):
+    sw, rows, text = encounter_table
+    assert [r['episode'] for r in rows] == [0, 1, 2, 3]
+    # Paired draws: both methods meet the same two perturbed geometries.
+    assert [r['encounter_miss_m'] for r in rows[:2]] == [r['encounter_miss_m'] for r in rows[2:]]
+    for r in rows:
+        assert r['unmanoeuvred_cpa_m'] == pytest.approx(abs(r['encounter_miss_m']), abs=1e-6)
+        assert r['collision'] <= r['near_miss'] <= r['below_r_min']
+        assert r['below_r_min'] == int(r['min_distance_m'] < 926.0)
+        assert 0.0 <= r['rule_score'] <= 1.0 and r['path_deviation_m'] >= 0.0
+        # The geometry met: the range at t = 0 bounds the minimum from above; in 30 s the own
+        # ship covers 30 U (~185 m) whatever it does, so the minimum is at least the
+        # unmanoeuvred range at 30 s (closing) less that.
+        case = load_cases()[3]
+        t = encounters.perturbed_case(case, r['encounter_speed_factor'],
+                                      r['encounter_miss_m'])['targets'][0]
+        own = velocity(0.0, case['own']['speed_mps'])
+        r0, r30 = (np.hypot(*(_position_at(t, s) - own * s)) for s in (0.0, 30.0))
+        assert r30 - 30.0 * case['own']['speed_mps'] <= r['min_distance_m'] <= r0 + 1e-6
+
+
+@pytest.mark.parametrize('workers, chunk', [(2, 1)])
+def test_encounter_table_is_identical_for_any_workers_and_chunks(encounter_table, workers,
+                                                                   chunk):
+    sw, _, text = encounter_table
+    rows, run = run_sweep(sw, 'local', workers=workers, chunk_size=chunk, progress=False)
+    assert run['chunks'] == 4
+    assert results.table_text(rows, sw.columns(), encounters.METRICS) == text
+
+
+def test_encounter_summary_gives_wilson_intervals_for_collisions(encounter_table):
+    sw, rows, _ = encounter_table
+    kind = results.KINDS['encounter']
+    summary = results.summarise(rows, list(sw.grid), kind)
+    entry = summary[(3, 'sbmpc')]
+    z = stats.norm.ppf(0.975)
+    assert entry['collision']['mean'] == 0.0 and entry['collision']['n'] == 2
+    assert entry['collision']['high'] == pytest.approx(z * z / (2 + z * z))
+    assert entry['min_distance_m']['n'] == 2
+    md = results.summary_markdown(summary, list(sw.grid), kind)
+    assert md.count('\n| 3 | sbmpc') == 1 and 'min_distance_m' in md

@@ -41,12 +41,13 @@ Setup (the same for every controller):
 
 Wind and waves (``--condition``, mission.conditions: calm, wind10, wind20; issue 14): the wind
 loads enter the plant (learning.env's ``wind``: relative wind from the velocity over ground,
-each model's own force equations, gusts seeded); the wave-frequency motion of start i (seed
-conditions.SEED + i, the same for every controller) is superposed on what every controller
-measures, as vessel_node superposes it on odom (ship_sim.environment.sea_state.superpose:
-position, heading, body velocities; RAOs at the speed through the water). The policies never
-saw wind or waves in training. ``--wave-filter`` passes heading and yaw rate of the classical
-autopilots through ship_autopilot.wave_filter tuned to the sea, as the autopilot node does;
+each model's own force equations); the gusts and the wave-frequency motion of start i (seed
+conditions.SEED + i, the same for every controller and current) are its own; the waves are
+superposed on what every controller measures, as vessel_node superposes it on odom
+(ship_sim.environment.sea_state.superpose: position, heading, body velocities; RAOs at the
+speed through the water). The policies never saw wind or waves in training.
+``--wave-filter`` passes heading and yaw rate of the classical autopilots through
+ship_autopilot.wave_filter tuned to the sea, as the autopilot node does;
 the guidance still sees the unfiltered position and heading (as in the graph). Tracking metrics
 and the reward use the measured (total: manoeuvring + wave-frequency) motion, as the graph's
 metrics use odom. Calm runs are the undisturbed computation, bit for bit.
@@ -239,9 +240,9 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
 def disturbances(condition, routes, model, route_index, seeds=None):
     """(WindField of shape (k,) or None, batch ShipWaves of k sea states or None, the k
     SeaStates or None) of a condition (a mission.conditions name or Condition) for k episodes
-    on ``routes[route_index[i]]`` (one course). ``seeds``: one int per episode (its gusts and
-    waves: a stream each, so an episode does not depend on the others); default Table I's:
-    the gusts of all from one stream of seed SEED, the waves of episode i from SEED + i."""
+    on ``routes[route_index[i]]`` (one course). ``seeds``: one int per episode, its gusts and
+    waves (a stream each, so an episode does not depend on the others); default Table I's,
+    SEED + i for episode i."""
     cond = condition if isinstance(condition, Condition) else CONDITIONS[condition]
     k = len(route_index)
     if cond.calm:
@@ -250,9 +251,9 @@ def disturbances(condition, routes, model, route_index, seeds=None):
     if len(courses) > 1:
         raise ValueError('wind and waves run on routes of one overall course per batch')
     course = courses.pop()
-    wind = wind_field(cond, course, SEED if seeds is None else list(seeds), shape=(k,))
-    seas = [sea_state(cond, course, SEED + i if seeds is None else int(seeds[i]))
-            for i in range(k)]
+    seeds = [SEED + i for i in range(k)] if seeds is None else [int(s) for s in seeds]
+    wind = wind_field(cond, course, seeds, shape=(k,))
+    seas = [sea_state(cond, course, seed) for seed in seeds]
     if seas[0] is None:
         return wind, None, None
     return wind, ShipWaves(seas, rao_table_for(model.name, model.length)), seas
@@ -287,8 +288,11 @@ def run_batched(model, routes, controller, starts, duration, tunings=None, condi
 
 
 def _task(args):
-    model, current, ctrl, starts, duration, policy_file, condition, wave_filter, batched = args
+    """One (model, controller) at every current: -> {current: summary}. Batched, the starts of
+    every current run in one batch (start i keeps its seed SEED + i at each current)."""
+    model, currents, ctrl, starts, duration, policy_file, condition, wave_filter, batched = args
     route = load_route(ROOT / 'scenarios' / 'routes' / f'curved_path_{model}_000.yaml').route
+    k = len(starts)
     t0 = time.perf_counter()
     try:
         # The batched closed loop equals run to rounding; it has no wave filter, which the
@@ -296,25 +300,32 @@ def _task(args):
         if batched and (not wave_filter or ctrl == 'policy'):
             if policy_file:
                 raise ValueError('--batched runs the shipped policies only')
-            r = run_batched(model, [route], ctrl, [dict(s, current_speed=current)
+            r = run_batched(model, [route], ctrl, [dict(s, current_speed=c) for c in currents
                                                    for s in starts], duration,
-                            condition=condition)
+                            condition=condition,
+                            seeds=[SEED + i for _ in currents for i in range(k)])
             if r['failed'].any():
                 raise RuntimeError(f'{model}/{ctrl}: state left the model domain')
-            r = {k: v for k, v in r.items() if k not in ('finished', 'finish_time_s', 'failed')}
+            per = {c: {key: r[key][j * k:(j + 1) * k] for key in r
+                       if key not in ('finished', 'finish_time_s', 'failed')}
+                   for j, c in enumerate(currents)}
         else:
-            r = run(model, route, ctrl, starts, current, duration, policy_file,
-                    condition=condition, wave_filter=wave_filter, activity=True)
+            per = {c: run(model, route, ctrl, starts, c, duration, policy_file,
+                          condition=condition, wave_filter=wave_filter, activity=True)
+                   for c in currents}
     except Exception as exc:  # noqa: BLE001 (report a missing policy etc. in the table)
-        print(f'{model:9s} {current:.1f} m/s {ctrl:10s} ERROR {exc}', flush=True)
-        return {'error': str(exc)}
-    summary = {k: float(np.mean(v)) for k, v in r.items()}
-    summary['gaussian_per_start'] = [round(float(g), 1) for g in r['gaussian']]
-    print(f'{model:9s} {current:.1f} m/s {ctrl:10s} gaussian {summary["gaussian"]:8.1f}'
-          f'  mean|e| {summary["mean_abs_e"]:7.1f} m  max|e| '
-          f'{summary["max_abs_e"]:7.1f} m  rudder {summary["rudder_rate_deg_s"]:.3f}'
-          f' deg/s  ({time.perf_counter() - t0:.0f} s)', flush=True)
-    return summary
+        print(f'{model:9s} {ctrl:10s} ERROR {exc}', flush=True)
+        return {c: {'error': str(exc)} for c in currents}
+    out = {}
+    for c, r in per.items():
+        summary = {key: float(np.mean(v)) for key, v in r.items()}
+        summary['gaussian_per_start'] = [round(float(g), 1) for g in r['gaussian']]
+        print(f'{model:9s} {c:.1f} m/s {ctrl:10s} gaussian {summary["gaussian"]:8.1f}'
+              f'  mean|e| {summary["mean_abs_e"]:7.1f} m  max|e| '
+              f'{summary["max_abs_e"]:7.1f} m  rudder {summary["rudder_rate_deg_s"]:.3f}'
+              f' deg/s  ({time.perf_counter() - t0:.0f} s)', flush=True)
+        out[c] = summary
+    return out
 
 
 def tune_starts(model):
@@ -385,17 +396,17 @@ def evaluate(models, n_starts, duration, controllers, policy_template=None, jobs
              condition='calm', wave_filter=False, currents=CURRENTS, batched=False):
     """Every (model, current, controller) run; ``jobs`` > 1 runs them in processes."""
     starts = start_states(n_starts)
-    tasks = [(model, current, ctrl, starts, duration,
+    tasks = [(model, tuple(currents), ctrl, starts, duration,
               policy_template.format(model=model) if policy_template else None, condition,
               wave_filter, batched)
-             for model in models for current in currents for ctrl in controllers]
+             for model in models for ctrl in controllers]
     if jobs > 1:
         import multiprocessing
         with multiprocessing.Pool(jobs) as pool:
             out = pool.map(_task, tasks, chunksize=1)
     else:
         out = [_task(t) for t in tasks]
-    return starts, {f'{t[0]}/{t[1]}/{t[2]}': r for t, r in zip(tasks, out)}
+    return starts, {f'{t[0]}/{c}/{t[2]}': r[c] for t, r in zip(tasks, out) for c in currents}
 
 
 def markdown(results, models, controllers, duration, n_starts):

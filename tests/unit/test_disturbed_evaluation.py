@@ -160,3 +160,16 @@ def test_wave_filter_lowers_rudder_activity():
     raw = _table1('los', 'wind20', duration=120.0, n_starts=1)
     filt = _table1('los', 'wind20', duration=120.0, wave_filter=True, n_starts=1)
     assert np.all(filt['rudder_tv_deg'] < 0.5 * raw['rudder_tv_deg'])
+
+
+def test_batched_table_cells_equal_the_single_vessel_cells():
+    """--batched runs both currents of a controller in one batch, start i keeping its seed at
+    each current: every cell equals the single-vessel loop's to rounding."""
+    kw = dict(models=['mariner'], n_starts=2, duration=20.0, controllers=['ilos'],
+              condition='wind10')
+    _, single = ec.evaluate(**kw)
+    _, batched = ec.evaluate(**kw, batched=True)
+    assert set(single) == set(batched) == {'mariner/0.0/ilos', 'mariner/0.9/ilos'}
+    for cell, ref in single.items():
+        for key, value in ref.items():
+            assert batched[cell][key] == pytest.approx(value, rel=1e-12, abs=1e-12), (cell, key)

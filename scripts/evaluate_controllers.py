@@ -419,34 +419,27 @@ def markdown(results, models, controllers, duration, n_starts):
         lines.append(f'| {name} | ' + ' | '.join(str(table[m][CURRENTS.index(c)])
                                                  for m, c in cols) + ' |')
 
-    def cell(m, c, ctrl, key, fmt):
-        r = results.get(f'{m}/{c}/{ctrl}', {})
-        return 'error' if 'error' in r else fmt.format(r[key]) if key in r else '-'
+    def rows(fmt):
+        """One row per controller: fmt(result) per column, '-' not run, 'error' failed."""
+        out = []
+        for ctrl in controllers:
+            cells = []
+            for m, c in cols:
+                r = results.get(f'{m}/{c}/{ctrl}', {})
+                cells.append('-' if not r else 'error' if 'error' in r else fmt(r))
+            out.append(f'| {LABELS[ctrl]} | ' + ' | '.join(cells) + ' |')
+        return out
 
-    for ctrl in controllers:
-        lines.append(f'| {LABELS[ctrl]} | ' + ' | '.join(cell(m, c, ctrl, 'gaussian', '{:.0f}')
-                                                        for m, c in cols) + ' |')
+    lines += rows(lambda r: f'{r["gaussian"]:.0f}')
     lines += ['', 'Cross-track error mean / max (m) and rudder activity (mean |rudder rate|, '
               'deg/s)', '', head, sep]
-    for ctrl in controllers:
-        cells = []
-        for m, c in cols:
-            r = results.get(f'{m}/{c}/{ctrl}', {})
-            cells.append('-' if not r else 'error' if 'error' in r else
-                         f'{r["mean_abs_e"]:.1f} / {r["max_abs_e"]:.0f} / '
-                         f'{r["rudder_rate_deg_s"]:.2f}')
-        lines.append(f'| {LABELS[ctrl]} | ' + ' | '.join(cells) + ' |')
+    lines += rows(lambda r: f'{r["mean_abs_e"]:.1f} / {r["max_abs_e"]:.0f} / '
+                            f'{r["rudder_rate_deg_s"]:.2f}')
     lines += ['', 'Max |e| over the last half (m) / rudder total variation per episode (deg) / '
               'rudder at its limit (% of samples)', '', head, sep]
-    for ctrl in controllers:
-        cells = []
-        for m, c in cols:
-            r = results.get(f'{m}/{c}/{ctrl}', {})
-            cells.append('-' if not r else 'error' if 'error' in r else
-                         f'{r.get("max_abs_e_settled", math.nan):.0f} / '
-                         f'{r["rudder_tv_deg"]:.0f} / '
-                         f'{100 * r.get("rudder_saturated_fraction", math.nan):.1f}')
-        lines.append(f'| {LABELS[ctrl]} | ' + ' | '.join(cells) + ' |')
+    lines += rows(lambda r: f'{r.get("max_abs_e_settled", math.nan):.0f} / '
+                            f'{r["rudder_tv_deg"]:.0f} / '
+                            f'{100 * r.get("rudder_saturated_fraction", math.nan):.1f}')
     return '\n'.join(lines) + '\n'
 
 

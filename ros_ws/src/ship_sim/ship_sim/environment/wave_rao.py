@@ -112,9 +112,11 @@ class WaveResponse:
             im = np.concatenate([im, im[:, :, :1]], axis=2)
         i, s = _interp_extrap(table.w, self.Omega)
         s = s[None, ..., None]
-        # RAOs at the component frequencies, 6 x [batch x] N x n_h (the MSS cache).
-        self._re = re[:, i] + s * (re[:, i + 1] - re[:, i])
-        self._im = im[:, i] + s * (im[:, i + 1] - im[:, i])
+        # RAOs at the component frequencies, 6 x [batch x] N x n_h (the MSS cache), as one
+        # complex array (the real and imaginary parts interpolated alike: a real weight times
+        # a complex number scales both parts, the same numbers as two real interpolations).
+        self._rao = (re[:, i] + s * (re[:, i + 1] - re[:, i])) \
+            + 1j * (im[:, i] + s * (im[:, i + 1] - im[:, i]))
         self._headings = headings
 
     def _at(self, U, psi, beta_wave):
@@ -126,9 +128,8 @@ class WaveResponse:
         Oe = np.abs(Om - (Om ** 2 / self.g) * U[..., None] * np.cos(beta)[..., None, :])
         i, s = _interp_extrap(self._headings, beta)
         i, s = i[None, ..., None, :], s[None, ..., None, :]
-        r0, r1 = (np.take_along_axis(self._re, j, axis=-1) for j in (i, i + 1))
-        q0, q1 = (np.take_along_axis(self._im, j, axis=-1) for j in (i, i + 1))
-        return Oe, (r0 + s * (r1 - r0)) + 1j * (q0 + s * (q1 - q0))
+        z0, z1 = (np.take_along_axis(self._rao, j, axis=-1) for j in (i, i + 1))
+        return Oe, z0 + s * (z1 - z0)
 
     def encounter_frequencies(self, U, psi, beta_wave):
         """|w - w^2 U cos(beta) / g| (N x D, rad/s) of every component (as the RAO functions)."""

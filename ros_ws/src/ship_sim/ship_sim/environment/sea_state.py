@@ -149,7 +149,7 @@ class ShipWaves:
         """(eta_WF, nu_WF), 6 each: [surge, sway, heave (m, down), roll, pitch, yaw (rad)] and
         their rates (FRD body axes) at time t (s), speed U (m/s), heading psi (rad); a batch:
         U and psi arrays (B), eta_WF and nu_WF 6 x B."""
-        eta, nu, _ = self.response.motion(t, U, psi, self.direction)
+        eta, nu, _ = self.response.motion(t, U, psi, self.direction, accelerations=False)
         return eta, nu
 
     def peak_encounter_frequency(self, U, psi):

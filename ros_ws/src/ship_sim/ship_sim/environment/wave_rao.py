@@ -112,11 +112,16 @@ class WaveResponse:
             im = np.concatenate([im, im[:, :, :1]], axis=2)
         i, s = _interp_extrap(table.w, self.Omega)
         s = s[None, ..., None]
-        # RAOs at the component frequencies, 6 x [batch x] N x n_h (the MSS cache), as one
-        # complex array (the real and imaginary parts interpolated alike: a real weight times
-        # a complex number scales both parts, the same numbers as two real interpolations).
-        self._rao = (re[:, i] + s * (re[:, i + 1] - re[:, i])) \
-            + 1j * (im[:, i] + s * (im[:, i + 1] - im[:, i]))
+        # RAOs at the component frequencies (the MSS cache), as one complex array (the real
+        # and imaginary parts interpolated alike: a real weight times a complex number scales
+        # both parts, the same numbers as two real interpolations), stored [batch x] n_h x 6 x N
+        # so that picking a heading per vessel and direction copies whole 6 x N blocks.
+        if len(self.batch_shape) > 1:
+            raise ValueError('WaveResponse takes one batch axis')
+        rao = (re[:, i] + s * (re[:, i + 1] - re[:, i])) \
+            + 1j * (im[:, i] + s * (im[:, i + 1] - im[:, i]))     # 6 x [batch x] N x n_h
+        self._rao = np.ascontiguousarray(np.moveaxis(rao, [0, -1], [-2, -3]))
+        self._vessel = np.arange(self.batch_shape[0])[:, None] if self.batch_shape else None
         self._headings = headings
 
     def _at(self, U, psi, beta_wave):
@@ -127,9 +132,14 @@ class WaveResponse:
         Om = self.Omega[..., :, None]
         Oe = np.abs(Om - (Om ** 2 / self.g) * U[..., None] * np.cos(beta)[..., None, :])
         i, s = _interp_extrap(self._headings, beta)
-        i, s = i[None, ..., None, :], s[None, ..., None, :]
-        z0, z1 = (np.take_along_axis(self._rao, j, axis=-1) for j in (i, i + 1))
+        z0, z1 = (self._pick(j) for j in (i, i + 1))
+        s = s[None, ..., None, :]
         return Oe, z0 + s * (z1 - z0)
+
+    def _pick(self, i):
+        """RAOs at heading-table column i ([batch x] D) -> 6 x [batch x] N x D (contiguous)."""
+        z = self._rao[i] if self._vessel is None else self._rao[self._vessel, i]
+        return np.ascontiguousarray(np.moveaxis(z, [-3, -2], [-1, 0]))
 
     def encounter_frequencies(self, U, psi, beta_wave):
         """|w - w^2 U cos(beta) / g| (N x D, rad/s) of every component (as the RAO functions)."""
@@ -159,14 +169,17 @@ class WaveResponse:
         Oe, Z = self._at(U, psi, beta_wave)
         return np.real(np.sum(Z * self._phasors(Oe, t), axis=(-2, -1)))
 
-    def motion(self, t, U, psi, beta_wave, rates=True):
+    def motion(self, t, U, psi, beta_wave, rates=True, accelerations=True):
         """Wave-frequency motion (eta_WF, nu_WF, nudot_WF), 6 each (m, rad; per s; per s^2), MSS
-        waveMotionRAO (Fossen 2021, eq. 10.105); ``rates=False`` returns eta_WF only."""
+        waveMotionRAO (Fossen 2021, eq. 10.105); ``rates=False`` returns eta_WF only,
+        ``accelerations=False`` None for nudot_WF (not computed)."""
         Oe, Z = self._at(U, psi, beta_wave)
         zp = Z * self._phasors(Oe, t)
         eta = np.real(np.sum(zp, axis=(-2, -1)))
         if not rates:
             return eta
         izp = 1j * Oe * zp
-        return eta, np.real(np.sum(izp, axis=(-2, -1))), np.real(np.sum(1j * Oe * izp,
-                                                                        axis=(-2, -1)))
+        nu = np.real(np.sum(izp, axis=(-2, -1)))
+        if not accelerations:
+            return eta, nu, None
+        return eta, nu, np.real(np.sum(1j * Oe * izp, axis=(-2, -1)))

@@ -41,12 +41,13 @@ Setup (the same for every controller):
 
 Wind and waves (``--condition``, mission.conditions: calm, wind10, wind20; issue 14): the wind
 loads enter the plant (learning.env's ``wind``: relative wind from the velocity over ground,
-each model's own force equations, gusts seeded); the wave-frequency motion of start i (seed
-conditions.SEED + i, the same for every controller) is superposed on what every controller
-measures, as vessel_node superposes it on odom (ship_sim.environment.sea_state.superpose:
-position, heading, body velocities; RAOs at the speed through the water). The policies never
-saw wind or waves in training. ``--wave-filter`` passes heading and yaw rate of the classical
-autopilots through ship_autopilot.wave_filter tuned to the sea, as the autopilot node does;
+each model's own force equations); the gusts and the wave-frequency motion of start i (seed
+conditions.SEED + i, the same for every controller and current) are its own; the waves are
+superposed on what every controller measures, as vessel_node superposes it on odom
+(ship_sim.environment.sea_state.superpose: position, heading, body velocities; RAOs at the
+speed through the water). The policies never saw wind or waves in training.
+``--wave-filter`` passes heading and yaw rate of the classical autopilots through
+ship_autopilot.wave_filter tuned to the sea, as the autopilot node does;
 the guidance still sees the unfiltered position and heading (as in the graph). Tracking metrics
 and the reward use the measured (total: manoeuvring + wave-frequency) motion, as the graph's
 metrics use odom. Calm runs are the undisturbed computation, bit for bit.
@@ -75,8 +76,10 @@ from ship_autopilot.pd import pd_gains
 from ship_guidance.guidance import Guidance
 from ship_planner.route_loader import load_route
 from ship_autopilot.wave_filter import WaveFilter
-from ship_sim.environment.sea_state import ShipWaves, rao_table_for, superpose
-from mission.conditions import CONDITIONS, SEED, route_course, sea_state, wind_field
+from ship_sim.environment.sea_state import ShipWaves, rao_table_for
+from ship_sim.models import make_model
+from mission.conditions import (CONDITIONS, SEED, Condition, route_course, sea_state,
+                                wind_field)
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -142,26 +145,23 @@ def guidance_for(route, design, speed):
 
 
 def run(model, route, controller, starts, current, duration, policy_file=None, tuning=None,
-        current_field=None, condition='calm', wave_filter=False, activity=False):
+        current_field=None, condition='calm', wave_filter=False, activity=False, seeds=None):
     """Simulate every start with one controller; returns per-start metric arrays.
     ``tuning``: (omega_n_nd, lookahead_L) for 'los_lead' / 'ilos_lead' instead of TUNED /
     TUNED_ILOS. ``current_field``: a ship_sim.current.OceanCurrent of shape (len(starts),)
     advanced every step (a varying current) instead of the constant one of the starts.
-    ``condition``: wind and waves (mission.conditions name; module docstring), ``wave_filter``
-    the classical autopilots' wave filter; ``activity`` adds the max |e| of the second half,
+    ``condition``: wind and waves (mission.conditions name or Condition; module docstring;
+    ``seeds``: per start, see ``disturbances``), ``wave_filter`` the classical autopilots'
+    wave filter; ``activity`` adds the max |e| of the second half,
     the rudder's total variation and its saturated fraction (the batched loop has no such
     metrics, so they are not returned by default)."""
     k = len(starts)
-    cond = CONDITIONS[condition]
-    course = route_course(route)
-    env = PathFollowingBatch(model, k, EnvConfig(mode='straight', sim_dt=SIM_DT,
-                                                 control_dt=SIM_DT), routes=[route],
-                             wind=wind_field(cond, course, SEED, shape=(k,)))
+    plant = make_model(model) if isinstance(model, str) else model
+    wind, waves, seas = disturbances(condition, [route], plant, [0] * k, seeds)
+    env = PathFollowingBatch(plant, k, EnvConfig(mode='straight', sim_dt=SIM_DT,
+                                                 control_dt=SIM_DT), routes=[route], wind=wind)
     env.reset(starts=[dict(s, current_speed=current) for s in starts])
     m = env.model
-    seas = [sea_state(cond, course, SEED + i) for i in range(k)]
-    waves = None if seas[0] is None else [ShipWaves(sea, rao_table_for(m.name, m.length))
-                                          for sea in seas]
     filters = None
     if wave_filter and waves is not None and controller != 'policy':
         filters = [WaveFilter(peak_frequency=sea.peak_frequency, direction=sea.direction)
@@ -193,7 +193,7 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
         north, east, psi = env.x[:, m.IX], env.x[:, m.IY], env.x[:, m.IPSI]
         r = env.x[:, m.IR]
         if waves is not None:   # what the controllers measure (module docstring)
-            north, east, psi, u_m, v_m, r = measured(env, waves, t)
+            north, east, psi, u_m, v_m, r = env.measured(waves, t)
         outs = [g.update(north[i], east[i], psi[i], SIM_DT if step else 0.0)
                 for i, g in enumerate(guides)]
         e = np.array([o.cross_track for o in outs])
@@ -237,24 +237,36 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
     return out
 
 
-def measured(env, waves, t):
-    """(north, east, psi, u, v, r) arrays every controller measures at time t: the plant's
-    state over ground plus each vessel's wave-frequency motion (sea_state.superpose)."""
-    m, x = env.model, env.x
-    u, v, r = env.ground_velocity()
-    speed = np.hypot(m.surge_speed(x), x[:, m.IV])     # through the water (the RAOs' U)
-    rows = [superpose(*w.motion(t, float(speed[i]), float(x[i, m.IPSI])), float(x[i, m.IX]),
-                      float(x[i, m.IY]), float(x[i, m.IPSI]), float(u[i]), float(v[i]),
-                      float(r[i])) for i, w in enumerate(waves)]
-    return tuple(np.array(c) for c in zip(*rows))
+def disturbances(condition, routes, model, route_index, seeds=None):
+    """(WindField of shape (k,) or None, batch ShipWaves of k sea states or None, the k
+    SeaStates or None) of a condition (a mission.conditions name or Condition) for k episodes
+    on ``routes[route_index[i]]`` (one course). ``seeds``: one int per episode, its gusts and
+    waves (a stream each, so an episode does not depend on the others); default Table I's,
+    SEED + i for episode i."""
+    cond = condition if isinstance(condition, Condition) else CONDITIONS[condition]
+    k = len(route_index)
+    if cond.calm:
+        return None, None, None
+    courses = {route_course(routes[i]) for i in set(route_index)}
+    if len(courses) > 1:
+        raise ValueError('wind and waves run on routes of one overall course per batch')
+    course = courses.pop()
+    seeds = [SEED + i for i in range(k)] if seeds is None else [int(s) for s in seeds]
+    wind = wind_field(cond, course, seeds, shape=(k,))
+    seas = [sea_state(cond, course, seed) for seed in seeds]
+    if seas[0] is None:
+        return wind, None, None
+    return wind, ShipWaves(seas, rao_table_for(model.name, model.length)), seas
 
 
-def run_batched(model, routes, controller, starts, duration, tunings=None):
+def run_batched(model, routes, controller, starts, duration, tunings=None, condition='calm',
+                seeds=None):
     """``run`` for many starts at once in the batched closed loop
     (ship_autopilot.batch_closed_loop), each equal to ``run`` to rounding. ``starts``: dicts
     as ``run``'s, each with its ``route`` (index into ``routes``) and ``current_speed``;
-    ``tunings``: one (omega_n_nd, lookahead_L) or None per start (tuned loops). Returns the
-    metrics (name -> array per start, BatchClosedLoop.METRICS)."""
+    ``tunings``: one (omega_n_nd, lookahead_L) or None per start (tuned loops); ``condition``
+    and ``seeds`` as ``run``'s (``run`` with the same starts and seeds; no wave filter).
+    Returns the metrics (name -> array per start, BatchClosedLoop.METRICS)."""
     from ship_autopilot.batch_closed_loop import START_KEYS, BatchClosedLoop
     kind = {'fuzzy_pid': 'fuzzy_pid', 'policy': 'policy'}.get(controller, 'pd')
     law = 'ilos' if controller in ('ilos', 'ilos_lead') else 'los'
@@ -271,34 +283,49 @@ def run_batched(model, routes, controller, starts, duration, tunings=None):
         eps['lead'] = [lead[t] for t in tunings]
         eps['k1'] = [designs[t]['k1'] for t in tunings]
         eps['k2'] = [designs[t]['k2'] for t in tunings]
-    return loop.run(eps, duration).metrics
+    wind, waves, _ = disturbances(condition, routes, loop.model, eps['route'], seeds)
+    return loop.run(eps, duration, wind=wind, waves=waves).metrics
 
 
 def _task(args):
-    model, current, ctrl, starts, duration, policy_file, condition, wave_filter = args
+    """One (model, controller) at every current: -> {current: summary}. Batched, the starts of
+    every current run in one batch (start i keeps its seed SEED + i at each current)."""
+    model, currents, ctrl, starts, duration, policy_file, condition, wave_filter, batched = args
     route = load_route(ROOT / 'scenarios' / 'routes' / f'curved_path_{model}_000.yaml').route
+    k = len(starts)
     t0 = time.perf_counter()
     try:
-        if condition == 'batched':   # calm, in the batched closed loop (equal to run)
+        # The batched closed loop equals run to rounding; it has no wave filter, which the
+        # policy does not use.
+        if batched and (not wave_filter or ctrl == 'policy'):
             if policy_file:
                 raise ValueError('--batched runs the shipped policies only')
-            r = run_batched(model, [route], ctrl, [dict(s, current_speed=current)
-                                                   for s in starts], duration)
-            r = {k: v for k, v in r.items() if k not in ('finished', 'finish_time_s', 'failed')}
-            r['rudder_tv_deg'] = r['rudder_rate_deg_s'] * duration
+            r = run_batched(model, [route], ctrl, [dict(s, current_speed=c) for c in currents
+                                                   for s in starts], duration,
+                            condition=condition,
+                            seeds=[SEED + i for _ in currents for i in range(k)])
+            if r['failed'].any():
+                raise RuntimeError(f'{model}/{ctrl}: state left the model domain')
+            per = {c: {key: r[key][j * k:(j + 1) * k] for key in r
+                       if key not in ('finished', 'finish_time_s', 'failed')}
+                   for j, c in enumerate(currents)}
         else:
-            r = run(model, route, ctrl, starts, current, duration, policy_file,
-                    condition=condition, wave_filter=wave_filter, activity=True)
+            per = {c: run(model, route, ctrl, starts, c, duration, policy_file,
+                          condition=condition, wave_filter=wave_filter, activity=True)
+                   for c in currents}
     except Exception as exc:  # noqa: BLE001 (report a missing policy etc. in the table)
-        print(f'{model:9s} {current:.1f} m/s {ctrl:10s} ERROR {exc}', flush=True)
-        return {'error': str(exc)}
-    summary = {k: float(np.mean(v)) for k, v in r.items()}
-    summary['gaussian_per_start'] = [round(float(g), 1) for g in r['gaussian']]
-    print(f'{model:9s} {current:.1f} m/s {ctrl:10s} gaussian {summary["gaussian"]:8.1f}'
-          f'  mean|e| {summary["mean_abs_e"]:7.1f} m  max|e| '
-          f'{summary["max_abs_e"]:7.1f} m  rudder {summary["rudder_rate_deg_s"]:.3f}'
-          f' deg/s  ({time.perf_counter() - t0:.0f} s)', flush=True)
-    return summary
+        print(f'{model:9s} {ctrl:10s} ERROR {exc}', flush=True)
+        return {c: {'error': str(exc)} for c in currents}
+    out = {}
+    for c, r in per.items():
+        summary = {key: float(np.mean(v)) for key, v in r.items()}
+        summary['gaussian_per_start'] = [round(float(g), 1) for g in r['gaussian']]
+        print(f'{model:9s} {c:.1f} m/s {ctrl:10s} gaussian {summary["gaussian"]:8.1f}'
+              f'  mean|e| {summary["mean_abs_e"]:7.1f} m  max|e| '
+              f'{summary["max_abs_e"]:7.1f} m  rudder {summary["rudder_rate_deg_s"]:.3f}'
+              f' deg/s  ({time.perf_counter() - t0:.0f} s)', flush=True)
+        out[c] = summary
+    return out
 
 
 def tune_starts(model):
@@ -366,20 +393,20 @@ def tune(models, jobs=1, grid=None, controller='los_lead', duration=1000.0):
 
 
 def evaluate(models, n_starts, duration, controllers, policy_template=None, jobs=1,
-             condition='calm', wave_filter=False, currents=CURRENTS):
+             condition='calm', wave_filter=False, currents=CURRENTS, batched=False):
     """Every (model, current, controller) run; ``jobs`` > 1 runs them in processes."""
     starts = start_states(n_starts)
-    tasks = [(model, current, ctrl, starts, duration,
+    tasks = [(model, tuple(currents), ctrl, starts, duration,
               policy_template.format(model=model) if policy_template else None, condition,
-              wave_filter)
-             for model in models for current in currents for ctrl in controllers]
+              wave_filter, batched)
+             for model in models for ctrl in controllers]
     if jobs > 1:
         import multiprocessing
         with multiprocessing.Pool(jobs) as pool:
             out = pool.map(_task, tasks, chunksize=1)
     else:
         out = [_task(t) for t in tasks]
-    return starts, {f'{t[0]}/{t[1]}/{t[2]}': r for t, r in zip(tasks, out)}
+    return starts, {f'{t[0]}/{c}/{t[2]}': r[c] for t, r in zip(tasks, out) for c in currents}
 
 
 def markdown(results, models, controllers, duration, n_starts):
@@ -392,34 +419,27 @@ def markdown(results, models, controllers, duration, n_starts):
         lines.append(f'| {name} | ' + ' | '.join(str(table[m][CURRENTS.index(c)])
                                                  for m, c in cols) + ' |')
 
-    def cell(m, c, ctrl, key, fmt):
-        r = results.get(f'{m}/{c}/{ctrl}', {})
-        return 'error' if 'error' in r else fmt.format(r[key]) if key in r else '-'
+    def rows(fmt):
+        """One row per controller: fmt(result) per column, '-' not run, 'error' failed."""
+        out = []
+        for ctrl in controllers:
+            cells = []
+            for m, c in cols:
+                r = results.get(f'{m}/{c}/{ctrl}', {})
+                cells.append('-' if not r else 'error' if 'error' in r else fmt(r))
+            out.append(f'| {LABELS[ctrl]} | ' + ' | '.join(cells) + ' |')
+        return out
 
-    for ctrl in controllers:
-        lines.append(f'| {LABELS[ctrl]} | ' + ' | '.join(cell(m, c, ctrl, 'gaussian', '{:.0f}')
-                                                        for m, c in cols) + ' |')
+    lines += rows(lambda r: f'{r["gaussian"]:.0f}')
     lines += ['', 'Cross-track error mean / max (m) and rudder activity (mean |rudder rate|, '
               'deg/s)', '', head, sep]
-    for ctrl in controllers:
-        cells = []
-        for m, c in cols:
-            r = results.get(f'{m}/{c}/{ctrl}', {})
-            cells.append('-' if not r else 'error' if 'error' in r else
-                         f'{r["mean_abs_e"]:.1f} / {r["max_abs_e"]:.0f} / '
-                         f'{r["rudder_rate_deg_s"]:.2f}')
-        lines.append(f'| {LABELS[ctrl]} | ' + ' | '.join(cells) + ' |')
+    lines += rows(lambda r: f'{r["mean_abs_e"]:.1f} / {r["max_abs_e"]:.0f} / '
+                            f'{r["rudder_rate_deg_s"]:.2f}')
     lines += ['', 'Max |e| over the last half (m) / rudder total variation per episode (deg) / '
               'rudder at its limit (% of samples)', '', head, sep]
-    for ctrl in controllers:
-        cells = []
-        for m, c in cols:
-            r = results.get(f'{m}/{c}/{ctrl}', {})
-            cells.append('-' if not r else 'error' if 'error' in r else
-                         f'{r.get("max_abs_e_settled", math.nan):.0f} / '
-                         f'{r["rudder_tv_deg"]:.0f} / '
-                         f'{100 * r.get("rudder_saturated_fraction", math.nan):.1f}')
-        lines.append(f'| {LABELS[ctrl]} | ' + ' | '.join(cells) + ' |')
+    lines += rows(lambda r: f'{r.get("max_abs_e_settled", math.nan):.0f} / '
+                            f'{r["rudder_tv_deg"]:.0f} / '
+                            f'{100 * r.get("rudder_saturated_fraction", math.nan):.1f}')
     return '\n'.join(lines) + '\n'
 
 
@@ -477,9 +497,10 @@ def main(argv=None):
     p.add_argument('--currents', default=','.join(f'{c:g}' for c in CURRENTS),
                    help='current speeds (m/s) of the table\'s columns (default %(default)s)')
     p.add_argument('--batched', action='store_true',
-                   help='calm only: every cell in the batched closed loop (ship_autopilot.'
-                        "batch_closed_loop, equal to this loop to rounding; no saturation or "
-                        "settled max); '_batched' is appended to --out")
+                   help='every cell in the batched closed loop (ship_autopilot.'
+                        "batch_closed_loop, equal to this loop to rounding), except the "
+                        "cells behind the wave filter, which the batch does not have; "
+                        "'_batched' is appended to --out")
     args = p.parse_args(argv)
     models = [m for m in args.models.split(',') if m]
     controllers = [c for c in args.controllers.split(',') if c]
@@ -503,11 +524,9 @@ def main(argv=None):
         return 0
     n_starts, duration = (1, 300.0) if args.quick else (args.starts, args.duration)
     t0 = time.perf_counter()
-    if args.batched and (args.condition != 'calm' or args.wave_filter):
-        p.error('--batched runs the calm condition only')
     starts, results = evaluate(models, n_starts, duration, controllers, args.policy, args.jobs,
-                               'batched' if args.batched else args.condition, args.wave_filter,
-                               tuple(float(c) for c in args.currents.split(',')))
+                               args.condition, args.wave_filter,
+                               tuple(float(c) for c in args.currents.split(',')), args.batched)
     md = (f'Condition: {CONDITIONS[args.condition].describe()}'
           + (', classical autopilots behind the wave filter' if args.wave_filter else '')
           + '\n\n' + markdown(results, models, controllers, duration, n_starts))

@@ -10,7 +10,10 @@ Three figures side by side, all Mariner, h = 0.1 s:
   path (912 arcs: the dense-curve search);
 - the plant alone at N = 10 000 (section batched's rk4_step on the same model): the limit a
   loop that also runs guidance, autopilot and metrics on arrays can approach; the ratio
-  closed loop / plant-only says how close it gets.
+  closed loop / plant-only says how close it gets;
+- the batched loop in wind and waves (mission.conditions wind20, a seed per episode) at
+  N = 100 and 1 000, one run of a fifth of the simulated time, and its ratio to the calm
+  loop's CPU rate at the same N.
 
 Each figure is the best of ``repeats`` runs of the stepping alone (set-up reported apart), in
 wall time and in CPU time (time.process_time, which a loaded machine disturbs much less).
@@ -26,6 +29,9 @@ from . import batched, closed_loop_inprocess, common
 GOAL_N = 10_000
 GOAL_RATE = 1_000_000.0
 SIZES = (100, 1_000, 10_000)
+#: Wind and waves (mission.conditions wind20: gusts, loads, 100 x 8 wave components per
+#: episode): N and a fifth of the simulated time (its cost per step is the wave motion's).
+WAVES_SIZES = (100, 1_000)
 SIM_S, QUICK_SIM_S = 100.0, 20.0
 ROUTES = {'flagship': 'flagship_mariner.yaml', 'curved': 'curved_path_mariner_000.yaml'}
 
@@ -37,15 +43,22 @@ def episodes(n, seed=1):
             'current_direction': rng.uniform(-np.pi, np.pi, n)}
 
 
-def batch_rate(route_name, n, sim_s, repeats):
-    """(best wall rate, best CPU rate, set-up s) of BatchClosedLoop, ILOS + PD."""
+def batch_rate(route_name, n, sim_s, repeats, condition='calm'):
+    """(best wall rate, best CPU rate, set-up s) of BatchClosedLoop, ILOS + PD, in a
+    mission.conditions ``condition`` (a seed per episode, as a sweep's; the sea states' set-up
+    is in the set-up time)."""
+    import evaluate_controllers as ec
     from ship_autopilot.batch_closed_loop import BatchClosedLoop
     from ship_planner.route_loader import load_route
     route = load_route(common.REPO / 'scenarios' / 'routes' / ROUTES[route_name]).route
     loop = BatchClosedLoop('mariner', [route], 'pd', 'ilos')
     walls, cpus, setup = [], [], []
     for _ in range(repeats):
-        res = loop.run(episodes(n), sim_s)
+        t0 = time.perf_counter()
+        wind, waves, _ = ec.disturbances(condition, [route], loop.model, [0] * n, range(n))
+        t_dist = time.perf_counter() - t0
+        res = loop.run(episodes(n), sim_s, wind=wind, waves=waves)
+        res.setup_s += t_dist
         walls.append(res.loop_s)
         cpus.append(res.loop_cpu_s)
         setup.append(res.setup_s)
@@ -96,6 +109,12 @@ def run(quick=False):
         rows.append({'loop': 'BatchClosedLoop flagship ILOS + PD', 'n': n, 'rate_wall': w,
                      'rate_cpu': c, 'setup_s': s})
     goal_row = rows[-1]
+    calm = {r['n']: r for r in rows[1:]}
+    for n in WAVES_SIZES:   # wind + waves, against the calm row of the same N
+        w, c, s = batch_rate('flagship', n, sim_s / 5, 1, 'wind20')
+        rows.append({'loop': 'BatchClosedLoop flagship ILOS + PD, wind20 (wind + waves)',
+                     'n': n, 'rate_wall': w, 'rate_cpu': c, 'setup_s': s,
+                     'ratio_to_calm': c / calm[n]['rate_cpu']})
     w, c, s = batch_rate('curved', GOAL_N, sim_s, 1)
     rows.append({'loop': 'BatchClosedLoop curved path (912 arcs) ILOS + PD', 'n': GOAL_N,
                  'rate_wall': w, 'rate_cpu': c, 'setup_s': s})
@@ -110,6 +129,7 @@ def run(quick=False):
         'columns': [['loop', 'loop'], ['n', 'N'], ['rate_wall', 'steps/s wall (best)'],
                     ['rate_cpu', 'steps/s CPU (best)'], ['ratio_to_plant', 'CPU / plant only'],
                     ['ratio_to_plant_wall', 'wall / plant only'],
+                    ['ratio_to_calm', 'CPU / calm, same N'],
                     ['setup_s', 'set-up s']],
         'rows': rows,
         'goals': [common.goal(f'closed-loop vessel-steps/s at N = {GOAL_N:,}, ILOS + PD (wall)',

@@ -41,12 +41,28 @@ SEED = 1
 
 @dataclass(frozen=True)
 class Condition:
-    """Wind speed (m/s) and sea (spectrum name of ship_sim.environment, Hs m, Tp s)."""
+    """Wind speed (m/s) and sea (spectrum name of ship_sim.environment, Hs m, Tp s; Tp 0 = the
+    Pierson-Moskowitz peak of that Hs). Directions relative to the route's course (module
+    docstring) unless ``wind_from_deg`` (deg, clockwise from north, where the wind comes from)
+    or ``waves_towards_deg`` (where the waves travel) fix them (``custom``: sweeps)."""
     name: str
     wind_speed: float
     spectrum: str
     hs: float
     tp: float
+    wind_from_deg: float | None = None
+    waves_towards_deg: float | None = None
+
+    @classmethod
+    def custom(cls, wind_speed=0.0, wind_from_deg=0.0, hs=0.0, tp=0.0, waves_towards_deg=0.0,
+               spectrum='Modified PM'):
+        """A condition of given wind and sea, fixed directions; gusts, spreading and
+        components as the named conditions'. ValueError (one line) for values out of range."""
+        cond = cls('custom', float(wind_speed), spectrum, float(hs), float(tp),
+                   float(wind_from_deg), float(waves_towards_deg))
+        wind_field(cond, 0.0)          # the same checks as the runs make
+        sea_state(cond, 0.0)
+        return cond
 
     @property
     def calm(self):
@@ -55,6 +71,10 @@ class Condition:
     def describe(self):
         if self.calm:
             return 'calm (no wind, no waves)'
+        if self.wind_from_deg is not None:
+            return (f'{self.wind_speed:g} m/s wind from {self.wind_from_deg:g} deg, '
+                    f'{self.spectrum} sea Hs {self.hs:.2f} m, Tp {self.tp:.2f} s, towards '
+                    f'{self.waves_towards_deg:g} deg')
         return (f'{self.wind_speed:g} m/s wind from 45 deg on the port bow, {self.spectrum} sea '
                 f'Hs {self.hs:.2f} m, Tp {self.tp:.2f} s, travelling downwind')
 
@@ -96,10 +116,13 @@ def wave_direction(course):
 
 
 def wind_field(cond, course, seed=SEED, shape=()):
-    """The WindField of a condition (None when there is no wind)."""
+    """The WindField of a condition (None when there is no wind); ``seed`` one int, or one per
+    element of ``shape`` (a stream per vessel: ship_sim.current.ElementStreams)."""
     if cond.wind_speed == 0.0:
         return None
-    return WindField(cond.wind_speed, wind_from(course), gust_sd=GUST_FRACTION * cond.wind_speed,
+    direction = (wind_from(course) if cond.wind_from_deg is None
+                 else math.radians(cond.wind_from_deg))
+    return WindField(cond.wind_speed, direction, gust_sd=GUST_FRACTION * cond.wind_speed,
                      time_constant=GUST_TIME_CONSTANT, seed=seed, shape=shape)
 
 
@@ -107,9 +130,11 @@ def sea_state(cond, course, seed=SEED):
     """The SeaState of a condition (None for a calm sea)."""
     if cond.hs == 0.0:
         return None
-    return SeaState(hs=cond.hs, tp=cond.tp, spectrum=cond.spectrum,
-                    direction=wave_direction(course), spreading=True,
-                    n_frequencies=N_FREQUENCIES, n_directions=N_DIRECTIONS, seed=seed)
+    direction = (wave_direction(course) if cond.waves_towards_deg is None
+                 else math.radians(cond.waves_towards_deg))
+    return SeaState(hs=cond.hs, tp=cond.tp, spectrum=cond.spectrum, direction=direction,
+                    spreading=True, n_frequencies=N_FREQUENCIES, n_directions=N_DIRECTIONS,
+                    seed=seed)
 
 
 #: ship_sim spectrum name -> the scenario's `waves: spectrum` key (mission.waves)

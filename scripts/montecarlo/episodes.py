@@ -4,7 +4,10 @@ The closed loop is ship_autopilot.batch_closed_loop.BatchClosedLoop: the chunk's
 model and controller) stepped together as arrays, each equal to the single-vessel in-process
 loop of scripts/evaluate_controllers.py (``run``: MSS plant with RK4 at 0.1 s, guidance and
 autopilot every 0.1 s, the policy at its own step, the Table I reward) to rounding. Episodes
-with a varying current, which the batch does not model, run in that single-vessel loop. A
+with a varying current, which the batch does not model, run in that single-vessel loop. Wind
+and waves (``weather``) run in the batch: a batch holds one wind and sea (random wind or wave
+parameters make batches of one episode: correct, but slow), each episode's gusts and waves
+from its own seed. A
 chunk of one episode is run with a copy of itself, so that every episode takes the batch's
 array path (one vessel alone would take the plant's float path, equal only to rounding) and a
 row never depends on the chunking. Metrics per episode (METRICS): the Table I reward (cumulative Gaussian, eq. 8 of
@@ -79,18 +82,33 @@ def _current_field(ep):
                         seed=ep['seed'], shape=(1,))
 
 
+def weather(ep):
+    """The episode's wind and sea: a mission.conditions name, or a Condition of the explicit
+    keys (spec.WEATHER; 'calm' when they are all zero)."""
+    if ep['condition'] != 'calm' or (ep['wind_speed_mps'] == 0.0 and ep['wave_height_m'] == 0.0):
+        return ep['condition']
+    from mission.conditions import Condition
+    return Condition.custom(ep['wind_speed_mps'], ep['wind_direction_deg'], ep['wave_height_m'],
+                            ep['wave_period_s'], ep['wave_direction_deg'])
+
+
 def run_episode(ep):
     """One episode (a dict of spec.expand plus 'route_key') -> its metrics (dict)."""
     import evaluate_controllers as ec
     from ship_autopilot.learning.env import EnvConfig
     try:
         r = ec.run(ep['model'], _route(ep['route_key']), ep['controller'], [_start(ep, 0)],
-                   ep['current_speed_mps'], ep['duration_s'], current_field=_current_field(ep))
+                   ep['current_speed_mps'], ep['duration_s'], current_field=_current_field(ep),
+                   condition=weather(ep), seeds=[ep['seed']])
     except RuntimeError:   # the state left the model's domain
         return dict({k: math.nan for k in METRICS}, completed=0)
     row = {k: float(r[v][0]) for k, v in _FROM_LOOP.items()}
     row['completed'] = int(row['max_abs_e_m'] < EnvConfig().terminate_cross_track)
     return row
+
+
+def _batch_key(ep):
+    return ep['model'], ep['controller'], ep['duration_s'], weather(ep)
 
 
 def _varying(ep):
@@ -106,18 +124,20 @@ def _start(ep, route_index):
 
 
 def run_batch(chunk):
-    """Metrics (dicts) of episodes of one model, controller and length, stepped together."""
+    """Metrics (dicts) of episodes of one model, controller, length and weather (wind and
+    sea; each episode's gusts and waves from its own seed), stepped together."""
     import evaluate_controllers as ec
     from ship_autopilot.learning.env import EnvConfig
     first = chunk[0]
-    if any((e['model'], e['controller'], e['duration_s'])
-           != (first['model'], first['controller'], first['duration_s']) for e in chunk):
-        raise ValueError('a batch runs one model, one controller and one episode length')
+    if any(_batch_key(e) != _batch_key(first) for e in chunk):
+        raise ValueError('a batch runs one model, one controller, one episode length and one '
+                         'wind and sea')
     padded = chunk * 2 if len(chunk) == 1 else chunk
     keys = list(dict.fromkeys(e['route_key'] for e in padded))
     res = ec.run_batched(first['model'], [_route(k) for k in keys], first['controller'],
                          [_start(e, keys.index(e['route_key'])) for e in padded],
-                         first['duration_s'])
+                         first['duration_s'], condition=weather(first),
+                         seeds=[e['seed'] for e in padded])
     limit = EnvConfig().terminate_cross_track
     out = []
     for i in range(len(chunk)):
@@ -143,7 +163,7 @@ def run_chunk(chunk):
         if _varying(ep):
             metrics[ep['episode']] = run_episode(ep)
         else:
-            groups.setdefault((ep['model'], ep['controller'], ep['duration_s']), []).append(ep)
+            groups.setdefault(_batch_key(ep), []).append(ep)
     for group in groups.values():
         metrics.update(zip((e['episode'] for e in group), run_batch(group)))
     rows = []

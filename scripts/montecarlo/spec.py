@@ -27,8 +27,12 @@ differences between cells are paired; ``paired: false`` keys the draws by episod
 instead. The same child also gives the episode's own ``seed`` (a varying current's noise).
 Drawing never depends on which process runs the episode, so the table does not either.
 
-Wind and waves have reserved names (HOOKS): the file is refused with a one-line message until
-their pure modules run in the closed loop.
+Wind and waves: either ``condition`` (a mission.conditions name: calm, wind10, wind20, the
+three conditions of Table I, directions relative to the route's overall course) or the
+explicit keys (WEATHER: wind speed and the direction it blows from, significant wave height,
+peak period and the direction the waves travel, absolute; gusts, spectrum (Modified PM),
+spreading and components as the named conditions'), not both. Each episode's gusts and waves
+come from its own ``seed``, so a row does not depend on the chunking either.
 
 Encounter sweeps: a file that names ``encounter`` (in base or vary) runs Imazu encounters with
 collision avoidance instead of route following (montecarlo.encounters)::
@@ -71,6 +75,16 @@ PARAMETERS = {
     'start_along_m': (0.0, 'number', (0.0, 1e6), 'start point along the route, m'),
     'start_cross_m': (0.0, 'number', (-1e4, 1e4), 'start offset, m (+ starboard)'),
     'start_heading_deg': (0.0, 'number', (-180.0, 180.0), 'start heading - path angle, deg'),
+    'condition': ('calm', 'condition', None,
+                  'wind and waves of mission.conditions (calm, wind10, wind20)'),
+    'wind_speed_mps': (0.0, 'number', (0.0, 60.0), 'mean wind speed, m/s (gusts sd 10 %)'),
+    'wind_direction_deg': (0.0, 'number', (-1e4, 1e4),
+                           'wind blows from, deg clockwise from north'),
+    'wave_height_m': (0.0, 'number', (0.0, 30.0), 'significant wave height, m'),
+    'wave_period_s': (0.0, 'number', (0.0, 40.0),
+                      'peak period, s (0: the Pierson-Moskowitz peak of that height)'),
+    'wave_direction_deg': (0.0, 'number', (-1e4, 1e4),
+                           'waves travel towards, deg clockwise from north'),
     # Encounter sweeps only (ENCOUNTER_KEYS; montecarlo.encounters.perturbed_case).
     'encounter': (1, 'case', None, 'Imazu case number, 1-22 (scripts/imazu/cases.py)'),
     'colav_method': ('sbmpc', 'colav', None, 'collision avoidance (imazu.runner.METHODS)'),
@@ -83,9 +97,9 @@ PARAMETERS = {
 #: route following's, and the last four belong to encounter sweeps only.
 ENCOUNTER_KEYS = ('model', 'duration_s', 'encounter', 'colav_method', 'encounter_speed_factor',
                   'encounter_miss_m')
-#: Reserved for wind / waves: refused until the closed loop simulates them.
-HOOKS = ('wind_speed_mps', 'wind_direction_deg', 'wave_height_m', 'wave_period_s',
-         'wave_direction_deg')
+#: The explicit wind and sea keys (a sweep gives these or ``condition``, not both).
+WEATHER = ('wind_speed_mps', 'wind_direction_deg', 'wave_height_m', 'wave_period_s',
+           'wave_direction_deg')
 DISTRIBUTIONS = {'uniform': 2, 'normal': 2, 'choice': None}
 TOP_KEYS = ('name', 'seed', 'episodes', 'paired', 'base', 'vary')
 
@@ -159,6 +173,12 @@ def _check_value(where, name, value):
             raise SweepError(f'{where}: colav_method {value!r} unknown; allowed: '
                              f'{", ".join(METHODS)}')
         return value
+    if kind == 'condition':
+        from mission.conditions import CONDITIONS
+        if value not in CONDITIONS:
+            raise SweepError(f'{where}: condition {value!r} unknown; allowed: '
+                             f'{", ".join(CONDITIONS)}')
+        return value
     if kind == 'path':
         if not isinstance(value, str) or not value:
             raise SweepError(f'{where}: {name} must be a file path, got {value!r}')
@@ -172,9 +192,6 @@ def _check_value(where, name, value):
 
 
 def _check_name(where, name):
-    if name in HOOKS:
-        raise SweepError(f'{where}: {name!r} is reserved for wind and waves, which the closed '
-                         'loop does not simulate yet')
     if name not in PARAMETERS:
         raise SweepError(f'{where}: unknown parameter {name!r}; allowed: '
                          f'{", ".join(PARAMETERS)}')
@@ -262,6 +279,10 @@ def parse(doc, source='<sweep>'):
         else:
             raise SweepError(f'{where}: give a list (grid) or a distribution mapping '
                              f'(random), got {spec!r}')
+    weather = [k for k in WEATHER if k in base or k in vary]
+    if weather and ('condition' in base or 'condition' in vary):
+        raise SweepError(f'{source}: give condition or the wind and wave keys '
+                         f'({", ".join(weather)}), not both')
     if kind == 'encounter':
         from imazu.runner import DURATION_S
         full_base = {k: PARAMETERS[k][0] for k in ENCOUNTER_KEYS}

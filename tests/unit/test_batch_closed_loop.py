@@ -4,6 +4,9 @@
   Table I, one vessel on the float paths) to 1e-12 relative, per model and per controller
   (PD on LOS and ILOS, fuzzy PID, the learned policy), with and without current: the batch
   only stacks the same arithmetic, so any larger difference is a fork of the logic.
+- In wind and waves (mission.conditions wind10, wind20: wind loads in the plant, the
+  wave-frequency motion superposed on what is measured) likewise, per model and controller;
+  with a seed per episode an episode equals its single-vessel run whatever its batch.
 - The batched guidance equals one Guidance per vessel on a waypoint route with corners and an
   acceptance circle (switching, the integrator across corners, completion).
 - An episode's result does not depend on the batch around it (order, neighbours), the same
@@ -52,11 +55,44 @@ def test_each_episode_equals_the_single_vessel_loop(model, duration, controller)
     route = curved_route(model)
     starts = ec.start_states(3)
     for current in (0.0, 0.9):
-        refs = [ec.run(model, route, controller, [s], current, duration) for s in starts]
+        refs = [ec.run(model, route, controller, [s], current, duration, activity=True)
+                for s in starts]
         loop = BatchClosedLoop(model, [route], *CONTROLLERS[controller])
         res = loop.run(episodes(starts, current), duration)
         assert_metrics_equal(res.metrics, refs)
         assert not res.metrics['failed'].any()
+
+
+@pytest.mark.parametrize('model', ['mariner', 'container', 'tanker'])
+@pytest.mark.parametrize('controller', sorted(CONTROLLERS))
+def test_wind_and_waves_each_episode_equals_the_single_vessel_loop(model, controller):
+    """Both conditions, two starts in the 0.9 m/s current; the disturbance must show (every
+    episode's reward differs from calm water's), so equality is not that of two calm runs."""
+    route = curved_route(model)
+    starts = ec.start_states(2)
+    loop = BatchClosedLoop(model, [route], *CONTROLLERS[controller])
+    duration = 20.0
+    calm = loop.run(episodes(starts, 0.9), duration).metrics
+    for condition in ('wind10', 'wind20'):
+        ref = ec.run(model, route, controller, starts, 0.9, duration, condition=condition,
+                     activity=True)
+        wind, waves, _ = ec.disturbances(condition, [route], loop.model, [0, 0])
+        res = loop.run(episodes(starts, 0.9), duration, wind=wind, waves=waves).metrics
+        assert_metrics_equal(res, [{k: v[[i]] for k, v in ref.items()} for i in range(2)])
+        assert np.all(res['gaussian'] != calm['gaussian'])
+
+
+def test_an_episode_with_its_own_seed_does_not_depend_on_its_batch():
+    """Seeds per episode (sweeps): episode i of a batch of three equals the single-vessel
+    loop of that episode alone with its seed (its own gust stream and sea)."""
+    route = curved_route('mariner')
+    starts, seeds = ec.start_states(3), [101, 7, 55]
+    loop = BatchClosedLoop('mariner', [route], 'pd', 'ilos')
+    wind, waves, _ = ec.disturbances('wind20', [route], loop.model, [0] * 3, seeds)
+    res = loop.run(episodes(starts, 0.9), 30.0, wind=wind, waves=waves).metrics
+    refs = [ec.run('mariner', route, 'ilos', [s], 0.9, 30.0, condition='wind20', seeds=[seed],
+                   activity=True) for s, seed in zip(starts, seeds)]
+    assert_metrics_equal(res, refs)
 
 
 def test_turn_rate_lead_and_per_episode_gains_equal_the_single_loop():

@@ -128,22 +128,25 @@ def test_disturbed_run_repeats_and_differs_from_calm():
 
 
 def test_controllers_measure_the_wave_motion():
-    """measured() = the plant's state plus ShipWaves.motion of each start's seed."""
+    """PathFollowingBatch.measured = the plant's state plus each start's own ShipWaves.motion
+    (the batch of sea states in one ShipWaves gives each its own numbers)."""
     route = load_route(ROUTES / 'curved_path_mariner_000.yaml').route
     cond = conditions.CONDITIONS['wind10']
     env = PathFollowingBatch('mariner', 2, EnvConfig(mode='straight'), routes=[route])
     env.reset(starts=[dict(s, current_speed=0.9) for s in ec.start_states(2)])
     m = env.model
     seas = [conditions.sea_state(cond, 0.0, conditions.SEED + i) for i in range(2)]
-    waves = [ShipWaves(s, rao_table_for('mariner', m.length)) for s in seas]
-    north, east, psi, u, v, r = ec.measured(env, waves, 37.3)
+    table = rao_table_for('mariner', m.length)
+    north, east, psi, u, v, r = env.measured(ShipWaves(seas, table), 37.3)
     ug, vg, rg = env.ground_velocity()
     for i in range(2):
         U = math.hypot(float(m.surge_speed(env.x)[i]), env.x[i, m.IV])
-        eta, nu = waves[i].motion(37.3, U, env.x[i, m.IPSI])
+        eta, nu = ShipWaves(seas[i], table).motion(37.3, U, env.x[i, m.IPSI])
         p = env.x[i, m.IPSI]
-        assert psi[i] == env.x[i, m.IPSI] + eta[5] and r[i] == rg[i] + nu[5]
-        assert u[i] == ug[i] + nu[0] and v[i] == vg[i] + nu[1]
+        assert psi[i] == pytest.approx(env.x[i, m.IPSI] + eta[5], rel=1e-12, abs=1e-12)
+        assert r[i] == pytest.approx(rg[i] + nu[5], rel=1e-12, abs=1e-15)
+        assert u[i] == pytest.approx(ug[i] + nu[0], rel=1e-12)
+        assert v[i] == pytest.approx(vg[i] + nu[1], rel=1e-12, abs=1e-12)
         assert north[i] == pytest.approx(env.x[i, m.IX] + math.cos(p) * eta[0]
                                          - math.sin(p) * eta[1], abs=1e-9)
         assert east[i] == pytest.approx(env.x[i, m.IY] + math.sin(p) * eta[0]
@@ -157,3 +160,16 @@ def test_wave_filter_lowers_rudder_activity():
     raw = _table1('los', 'wind20', duration=120.0, n_starts=1)
     filt = _table1('los', 'wind20', duration=120.0, wave_filter=True, n_starts=1)
     assert np.all(filt['rudder_tv_deg'] < 0.5 * raw['rudder_tv_deg'])
+
+
+def test_batched_table_cells_equal_the_single_vessel_cells():
+    """--batched runs both currents of a controller in one batch, start i keeping its seed at
+    each current: every cell equals the single-vessel loop's to rounding."""
+    kw = dict(models=['mariner'], n_starts=2, duration=20.0, controllers=['ilos'],
+              condition='wind10')
+    _, single = ec.evaluate(**kw)
+    _, batched = ec.evaluate(**kw, batched=True)
+    assert set(single) == set(batched) == {'mariner/0.0/ilos', 'mariner/0.9/ilos'}
+    for cell, ref in single.items():
+        for key, value in ref.items():
+            assert batched[cell][key] == pytest.approx(value, rel=1e-12, abs=1e-12), (cell, key)

@@ -4,7 +4,8 @@
   per sample from SeedSequence(seed) children, inside their distribution, the same in every grid
   cell when paired; the seed changes them; bad files give one-line errors.
 - Episodes: a row (batched loop) equals the single-vessel in-process loop
-  (evaluate_controllers.run) for the same start to rounding, the tuned ILOS loop included;
+  (evaluate_controllers.run) for the same start to rounding, the tuned ILOS loop included,
+  and in wind and waves (a named condition or explicit keys) with the episode's own seed;
   the metrics obey their definitions (RMS >= mean |e|, max >= RMS, reward at most one per
   sample); a Gauss-Markov current is reproduced by its seed and changes the episode.
 - Confidence intervals: Student-t against scipy's interval; Wilson's lower bound for all
@@ -87,7 +88,10 @@ def test_unpaired_draws_differ_between_cells_and_the_seed_matters():
 
 @pytest.mark.parametrize('doc, message', [
     ({'bogus': 1}, 'unknown key'),
-    ({'vary': {'wind_speed_mps': [5]}}, 'reserved for wind'),
+    ({'vary': {'condition': ['calm', 'storm']}}, "condition 'storm' unknown"),
+    ({'base': {'condition': 'wind10'}, 'vary': {'wave_height_m': [1.0]}}, 'not both'),
+    ({'vary': {'wave_period_s': [8.0, 50.0]}}, 'outside [0, 40]'),
+    ({'vary': {'wind_speed_mps': {'uniform': [-1, 5]}}}, 'outside [0, 60]'),
     ({'vary': {'rudder_gain': [1]}}, "unknown parameter 'rudder_gain'"),
     ({'vary': {'controller': ['los', 'mpc']}}, "controller 'mpc' unknown"),
     ({'base': {'model': 'titanic'}}, "model 'titanic' unknown"),
@@ -149,6 +153,37 @@ def test_a_varying_current_follows_its_seed():
     other = mc_episodes.run_episode(dict(ep, seed=ep['seed'] + 1))
     assert a == b
     assert a['max_abs_e_m'] != const['max_abs_e_m'] != other['max_abs_e_m']
+
+
+def test_wind_and_waves_rows_follow_their_seed_whatever_the_chunking():
+    """A named condition and explicit wind and sea keys: each row equals the single-vessel
+    loop of that episode alone with its seed (its own gusts and waves), the table is the same
+    byte for byte for any chunking, and the weather changes the rows."""
+    sw = spec.parse({'seed': 5, 'episodes': 2, 'base': dict(BASE, duration_s=10.0,
+                                                           controller='ilos'),
+                     'vary': {'condition': ['calm', 'wind20'],
+                              'start_cross_m': {'uniform': [-50, 50]}}}, 'w.yaml')
+    rows, _ = run_sweep(sw, 'local', workers=1, chunk_size=100, progress=False)
+    one, _ = run_sweep(sw, 'local', workers=1, chunk_size=1, progress=False)
+    assert results.table_text(one, sw.columns()) == results.table_text(rows, sw.columns())
+    ep = mc_episodes.with_route_keys(spec.expand(sw))[3]          # wind20, sample 1
+    start = mc_episodes._start(ep, 0)
+    direct = ec.run('mariner', mc_episodes._route(ep['route_key']), 'ilos', [start], 0.0, 10.0,
+                    condition='wind20', seeds=[ep['seed']])
+    assert rows[3]['reward'] == pytest.approx(direct['gaussian'][0], rel=1e-12)
+    assert rows[3]['rudder_rate_deg_s'] == pytest.approx(direct['rudder_rate_deg_s'][0],
+                                                         rel=1e-12)
+    assert rows[3]['reward'] != rows[1]['reward']                 # calm, the same start
+    explicit = spec.parse({'seed': 5, 'episodes': 1, 'base': dict(
+        BASE, duration_s=10.0, controller='ilos', wind_speed_mps=15.0, wind_direction_deg=90.0,
+        wave_height_m=3.0, wave_period_s=9.0, wave_direction_deg=270.0)}, 'x.yaml')
+    row = run_sweep(explicit, 'local', workers=1, chunk_size=1, progress=False)[0][0]
+    from mission.conditions import Condition
+    direct = ec.run('mariner', mc_episodes._route(ep['route_key']), 'ilos',
+                    [mc_episodes._start(spec.expand(explicit)[0], 0)], 0.0, 10.0,
+                    condition=Condition.custom(15.0, 90.0, 3.0, 9.0, 270.0),
+                    seeds=[spec.expand(explicit)[0]['seed']])
+    assert row['reward'] == pytest.approx(direct['gaussian'][0], rel=1e-12)
 
 
 def test_t_and_wilson_intervals():

@@ -2,7 +2,9 @@
 
 N episodes of one plant model, each with its own route, start, current, guidance and gains:
 
-    plant (learning.env.PathFollowingBatch: MSS RK4, current added to the kinematics)
+    plant (learning.env.PathFollowingBatch: MSS RK4, current added to the kinematics, optional
+           wind loads in the model's force equations; optional wave-frequency motion
+           superposed on what everything downstream measures, ship_sim.environment.sea_state)
     -> guidance (ship_guidance.batch_guidance.BatchGuidance: LOS / ILOS [+ turn-rate lead])
     -> autopilot (PD or fuzzy PID, ship_autopilot.controller on arrays), or the learned policy
        (learning.policy, numpy MLP on the eq. 9 path state, at its own control step)
@@ -25,8 +27,9 @@ NED); optional per-episode ``lookahead`` (m; default 2.5 ship lengths), ``integr
 (m/s, ILOS; default U / 4), ``lead`` (s, turn-rate lead 2 zeta U / omega_n; default 0), ``k1``,
 ``k2`` (PD gains; default the gain table's). Metrics per episode (``METRICS``): cumulative
 Gaussian reward (Martinsen and Lekkas 2018 eq. 8, every sample after the start), cross-track
-mean / RMS / max |e| (m) and mean |e| over the second half, rudder activity (mean |rudder
-rate| deg/s, mean |rudder| deg), completion (route end reached, and when), and whether the
+mean / RMS / max |e| (m) and mean and max |e| over the second half, rudder activity (mean
+|rudder rate| deg/s, total variation deg, fraction of samples at the limit, mean |rudder|
+deg), completion (route end reached, and when), and whether the
 state left the model's domain (that episode's plant then stays at its last valid state).
 """
 import math
@@ -50,7 +53,9 @@ INTEGRAL_SPEED_FRACTION = 0.25
 START_KEYS = ('route', 'along', 'cross', 'heading', 'current_speed', 'current_direction')
 PARAM_KEYS = ('lookahead', 'integral_gain', 'lead', 'k1', 'k2')
 METRICS = ('gaussian', 'mean_abs_e', 'rms_e', 'max_abs_e', 'mean_abs_e_settled',
-           'rudder_rate_deg_s', 'mean_abs_rudder_deg', 'finished', 'finish_time_s', 'failed')
+           'max_abs_e_settled', 'rudder_rate_deg_s', 'rudder_tv_deg',
+           'rudder_saturated_fraction', 'mean_abs_rudder_deg', 'finished', 'finish_time_s',
+           'failed')
 LOG_FIELDS = ('north', 'east', 'psi', 'rudder', 'rudder_cmd', 'cross_track', 'heading_cmd')
 
 
@@ -129,8 +134,8 @@ class BatchClosedLoop:
                 'k1': g.get('k1', math.nan), 'k2': g.get('k2', math.nan)}
 
     # -- set-up --------------------------------------------------------------------------------
-    def _plant(self, n, ep):
-        env = PathFollowingBatch(self._model, n, self.config, routes=self.routes)
+    def _plant(self, n, ep, wind=None):
+        env = PathFollowingBatch(self._model, n, self.config, routes=self.routes, wind=wind)
         env.x, env.current = start_states(env.model, env.x0, self.routes,
                                           **{k: ep[k] for k in START_KEYS})
         return env
@@ -156,9 +161,12 @@ class BatchClosedLoop:
         return build_autopilot('fuzzy_pid', self.gains, m.rudder_max, m.rudder_rate_max)
 
     # -- the loop ------------------------------------------------------------------------------
-    def run(self, episodes, duration, log_every=0):
+    def run(self, episodes, duration, log_every=0, wind=None, waves=None):
         """Run every episode for ``duration`` s; -> BatchResult. ``log_every``: log every that
-        many steps (0: no log)."""
+        many steps (0: no log). ``wind``: a ship_sim.environment.wind.WindField of shape (N,)
+        (its loads enter the plant); ``waves``: a batch ship_sim.environment.sea_state.ShipWaves
+        of N sea states, whose wave-frequency motion is superposed on what the guidance, the
+        autopilot or policy and the metrics measure (PathFollowingBatch.measured)."""
         t_setup = time.perf_counter()
         n, ep = _episode_arrays(episodes, START_KEYS + PARAM_KEYS)
         for k, v in self.defaults().items():
@@ -169,7 +177,7 @@ class BatchClosedLoop:
                              f'{len(self.routes) - 1}')
         n_steps = int(round(float(duration) / self.sim_dt))
         dt = self.sim_dt
-        env = self._plant(n, ep)
+        env = self._plant(n, ep, wind)
         m = self.model
         groups = self._guidance(ep, n)
         single = len(groups) == 1
@@ -180,7 +188,8 @@ class BatchClosedLoop:
         # Running metrics (O(N)).
         zeros = np.zeros
         gauss, sum_e, sum_e2, max_e, settled = zeros(n), zeros(n), zeros(n), zeros(n), zeros(n)
-        rate_sum, abs_rud = zeros(n), zeros(n)
+        rate_sum, abs_rud, max_settled, saturated = zeros(n), zeros(n), zeros(n), zeros(n)
+        rudder_limit = m.rudder_max * (1 - 1e-9)
         finish_t = np.full(n, np.nan)
         failed = np.zeros(n, dtype=bool)
         rud_prev = m.rudder_angle(env.x)
@@ -198,7 +207,9 @@ class BatchClosedLoop:
         for step in range(n_steps + 1):
             t = step * dt
             x = env.x
-            north, east, psi = x[:, m.IX], x[:, m.IY], x[:, m.IPSI]
+            north, east, psi, r = x[:, m.IX], x[:, m.IY], x[:, m.IPSI], x[:, m.IR]
+            if waves is not None:
+                north, east, psi, u_m, v_m, r = env.measured(waves, t)
             h = dt if step else 0.0
             if single:
                 out = groups[0][1].update(north, east, h)
@@ -224,8 +235,10 @@ class BatchClosedLoop:
                 np.maximum(max_e, a, out=max_e)
                 if step - 1 >= settle_from:
                     settled += a
+                    np.maximum(max_settled, a, out=max_settled)
                 rud = m.rudder_angle(env.x)
                 rate_sum += np.abs(rud - rud_prev)
+                saturated += np.abs(rud) >= rudder_limit
                 abs_rud += np.abs(rud)
                 rud_prev = rud
             if step == n_steps:
@@ -234,7 +247,7 @@ class BatchClosedLoop:
                 break
             if policy is not None:
                 if t - t_feat >= control_dt - 1e-9:   # features at the policy's own step
-                    u, v, r = env.ground_velocity()
+                    u, v, r = env.ground_velocity() if waves is None else (u_m, v_m, r)
                     raw = features(e, gamma, kappa, psi, u, v, r,
                                    0.0 if t_feat == -math.inf else t - t_feat)
                     z, ok = policy.normalise(raw)
@@ -242,7 +255,7 @@ class BatchClosedLoop:
                     cmd = np.where(ok, act, cmd)
                     t_feat = t
             else:
-                cmd = np.asarray(autopilot.update(psi, x[:, m.IR], psi_c, dt))
+                cmd = np.asarray(autopilot.update(psi, r, psi_c, dt))
             if log:
                 self._log_row(log, step, log_every, t, x, m, rud_prev, cmd, e, psi_c)
             ok = env.integrate(cmd, 1)
@@ -253,7 +266,9 @@ class BatchClosedLoop:
         metrics = {
             'gaussian': gauss, 'mean_abs_e': sum_e / n_s, 'rms_e': np.sqrt(sum_e2 / n_s),
             'max_abs_e': max_e, 'mean_abs_e_settled': settled / max(n_steps - settle_from, 1),
+            'max_abs_e_settled': max_settled,
             'rudder_rate_deg_s': np.degrees(rate_sum / n_s / dt),
+            'rudder_tv_deg': np.degrees(rate_sum), 'rudder_saturated_fraction': saturated / n_s,
             'mean_abs_rudder_deg': np.degrees(abs_rud / (n_steps + 1)),
             'finished': ~np.isnan(finish_t), 'finish_time_s': finish_t, 'failed': failed}
         return BatchResult(metrics, log, n_steps, t_loop - t_setup, loop_s, loop_cpu_s)

@@ -28,6 +28,8 @@ the same seed gives the same current, bit for bit.
 Vectorised: with ``shape=(n,)`` the object holds n independent currents (one per vessel or
 Monte Carlo run); ``velocity_ne()`` returns arrays of that shape.
 """
+import math
+
 import numpy as np
 
 
@@ -109,11 +111,36 @@ class OceanCurrent:
                                            self.direction_noise, dt)
 
 
+class ElementStreams:
+    """One random stream per element of a batch: ``seeds`` (one int per element) ->
+    numpy.random.default_rng(seed) each; ``standard_normal(shape)`` draws one number from every
+    stream. An element's numbers are then those of its own default_rng(seed) of shape (1,),
+    whatever batch it sits in (a sweep's rows do not depend on the chunking)."""
+
+    def __init__(self, seeds):
+        self.generators = [np.random.default_rng(int(s)) for s in seeds]
+
+    def standard_normal(self, shape):
+        out = np.array([g.standard_normal() for g in self.generators])
+        return out.reshape(shape)
+
+
+def random_source(seed, shape):
+    """numpy Generator of ``seed`` (None or an int), or ElementStreams for a sequence of
+    seeds, one per element of ``shape``."""
+    if seed is None or np.ndim(seed) == 0:
+        return np.random.default_rng(seed)
+    seeds = np.asarray(seed).ravel()
+    if seeds.size != math.prod(shape):
+        raise ValueError(f'{seeds.size} seeds given for shape {tuple(shape)}')
+    return ElementStreams(seeds)
+
+
 def gauss_markov_step(x, x0, tc, q, dt, rng, shape=()):
     """Exact discretisation over dt of X_dot = -(X - X0)/T + w, E[w w'] = q delta (see above).
 
     Shared by the current and the wind gusts (ship_sim.environment.wind); ``rng`` a numpy
-    Generator, ``shape`` the shape of the independent processes.
+    Generator (or ElementStreams), ``shape`` the shape of the independent processes.
     """
     phi = np.exp(-dt / tc)
     sd = np.sqrt(0.5 * q * tc * (1.0 - phi * phi))

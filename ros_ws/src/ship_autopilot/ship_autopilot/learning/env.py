@@ -288,6 +288,18 @@ class PathFollowingBatch:
         self.x = np.where(ok[:, None], x, self.x)
         return ok
 
+    def measured(self, waves, t):
+        """(north, east, psi, u, v, r) arrays (N) that a sensor measures at time t (s): the
+        state over ground plus each vessel's wave-frequency motion (``waves``: a batch
+        ship_sim.environment.sea_state.ShipWaves of N sea states; ``superpose``), the RAOs
+        taken at the speed through the water, as vessel_node superposes them on odom."""
+        from ship_sim.environment.sea_state import superpose
+        m, x = self.model, self.x
+        u, v, r = self.ground_velocity()
+        psi = x[:, m.IPSI]
+        eta, nu = waves.motion(t, np.hypot(m.surge_speed(x), x[:, m.IV]), psi)
+        return superpose(eta, nu, x[:, m.IX], x[:, m.IY], psi, u, v, r)
+
     def wind_loads(self, x=None):
         """Wind loads (X, Y, K, N) (N, N m) on states x (default the present ones)."""
         u, v, _ = self.ground_velocity(x)

@@ -116,19 +116,40 @@ def rao_table_for(model_name, length, kind='motion'):
 
 
 class ShipWaves:
-    """Wave-frequency motion of one ship in one sea state (output superposition)."""
+    """Wave-frequency motion of one ship in one sea state (output superposition); or of a
+    batch of ships, ``sea`` a sequence of SeaStates (one per ship, equal n_frequencies,
+    n_directions and spreading; their own seeds, heights, periods and directions): ``motion``
+    then takes and returns arrays, each ship's numbers those of its own ShipWaves to rounding
+    (the same arithmetic, WaveResponse on a batch)."""
 
     def __init__(self, sea, table):
-        self.sea = sea
-        spec, phases = sea.components()
-        self.spectrum = spec
-        self.response = WaveResponse(table, spec.Omega, spec.mu, spec.Amp, phases,
-                                     wrap_headings=True)
+        if isinstance(sea, SeaState):
+            self.sea = sea
+            spec, phases = sea.components()
+            self.spectrum = spec
+            self.direction = sea.direction
+            self.response = WaveResponse(table, spec.Omega, spec.mu, spec.Amp, phases,
+                                         wrap_headings=True)
+            return
+        self.seas = list(sea)
+        if not self.seas:
+            raise ValueError('a batch of ShipWaves needs at least one sea state')
+        layout = {(s.n_frequencies, s.n_directions if s.spreading else 1) for s in self.seas}
+        if len(layout) > 1:
+            raise ValueError(f'a batch of sea states needs one component layout '
+                             f'(frequencies, directions); got {sorted(layout)}')
+        comps = [s.components() for s in self.seas]
+        self.direction = np.array([s.direction for s in self.seas])
+        self.response = WaveResponse(table, np.stack([c.Omega for c, _ in comps]),
+                                     np.stack([np.atleast_1d(c.mu) for c, _ in comps]),
+                                     np.stack([c.Amp for c, _ in comps]),
+                                     np.stack([p for _, p in comps]), wrap_headings=True)
 
     def motion(self, t, U, psi):
         """(eta_WF, nu_WF), 6 each: [surge, sway, heave (m, down), roll, pitch, yaw (rad)] and
-        their rates (FRD body axes) at time t (s), speed U (m/s), heading psi (rad)."""
-        eta, nu, _ = self.response.motion(t, U, psi, self.sea.direction)
+        their rates (FRD body axes) at time t (s), speed U (m/s), heading psi (rad); a batch:
+        U and psi arrays (B), eta_WF and nu_WF 6 x B."""
+        eta, nu, _ = self.response.motion(t, U, psi, self.direction, accelerations=False)
         return eta, nu
 
     def peak_encounter_frequency(self, U, psi):
@@ -140,8 +161,10 @@ def superpose(eta, nu, north, east, psi, u, v, r):
     """What a sensor sees (output superposition, Fossen 2021, Sec. 10.4): the manoeuvring
     (north, east, psi, u, v, r) (NED m, rad; body FRD m/s, rad/s) plus the wave-frequency motion
     (eta_WF, nu_WF of ``ShipWaves.motion``): position + the surge/sway displacement rotated by
-    the heading, heading + yaw, body velocities + the wave-frequency rates. Floats."""
-    c, s = math.cos(psi), math.sin(psi)
+    the heading, heading + yaw, body velocities + the wave-frequency rates. Floats, or arrays
+    of a batch (eta_WF, nu_WF 6 x B)."""
+    trig = (math.cos, math.sin) if isinstance(psi, float) else (np.cos, np.sin)
+    c, s = trig[0](psi), trig[1](psi)
     return (north + c * eta[0] - s * eta[1], east + s * eta[0] + c * eta[1], psi + eta[5],
             u + nu[0], v + nu[1], r + nu[5])
 

@@ -114,13 +114,21 @@ class WaveResponse:
     ``table``: RaoTable; ``Omega`` (N, rad/s) and ``mu`` (D, rad, relative to the main wave
     direction) and ``Amp`` (N x D, m) from ``wave_directional_spectrum``; ``phases`` (N x D,
     rad) or ``rng`` (numpy Generator) to draw them uniformly in [0, 2 pi).
+
+    A batch of vessels, each with its own components (the batched closed loop): ``Omega``
+    (B x N), ``mu`` (B x D), ``Amp`` and ``phases`` (B x N x D); the methods then take U, psi
+    and beta_wave as arrays (B) and return 6 x B (the same arithmetic per vessel).
     """
 
     def __init__(self, table, Omega, mu, Amp, phases=None, *, rng=None, wrap_headings=False):
         self.table = table
-        self.Omega = np.asarray(Omega, dtype=float).ravel()
-        self.mu = np.atleast_1d(np.asarray(mu, dtype=float)).ravel()
-        shape = (self.Omega.size, self.mu.size)
+        Omega = np.asarray(Omega, dtype=float)
+        mu = np.asarray(mu, dtype=float)
+        # Leading axes of a 2-D Omega are a batch of vessels (each its own components).
+        self.batch_shape = Omega.shape[:-1] if Omega.ndim > 1 else ()
+        self.Omega = Omega.reshape(self.batch_shape + (-1,))
+        self.mu = mu.reshape(self.batch_shape + (-1,))
+        shape = self.Omega.shape + self.mu.shape[-1:]
         self.Amp = np.asarray(Amp, dtype=float).reshape(shape)
         if phases is None:
             phases = 2.0 * np.pi * (rng or np.random.default_rng()).random(shape)
@@ -134,21 +142,35 @@ class WaveResponse:
             re = np.concatenate([re, re[:, :, :1]], axis=2)
             im = np.concatenate([im, im[:, :, :1]], axis=2)
         i, s = _interp_extrap(table.w, self.Omega)
-        s = s[None, :, None]
-        # RAOs at the component frequencies, 6 x N x n_h (the MSS cache).
-        self._re = re[:, i] + s * (re[:, i + 1] - re[:, i])
-        self._im = im[:, i] + s * (im[:, i + 1] - im[:, i])
+        s = s[None, ..., None]
+        # RAOs at the component frequencies (the MSS cache), as one complex array (the real
+        # and imaginary parts interpolated alike: a real weight times a complex number scales
+        # both parts, the same numbers as two real interpolations), stored [batch x] n_h x 6 x N
+        # so that picking a heading per vessel and direction copies whole 6 x N blocks.
+        if len(self.batch_shape) > 1:
+            raise ValueError('WaveResponse takes one batch axis')
+        rao = (re[:, i] + s * (re[:, i + 1] - re[:, i])) \
+            + 1j * (im[:, i] + s * (im[:, i + 1] - im[:, i]))     # 6 x [batch x] N x n_h
+        self._rao = np.ascontiguousarray(np.moveaxis(rao, [0, -1], [-2, -3]))
+        self._vessel = np.arange(self.batch_shape[0])[:, None] if self.batch_shape else None
         self._headings = headings
 
     def _at(self, U, psi, beta_wave):
-        """Encounter frequencies (N x D) and complex RAOs (6 x N x D) for one heading."""
+        """Encounter frequencies ([batch x] N x D) and complex RAOs (6 x [batch x] N x D) for
+        one heading per vessel (U, psi, beta_wave: scalars, or arrays of the batch shape)."""
+        U, psi, beta_wave = (np.asarray(a, dtype=float)[..., None] for a in (U, psi, beta_wave))
         beta = np.mod(beta_wave - psi + self.mu, 2.0 * np.pi)
-        Oe = np.abs(self.Omega[:, None] - (self.Omega[:, None] ** 2 / self.g) * U
-                    * np.cos(beta)[None, :])
+        Om = self.Omega[..., :, None]
+        Oe = np.abs(Om - (Om ** 2 / self.g) * U[..., None] * np.cos(beta)[..., None, :])
         i, s = _interp_extrap(self._headings, beta)
-        re = self._re[:, :, i] + s * (self._re[:, :, i + 1] - self._re[:, :, i])
-        im = self._im[:, :, i] + s * (self._im[:, :, i + 1] - self._im[:, :, i])
-        return Oe, re + 1j * im
+        z0, z1 = (self._pick(j) for j in (i, i + 1))
+        s = s[None, ..., None, :]
+        return Oe, z0 + s * (z1 - z0)
+
+    def _pick(self, i):
+        """RAOs at heading-table column i ([batch x] D) -> 6 x [batch x] N x D (contiguous)."""
+        z = self._rao[i] if self._vessel is None else self._rao[self._vessel, i]
+        return np.ascontiguousarray(np.moveaxis(z, [-3, -2], [-1, 0]))
 
     def encounter_frequencies(self, U, psi, beta_wave):
         """|w - w^2 U cos(beta) / g| (N x D, rad/s) of every component (as the RAO functions)."""
@@ -168,23 +190,27 @@ class WaveResponse:
     def elevation(self, t, U, psi, beta_wave):
         """Wave elevation (m) the vessel sees at time t (s), MSS waveElevation."""
         Oe = self._at(U, psi, beta_wave)[0]
-        return float(np.sum(self.Amp * np.cos(Oe * t + self.phases)))
+        out = np.sum(self.Amp * np.cos(Oe * t + self.phases), axis=(-2, -1))
+        return float(out) if not self.batch_shape else out
 
     def force(self, t, U, psi, beta_wave):
         """First-order wave loads tau_wave1 (6: N, N, N, N m, N m, N m) at time t (s), speed U
         (m/s), heading psi (rad) and main wave direction beta_wave (rad, 0 = following sea
         for psi = 0), MSS waveForceRAO (Fossen 2021, eq. 10.96)."""
         Oe, Z = self._at(U, psi, beta_wave)
-        return np.real(np.sum(Z * self._phasors(Oe, t), axis=(1, 2)))
+        return np.real(np.sum(Z * self._phasors(Oe, t), axis=(-2, -1)))
 
-    def motion(self, t, U, psi, beta_wave, rates=True):
+    def motion(self, t, U, psi, beta_wave, rates=True, accelerations=True):
         """Wave-frequency motion (eta_WF, nu_WF, nudot_WF), 6 each (m, rad; per s; per s^2), MSS
-        waveMotionRAO (Fossen 2021, eq. 10.105); ``rates=False`` returns eta_WF only."""
+        waveMotionRAO (Fossen 2021, eq. 10.105); ``rates=False`` returns eta_WF only,
+        ``accelerations=False`` None for nudot_WF (not computed)."""
         Oe, Z = self._at(U, psi, beta_wave)
         zp = Z * self._phasors(Oe, t)
-        eta = np.real(np.sum(zp, axis=(1, 2)))
+        eta = np.real(np.sum(zp, axis=(-2, -1)))
         if not rates:
             return eta
         izp = 1j * Oe * zp
-        return eta, np.real(np.sum(izp, axis=(1, 2))), np.real(np.sum(1j * Oe * izp,
-                                                                      axis=(1, 2)))
+        nu = np.real(np.sum(izp, axis=(-2, -1)))
+        if not accelerations:
+            return eta, nu, None
+        return eta, nu, np.real(np.sum(1j * Oe * izp, axis=(-2, -1)))

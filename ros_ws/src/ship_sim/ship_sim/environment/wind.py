@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..current import _param, gauss_markov_step
+from ..current import _param, gauss_markov_step, random_source
 from ..models.math_backends import ARRAY_OPS, FLOAT_OPS
 from .wind_coefficients import (blendermann94_roll, blendermann94_terms, blendermann_row,
                                 isherwood72)
@@ -91,7 +91,8 @@ class WindField:
     """Wind of mean ``speed`` (m/s) from ``direction_from`` (rad, clockwise from north).
 
     ``gust_sd`` (m/s) > 0 with ``time_constant`` (s) makes the speed a Gauss-Markov process
-    (module docstring); ``seed`` its random stream; ``shape`` independent fields (batches).
+    (module docstring); ``seed`` its random stream; ``shape`` independent fields (batches);
+    ``seed`` may also be one int per element of ``shape`` (a stream each: ElementStreams).
     """
 
     MAX_SPEED = 60.0
@@ -104,7 +105,7 @@ class WindField:
         self.gust_sd = _param('wind gust_sd', gust_sd, 0.0, 30.0)
         self.time_constant = _param('wind time_constant', time_constant, 0.0, 1e7,
                                     lo_open=True)
-        self._rng = np.random.default_rng(seed)
+        self._rng = random_source(seed, self.shape)
         self.speed = np.full(self.shape, self.speed_nominal)
 
     @property

@@ -36,7 +36,8 @@ Stepping modes (parameter stepping_mode; the pacing rules live in ship_sim.pacin
   then advance to k+1 only when the rudder_cmd for step k (the k-th rudder_cmd message since
   start, pairing by sequence, 0-based) has arrived. Deterministic: the same run repeats bit for
   bit whatever the load. Step 0 is published only when odom has lockstep_odom_subscribers
-  subscribers and rudder_cmd a publisher (then START_GRACE_S more so that the controller's
+  subscribers, rudder the recorder's subscription (with lockstep_record_topic) and rudder_cmd a
+  publisher (then START_GRACE_S more so that the controller's
   publisher has also matched us), or after lockstep_start_timeout (warning). If the command
   for step k does not come within lockstep_timeout (wall seconds): a warning naming the step,
   then the previous command is held for that step and the run continues; the late message,
@@ -508,12 +509,17 @@ class VesselNode(Node):
             self._lockstep.timeout = self.lockstep_timeout
 
     def _graph_matched(self):
+        # With a recorder, its rudder subscription too: our publisher may match it only after
+        # the recorder has said it is ready (discovery is per endpoint), and step 0 would be
+        # missing from the bag.
         return (self._odom_pub.get_subscription_count() >= self.min_odom_subs
-                and self._cmd_sub.get_publisher_count() > 0)
+                and self._cmd_sub.get_publisher_count() > 0
+                and (not self.record_topic or self._rudder_pub.get_subscription_count() > 0))
 
     def _describe_graph(self):
         return (f'odom has {self._odom_pub.get_subscription_count()} of {self.min_odom_subs} '
-                f'subscribers and rudder_cmd {self._cmd_sub.get_publisher_count()} publishers')
+                f'subscribers, rudder {self._rudder_pub.get_subscription_count()} subscribers, '
+                f'rudder_cmd {self._cmd_sub.get_publisher_count()} publishers')
 
     def _lockstep_watchdog(self):
         if self._done or (self._lockstep.started and not self._running):

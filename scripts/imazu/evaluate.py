@@ -66,7 +66,8 @@ def stand_on_window(ship, case_no, name, reference, targets, own):
         if sc.must_act is not None and bool(sc.must_act[index]):
             window = float(t_cpa - ref.t[i])
             break
-    _WINDOWS[key] = window
+    if case_no is not None:   # only a numbered case is the same geometry next time
+        _WINDOWS[key] = window
     return window
 
 

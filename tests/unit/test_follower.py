@@ -189,6 +189,19 @@ def test_track_restart_and_bad_samples():
     assert len(track) == 1
 
 
+def test_track_counts_samples_missing_from_its_stream():
+    """A lockstep stream is stamped k * dt (in floating point); a gap of g steps is g - 1
+    samples the transport lost, whatever the rounding of the stamps."""
+    dt = 0.1
+    track = PredecessorTrack()
+    for k in list(range(0, 50)) + list(range(53, 60)) + [70]:
+        track.add(k * dt, 0.0, 0.0, 0.0, 1.0, 0.0)
+    assert track.step == pytest.approx(dt) and track.n_missing == 3 + 10   # 50-52, 60-69
+    track.add(0.0, 0.0, 0.0, 0.0, 1.0, 0.0)           # a restart is not a gap
+    track.add(dt, 0.0, 0.0, 0.0, 1.0, 0.0)
+    assert track.n_missing == 13
+
+
 def test_own_time_going_back_resets_the_follower():
     f = follower()
     feed(f, 0.0, 5.0)

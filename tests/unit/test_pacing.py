@@ -101,9 +101,11 @@ class Host:
         return self.running
 
 
-def make(host, clock, gates=(), timeout=5.0, max_timeouts=10, start_timeout=30.0):
+def make(host, clock, gates=(), timeout=5.0, max_timeouts=10, start_timeout=30.0,
+         last_step=None):
     return LockstepPacer(**host.kwargs(), timeout=timeout, max_timeouts=max_timeouts,
-                         start_timeout=start_timeout, gates=gates, clock=clock, grace=0.25)
+                         start_timeout=start_timeout, gates=gates, clock=clock, grace=0.25,
+                         last_step=last_step)
 
 
 def test_lockstep_starts_after_the_grace_and_steps_once_per_command():
@@ -218,3 +220,40 @@ def test_a_gate_closed_for_a_timeout_is_given_up_with_one_warning():
                              '5 s; going on without waiting for it (it may miss messages)']
     pacer.on_command(0.0)
     assert pacer.k == 3 and len(host.warnings) == 1
+
+
+def test_the_last_step_ends_the_run_once_answered_and_recorded():
+    """A run of steps 0..3 ends after step 3's command has come and the recorder holds all four
+    steps (window 0 at the end), not when step 3 goes out: the record then has every answer."""
+    clock, host = FakeClock(), Host()
+    gate = StepGate('the recorder', window=2, needed_at_start=True)
+    gate.acknowledge(0)
+    pacer = make(host, clock, gates=[gate], last_step=3)
+    started(pacer, clock)
+    for k in range(3):
+        gate.acknowledge(k + 1)
+        pacer.on_command(0.1)
+    assert pacer.k == 3 and host.stops == []
+    pacer.on_command(0.2)               # step 3's answer; the recorder has taken steps 0..2
+    assert host.stops == [] and len(host.steps) == 3
+    gate.acknowledge(4)
+    pacer.on_gate()
+    assert host.stops == [0] and len(host.steps) == 3 and host.warnings == []
+    pacer.on_command(0.3)               # nothing after the end
+    assert host.stops == [0] and len(host.steps) == 3
+
+
+def test_the_last_step_without_its_answer_ends_after_the_timeout_with_a_warning():
+    clock, host = FakeClock(), Host()
+    pacer = make(host, clock, last_step=1)
+    started(pacer, clock)
+    pacer.on_command(0.0)
+    assert pacer.k == 1 and host.stops == []
+    clock.t += 4.9
+    pacer.watchdog()
+    assert host.stops == []
+    clock.t += 0.2
+    pacer.watchdog()
+    assert host.stops == [0] and len(host.steps) == 1 and pacer.n_timeouts == 0
+    assert host.warnings == ['lockstep: the last step 1 ends the run without its rudder_cmd '
+                             'after 5 s']

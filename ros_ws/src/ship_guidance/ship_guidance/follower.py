@@ -161,6 +161,12 @@ class PredecessorTrack:
     def __init__(self, max_samples=TRACK_MAX_SAMPLES):
         self._s = deque(maxlen=int(max_samples))
         self.n_restarts = 0
+        # Samples missing from a stream stamped every `step` s (the smallest stamp difference
+        # seen): a gap means the transport dropped some, and the interpolation between the
+        # samples either side of it is no longer what it would have been.
+        self.step = None
+        self.n_missing = 0
+        self._last_t = None
 
     def __len__(self):
         return len(self._s)
@@ -177,12 +183,14 @@ class PredecessorTrack:
         """Add a sample: sim time t (s), NED pose (m, rad), body velocity over ground u, v (m/s).
 
         Returns True if the stamp went backwards (the track was cleared first). ValueError on
-        non-finite input (the track is left as it was)."""
+        non-finite input (the track is left as it was). ``n_missing`` counts the samples missing
+        between consecutive stamps, on the stream's step (the smallest difference seen)."""
         vals = (float(t), float(north), float(east), float(psi), float(u), float(v))
         if not all(math.isfinite(x) for x in vals):
             raise ValueError(f'predecessor odometry is not finite: t={t}, north={north}, '
                              f'east={east}, psi={psi}, u={u}, v={v}')
         t, n, e, psi, u, v = vals
+        self._count_missing(t)
         c, s = math.cos(psi), math.sin(psi)
         sample = (t, n, e, u * c - v * s, u * s + v * c)
         restarted = False
@@ -195,6 +203,17 @@ class PredecessorTrack:
         else:
             self._s.append(sample)
         return restarted
+
+    def _count_missing(self, t):
+        last, self._last_t = self._last_t, t
+        if last is None or t <= last:
+            return
+        gap = t - last
+        if self.step is None or gap < self.step:
+            self.step = gap
+        # Stamps are k * dt in floating point: round the ratio, count a step only beyond 1.5.
+        if gap > 1.5 * self.step:
+            self.n_missing += round(gap / self.step) - 1
 
     def at(self, t):
         """TrackSample at sim time t, None if there is no sample. Samples older than the one

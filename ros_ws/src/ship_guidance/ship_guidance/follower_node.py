@@ -14,6 +14,7 @@ Subscribes
   odom                      nav_msgs/Odometry  own odometry (ENU); created once a route arrived
   route                     nav_msgs/Path      LATCHED (ship_guidance.ros.path_msgs)
   <predecessor_odom_topic>  nav_msgs/Odometry  the predecessor's odometry, e.g. /vessel_0/odom
+                                               (queued as deep as the track it fills)
 Publishes, exactly once per own odom message (lockstep consumers pair by sequence):
   heading_cmd, cross_track_error, progress   as guidance_node (ship_guidance.ros.outputs);
                                              cross-track and progress refer to the route
@@ -35,6 +36,8 @@ waits until a predecessor sample stamped >= t is held, at most `predecessor_wait
 then the run is deterministic whatever the arrival order. After a wait runs out (warned and
 counted: the run is then no longer bit-identical) the node stops waiting until the predecessor
 publishes again, so a dead predecessor costs one wait and then the fallback takes over.
+Samples missing from the predecessor's stream (a gap in its stamps) are counted and warned
+about: the interpolation across a gap differs from the one the samples would have given.
 
 Bad input: routes as guidance_node (ship_guidance.ros.path_msgs: refused in one line, the
 previous route kept). The own and the predecessor's odometry pass the plausibility gate of
@@ -58,8 +61,8 @@ from rclpy.node import Node
 from std_msgs.msg import Bool, Float64, String
 
 from ship_guidance.follower import (AIMS, FALLBACK, FOLLOW, MAX_SPEED_CORRECTION, SPACING_KI,
-                                    SPACING_KP, FollowerGuidance, PredecessorTrack,
-                                    speed_to_shaft)
+                                    SPACING_KP, TRACK_MAX_SAMPLES, FollowerGuidance,
+                                    PredecessorTrack, speed_to_shaft)
 from ship_guidance.node_defaults import FOLLOWER_DEFAULTS
 from ship_guidance.path import Line, Route
 from ship_guidance.ros.odom_gate import OdomGate
@@ -67,10 +70,14 @@ from ship_guidance.ros.outputs import GuidancePublishers
 from ship_guidance.ros.path_msgs import accept_route
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
-from ship_sim.ros.qos import LATCHED, STREAM
+from ship_sim.ros.qos import LATCHED, STREAM, stream_with_depth
 from ship_sim.ros.run import run_node
 
 STEPPING_MODES = ('realtime', 'lockstep')
+#: The predecessor's odometry as STREAM, but queued as deep as the track: in lockstep the
+#: predecessor runs ahead as fast as it can, and a keep-last queue of 100 overwrote samples not
+#: yet taken whenever this process fell that many steps behind on a loaded machine.
+PREDECESSOR = stream_with_depth(TRACK_MAX_SAMPLES)
 #: Wall period (s) of the check that ends a lockstep wait for the predecessor.
 WAIT_CHECK_PERIOD = 0.02
 #: Throttle (s) of repeated warnings; also how long (sim s) route_fallback lasts before the
@@ -192,7 +199,7 @@ class FollowerNode(Node):
         self.gate, self.pred_gate = OdomGate(max_speed), OdomGate(max_speed)
         self.route = None
         try:
-            self.create_subscription(Odometry, self.pred_topic, self._on_pred, STREAM)
+            self.create_subscription(Odometry, self.pred_topic, self._on_pred, PREDECESSOR)
         except Exception as exc:  # noqa: BLE001 (rclpy's InvalidTopicNameException and friends)
             raise ParameterError('predecessor_odom_topic', self.pred_topic,
                                  f'a valid topic name ({exc})') from None
@@ -236,6 +243,7 @@ class FollowerNode(Node):
             bad = self.pred_gate.check(o.t, o.north, o.east, o.psi, o.u, o.v, o.r)
             if bad is not None:
                 raise ValueError(bad)
+            missing = self.track.n_missing
             restarted = self.track.add(o.t, o.north, o.east, o.psi, o.u, o.v)
         except ValueError as exc:
             self.n_bad_pred += 1
@@ -245,6 +253,11 @@ class FollowerNode(Node):
         if restarted:
             self.get_logger().warning(f'predecessor time went back to {o.t:.2f} s: its track '
                                       'was restarted')
+        elif self.track.n_missing > missing:
+            self.get_logger().warning(
+                f'predecessor samples missing before t = {o.t:.2f} s ({self.track.n_missing} so '
+                'far)' + (': the run is no longer deterministic' if self.stepping == 'lockstep'
+                          else ''), throttle_duration_sec=THROTTLE)
         if self.stepping == 'lockstep' and not self.waiting_enabled and self.wait_s > 0.0:
             self.waiting_enabled = True
             self.get_logger().info('predecessor publishes again: waiting for it in lockstep')

@@ -14,6 +14,9 @@ so the rules can be tested without DDS, with a fake clock (any callable returnin
   previous command is held for that step, and its late message is dropped when it comes, so
   the pairing stays aligned; ``max_timeouts`` in a row end the run (error, stop(1)). A gate
   closed for ``timeout`` seconds is given up (warning once per gate), not waited for again.
+  With ``last_step``, the run ends (stop(0)) once that step's command has come and every gate
+  has taken every step (window 0), so the record holds the answer to the last step too; a
+  command or gate missing for ``timeout`` seconds there ends it anyway, with a warning.
 - ``SequencePairer``: lockstep pairing by sequence (DESIGN.md "Lockstep needs a deterministic
   pairing of messages"): every producer publishes exactly one message per step, so the n-th
   message of one stream belongs with the n-th of another. The simulator pairs its steps with
@@ -214,13 +217,14 @@ class LockstepPacer:
 
     def __init__(self, *, start, step, stop, warn, error, graph, describe_graph, timeout,
                  max_timeouts, start_timeout, gates=(), clock=time.monotonic,
-                 grace=START_GRACE_S, command=0.0):
+                 grace=START_GRACE_S, command=0.0, last_step=None):
         self._start_cb, self._step_cb, self._stop_cb = start, step, stop
         self._warn, self._error = warn, error
         self._graph, self._describe_graph = graph, describe_graph
         self.timeout, self.max_timeouts = float(timeout), int(max_timeouts)
         self.start_timeout, self.grace, self.clock = float(start_timeout), float(grace), clock
         self.gates = list(gates)
+        self.last_step = last_step   # None: no end; else stop(0) once it is answered and taken
         self.command = command       # the command held (rad)
         self.pairer = SequencePairer()   # A: steps published, B: commands
         self.k = 0                   # the step published last (awaiting its command)
@@ -262,6 +266,13 @@ class LockstepPacer:
                 self._start()
             return
         if not self.running or self.timeout <= 0.0:
+            return
+        if self._at_end() and not self._ended() and now - self._waiting_since > self.timeout:
+            missing = [] if self.pairer.ready else ['its rudder_cmd']
+            missing += [g.name for g in self.gates if not self._taken_all(g)]
+            self._warn(f'lockstep: the last step {self.k} ends the run without '
+                       f'{" and ".join(missing)} after {self.timeout:g} s')
+            self._end()
             return
         if self.pairer.ready:  # the command is here: waiting for a gate
             if (self._gate_closed_since is not None
@@ -309,8 +320,28 @@ class LockstepPacer:
             g.waits += 1
         return not closed
 
+    def _at_end(self):
+        return self.last_step is not None and self.k >= self.last_step
+
+    def _taken_all(self, gate):
+        return gate.given_up or gate.acked is None or gate.acked > self.k
+
+    def _end(self):
+        self.running = False
+        self._stop_cb(0)
+
+    def _ended(self):
+        """At the last step: end the run if it is answered and taken (whether it ended)."""
+        if self.pairer.ready and all(map(self._taken_all, self.gates)):
+            self._end()
+            return True
+        return False
+
     def drain(self):
         while self.pairer.ready and self.running:
+            if self._at_end():
+                self._ended()
+                return
             if not self.gates_open():
                 if self._gate_closed_since is None:
                     self._gate_closed_since = self.clock()

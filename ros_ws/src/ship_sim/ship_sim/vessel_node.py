@@ -50,7 +50,9 @@ Bad input never crashes the node: a non-finite command is refused, counted and w
 (throttled), and the previous command is held (in lockstep it still counts as that step's
 message). Out-of-range commands are saturated by the simulator. If the model leaves its valid
 domain (e.g. the tanker's surge speed drops to zero) the node logs an error and ends with exit
-code 1. max_steps > 0 ends the run cleanly (exit 0) after publishing step max_steps.
+code 1. max_steps > 0 ends the run cleanly (exit 0) after publishing step max_steps (in lockstep
+once its rudder_cmd has come and every gate, e.g. the recorder, has taken it: the bag then holds
+the answer to the last step too; lockstep_timeout bounds that wait).
 
 Executor: run_node spins with rclpy.experimental.EventsExecutor, which runs the lockstep loop
 several times faster than SingleThreadedExecutor (the measured round trips and the cost of a
@@ -208,7 +210,8 @@ class VesselNode(Node):
         self.clock_master = p.declare('clock_master', True, 'publish /clock (exactly one node '
                                       'of a graph does)', read_only=True)
         self.max_steps = p.declare('max_steps', 0, 'end the run cleanly after this many steps '
-                                   '(0 = run until stopped)', lo=0, hi=10**12, read_only=True)
+                                   '(0 = run until stopped; lockstep: once the last step is answered and '
+                                   'recorded)', lo=0, hi=10**12, read_only=True)
         self.speed_factor_input = p.declare(
             'speed_factor_input', False, 'subscribe speed_factor_cmd (colav_node): the shaft '
             'runs at factor x the shaft command (models with a shaft; lockstep: each step waits '
@@ -340,7 +343,7 @@ class VesselNode(Node):
                 warn=log.warning, error=log.error, graph=self._graph_matched,
                 describe_graph=self._describe_graph, timeout=self.lockstep_timeout,
                 max_timeouts=self.max_timeouts, start_timeout=self.start_timeout, gates=gates,
-                command=self._rudder_cmd)
+                command=self._rudder_cmd, last_step=self.max_steps or None)
         self._t_last_cmd = self.sim.t        # realtime: sim time of the latest rudder_cmd
         self._centred = False
         if self.speed_factor_input and self.mode == 'realtime':
@@ -427,6 +430,10 @@ class VesselNode(Node):
 
     def _after_publish(self):
         if self.max_steps and self._step_index() >= self.max_steps:
+            if self._lockstep is not None:   # it stops once the step is answered and recorded
+                self.get_logger().info(f'max_steps {self.max_steps} reached at sim time '
+                                       f'{self.sim.t:.3f} s: waiting for its answer')
+                return
             self.get_logger().info(f'max_steps {self.max_steps} reached at sim time '
                                    f'{self.sim.t:.3f} s')
             self._stop(0)

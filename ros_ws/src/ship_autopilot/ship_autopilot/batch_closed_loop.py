@@ -13,7 +13,7 @@ N episodes of one plant model, each with its own route, start, current, guidance
 It is the loop of scripts/evaluate_controllers.py (Table I of Martinsen and Lekkas 2018) for
 many episodes at once: the same modules, the same order of operations, so each episode equals
 that single-vessel loop to rounding (tests/unit/test_batch_closed_loop.py), and through it the
-node graph in lockstep (tests/integration/test_graph_inprocess.py). No Python loop runs over
+node graph in lockstep (tests/integration/test_closed_loop.py). No Python loop runs over
 the vessels per step, and memory is O(N): metrics are running sums, the optional log is
 preallocated and decimated.
 

@@ -78,13 +78,10 @@ def _current_field(chunk):
 
     def col(key):
         return np.array([e[key] for e in chunk], dtype=float)
-    s_std, d_std = col('current_speed_std_mps'), np.radians(col('current_direction_std_deg'))
-    tc = col('current_time_constant_s')
-    # Stationary std sqrt(q T / 2)  =>  q = 2 std^2 / T (ship_sim.current).
-    return OceanCurrent(col('current_speed_mps'), np.radians(col('current_direction_deg')),
-                        speed_time_constant=tc, speed_noise=2.0 * s_std ** 2 / tc,
-                        direction_time_constant=tc, direction_noise=2.0 * d_std ** 2 / tc,
-                        seed=[e['seed'] for e in chunk], shape=(len(chunk),))
+    return OceanCurrent.from_std(
+        col('current_speed_mps'), np.radians(col('current_direction_deg')),
+        col('current_speed_std_mps'), np.radians(col('current_direction_std_deg')),
+        col('current_time_constant_s'), seed=[e['seed'] for e in chunk], shape=(len(chunk),))
 
 
 def weather(ep):

@@ -104,17 +104,15 @@ GM_CURRENTS = {'speed': [0.9, 0.5, 0.7], 'direction': [0.4, -2.0, 1.5],
 
 
 def gm_current(i=None):
-    """The Gauss-Markov current of episode i (shape (1,)), or of all three (shape (3,))."""
+    """The Gauss-Markov current of episode i (shape (1,), default_rng(its seed): what the
+    single-vessel loop draws), or of all three (shape (3,), a stream per episode)."""
     from ship_sim.current import OceanCurrent
     c = {k: np.asarray(v, dtype=float) for k, v in GM_CURRENTS.items()}
     sel = slice(None) if i is None else slice(i, i + 1)
-    tc = c['time_constant'][sel]
-    # Stationary sd = sqrt(q T / 2) (ship_sim.current).
-    return OceanCurrent(c['speed'][sel], c['direction'][sel], speed_time_constant=tc,
-                        speed_noise=2 * c['speed_sd'][sel] ** 2 / tc,
-                        direction_time_constant=tc,
-                        direction_noise=2 * c['direction_sd'][sel] ** 2 / tc,
-                        seed=c['seed'][sel].astype(int), shape=tc.shape)
+    return OceanCurrent.from_std(c['speed'][sel], c['direction'][sel], c['speed_sd'][sel],
+                                 c['direction_sd'][sel], c['time_constant'][sel],
+                                 seed=c['seed'].astype(int) if i is None else int(c['seed'][i]),
+                                 shape=c['seed'][sel].shape)
 
 
 @pytest.mark.parametrize('controller', ['ilos', 'policy'])   # PD, and the policy's features

@@ -170,11 +170,9 @@ def test_a_varying_current_runs_in_the_batch_and_follows_its_seed():
         if s_std == d_std == 0.0:
             const[ep['start_cross_m']] = row
             continue
-        tc = ep['current_time_constant_s']
-        field = OceanCurrent(0.6, math.radians(ep['current_direction_deg']),
-                             speed_time_constant=tc, speed_noise=2 * s_std ** 2 / tc,
-                             direction_time_constant=tc, direction_noise=2 * d_std ** 2 / tc,
-                             seed=ep['seed'], shape=(1,))
+        field = OceanCurrent.from_std(0.6, math.radians(ep['current_direction_deg']), s_std,
+                                      d_std, ep['current_time_constant_s'], seed=ep['seed'],
+                                      shape=(1,))
         direct = ec.run('mariner', route, 'ilos', [mc_episodes._start(ep, 0)], 0.6, 10.0,
                         current_field=field)
         assert row['reward'] == pytest.approx(direct['gaussian'][0], rel=1e-12)

@@ -98,6 +98,18 @@ class OceanCurrent:
         self.speed = np.full(self.shape, self.speed_nominal)
         self.direction = np.full(self.shape, self.direction_nominal)
 
+    @classmethod
+    def from_std(cls, speed, direction, speed_sd, direction_sd, time_constant, *, seed=None,
+                 shape=()):
+        """A Gauss-Markov current given the stationary standard deviations of its speed (m/s)
+        and direction (rad) and one time constant (s) for both: intensities q = 2 sd^2 / T
+        (the stationary sd is sqrt(q T / 2)). Arrays of ``shape`` or scalars, as __init__."""
+        return cls(speed, direction, speed_time_constant=time_constant,
+                   speed_noise=2.0 * np.square(speed_sd) / time_constant,
+                   direction_time_constant=time_constant,
+                   direction_noise=2.0 * np.square(direction_sd) / time_constant,
+                   seed=seed, shape=shape)
+
     @property
     def _speed_varies(self):
         return self.speed_time_constant is not None and bool(np.any(self.speed_noise > 0.0))
@@ -150,8 +162,9 @@ class ElementStreams:
     same order either way. The generators are private: drawing from them otherwise would
     skip the numbers read ahead."""
 
-    #: Numbers read ahead over the whole batch per refill (8 bytes each).
-    READ_AHEAD = 1 << 16
+    #: Numbers read ahead over the whole batch per refill (8 bytes each: 8 MB), at most 256 per
+    #: stream: a refill is a Python call per element (~1 us), so it must be rare.
+    READ_AHEAD = 1 << 20
 
     def __init__(self, seeds):
         self._generators = [np.random.default_rng(int(s)) for s in seeds]

@@ -260,13 +260,14 @@ def disturbances(condition, routes, model, route_index, seeds=None):
 
 
 def run_batched(model, routes, controller, starts, duration, tunings=None, condition='calm',
-                seeds=None):
+                seeds=None, current_field=None):
     """``run`` for many starts at once in the batched closed loop
     (ship_autopilot.batch_closed_loop), each equal to ``run`` to rounding. ``starts``: dicts
     as ``run``'s, each with its ``route`` (index into ``routes``) and ``current_speed``;
     ``tunings``: one (omega_n_nd, lookahead_L) or None per start (tuned loops); ``condition``
-    and ``seeds`` as ``run``'s (``run`` with the same starts and seeds; no wave filter).
-    Returns the metrics (name -> array per start, BatchClosedLoop.METRICS)."""
+    and ``seeds`` as ``run``'s (``run`` with the same starts and seeds; no wave filter);
+    ``current_field`` an OceanCurrent of shape (len(starts),) as ``run``'s. Returns the
+    metrics (name -> array per start, BatchClosedLoop.METRICS)."""
     from ship_autopilot.batch_closed_loop import START_KEYS, BatchClosedLoop
     kind = {'fuzzy_pid': 'fuzzy_pid', 'policy': 'policy'}.get(controller, 'pd')
     law = 'ilos' if controller in ('ilos', 'ilos_lead') else 'los'
@@ -284,7 +285,7 @@ def run_batched(model, routes, controller, starts, duration, tunings=None, condi
         eps['k1'] = [designs[t]['k1'] for t in tunings]
         eps['k2'] = [designs[t]['k2'] for t in tunings]
     wind, waves, _ = disturbances(condition, routes, loop.model, eps['route'], seeds)
-    return loop.run(eps, duration, wind=wind, waves=waves).metrics
+    return loop.run(eps, duration, wind=wind, waves=waves, current=current_field).metrics
 
 
 def _task(args):

@@ -11,6 +11,8 @@ Three figures side by side, all Mariner, h = 0.1 s:
 - the plant alone at N = 10 000 (section batched's rk4_step on the same model): the limit a
   loop that also runs guidance, autopilot and metrics on arrays can approach; the ratio
   closed loop / plant-only says how close it gets;
+- the batched loop with a Gauss-Markov current per episode (CURRENT_SD, a seed each) at
+  N = 10 000, a fifth of the simulated time, and its ratio to the constant current's CPU rate;
 - the batched loop in wind and waves (mission.conditions wind20, a seed per episode) at
   N = 100 and 1 000, one run of a fifth of the simulated time, and its ratio to the calm
   loop's CPU rate at the same N.
@@ -19,6 +21,7 @@ Each figure is the best of ``repeats`` runs of the stepping alone (set-up report
 wall time and in CPU time (time.process_time, which a loaded machine disturbs much less).
 Goal (issue 16): >= 1 000 000 closed-loop vessel-steps/s at N = 10 000 (Mariner, ILOS + PD).
 """
+import math
 import os
 import time
 
@@ -33,6 +36,9 @@ SIZES = (100, 1_000, 10_000)
 #: episode): N and a fifth of the simulated time (its cost per step is the wave motion's).
 WAVES_SIZES = (100, 1_000)
 SIM_S, QUICK_SIM_S = 100.0, 20.0
+#: Gauss-Markov current (row at GOAL_N): stationary sd of speed (m/s) and direction (rad), T (s).
+CURRENT_SD = (0.2, math.radians(20.0))
+CURRENT_TIME_CONSTANT_S = 300.0
 ROUTES = {'flagship': 'flagship_mariner.yaml', 'curved': 'curved_path_mariner_000.yaml'}
 
 
@@ -43,10 +49,12 @@ def episodes(n, seed=1):
             'current_direction': rng.uniform(-np.pi, np.pi, n)}
 
 
-def batch_rate(route_name, n, sim_s, repeats, condition='calm'):
+def batch_rate(route_name, n, sim_s, repeats, condition='calm', current_sd=None):
     """(best wall rate, best CPU rate, set-up s) of BatchClosedLoop, ILOS + PD, in a
     mission.conditions ``condition`` (a seed per episode, as a sweep's; the sea states' set-up
-    is in the set-up time)."""
+    is in the set-up time). ``current_sd``: (speed sd m/s, direction sd rad) of a Gauss-Markov
+    current about each episode's (CURRENT_TIME_CONSTANT_S, a seed per episode)."""
+    from ship_sim.current import OceanCurrent
     import evaluate_controllers as ec
     from ship_autopilot.batch_closed_loop import BatchClosedLoop
     from ship_planner.route_loader import load_route
@@ -57,7 +65,11 @@ def batch_rate(route_name, n, sim_s, repeats, condition='calm'):
         t0 = time.perf_counter()
         wind, waves, _ = ec.disturbances(condition, [route], loop.model, [0] * n, range(n))
         t_dist = time.perf_counter() - t0
-        res = loop.run(episodes(n), sim_s, wind=wind, waves=waves)
+        eps = episodes(n)
+        current = None if current_sd is None else OceanCurrent.from_std(
+            eps['current_speed'], eps['current_direction'], *current_sd,
+            CURRENT_TIME_CONSTANT_S, seed=np.arange(n), shape=(n,))
+        res = loop.run(eps, sim_s, wind=wind, waves=waves, current=current)
         res.setup_s += t_dist
         walls.append(res.loop_s)
         cpus.append(res.loop_cpu_s)
@@ -115,6 +127,10 @@ def run(quick=False):
         rows.append({'loop': 'BatchClosedLoop flagship ILOS + PD, wind20 (wind + waves)',
                      'n': n, 'rate_wall': w, 'rate_cpu': c, 'setup_s': s,
                      'ratio_to_calm': c / calm[n]['rate_cpu']})
+    w, c, s = batch_rate('flagship', GOAL_N, sim_s / 5, 1, current_sd=CURRENT_SD)
+    rows.append({'loop': 'BatchClosedLoop flagship ILOS + PD, Gauss-Markov current',
+                 'n': GOAL_N, 'rate_wall': w, 'rate_cpu': c, 'setup_s': s,
+                 'ratio_to_calm': c / calm[GOAL_N]['rate_cpu']})
     w, c, s = batch_rate('curved', GOAL_N, sim_s, 1)
     rows.append({'loop': 'BatchClosedLoop curved path (912 arcs) ILOS + PD', 'n': GOAL_N,
                  'rate_wall': w, 'rate_cpu': c, 'setup_s': s})

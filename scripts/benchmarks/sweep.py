@@ -8,6 +8,12 @@ row back (Ray is started and warmed up before: its start-up is reported apart); 
 come out the same every time (checked). Goal (issue 16): 2 Ray workers >= 1.7x the throughput
 of one on this 2-core machine. The 1-minute load average is printed with every row: on a busy
 machine, 2 workers cannot get 2 cores.
+
+Then, in this process, the same sweep with a Gauss-Markov current (VARYING: speed and
+direction varying, a stream per episode) run one episode at a time in the single-vessel loop
+(evaluate_controllers.run, as sweeps did before the batch modelled such currents) and as one
+batch (montecarlo.episodes.run_chunk): the ratio of the two is what batching such episodes
+gains; their rewards must agree to rounding (checked).
 """
 import os
 import resource
@@ -26,6 +32,10 @@ SWEEP = {'name': 'bench_sweep', 'seed': 11, 'episodes': 1,
                   'start_along_m': {'uniform': [0, 1000]},
                   'start_cross_m': {'uniform': [-100, 100]},
                   'start_heading_deg': {'uniform': [-20, 20]}}}
+VARYING_EPISODES, QUICK_VARYING_EPISODES = 40, 10
+VARYING = dict(SWEEP, name='bench_sweep_gm', base=dict(
+    SWEEP['base'], current_speed_std_mps=0.2, current_direction_std_deg=20.0,
+    current_time_constant_s=300.0))
 
 
 def _children_cpu():
@@ -53,6 +63,40 @@ def _run(sweep, backend, workers, episodes, chunk=CHUNK):
                           progress=False)
     cpu = (_children_cpu() - cpu0) / len(rows) if backend == 'local' else None
     return results.table_text(rows, sweep.columns()), dict(run, load=load, cpu_per_episode=cpu)
+
+
+def _varying_current(quick):
+    """Rows of the VARYING sweep one episode at a time and batched, and the rewards' largest
+    relative difference between the two."""
+    import numpy as np
+
+    import evaluate_controllers as ec
+    from montecarlo import spec
+    from montecarlo.episodes import _current_field, _route, _start, run_chunk, with_route_keys
+    n = QUICK_VARYING_EPISODES if quick else VARYING_EPISODES
+    eps = with_route_keys(spec.expand(spec.parse(VARYING, 'bench_sweep_gm'), n))
+
+    def one_at_a_time():
+        return [ec.run(ep['model'], _route(ep['route_key']), ep['controller'],
+                       [_start(ep, 0)], ep['current_speed_mps'], ep['duration_s'],
+                       current_field=_current_field([ep]))['gaussian'][0] for ep in eps]
+
+    def batched():
+        return [row['reward'] for row in run_chunk(eps)]
+
+    rows, rewards = [], []
+    for label, fn in (('Gauss-Markov current, one at a time (in process)', one_at_a_time),
+                      ('Gauss-Markov current, batched (in process)', batched)):
+        load = os.getloadavg()[0]
+        t0, c0 = time.perf_counter(), time.process_time()
+        rewards.append(np.array(fn()))
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        steps = n * round(DURATION_S / 0.1)
+        rows.append({'backend': label, 'episodes': n, 'wall_s': wall, 'episodes_per_s': n / wall,
+                     'msteps_per_s': steps / wall / 1e6, 'cpu_s_per_episode': cpu / n,
+                     'load': load, 'ray_start_s': None})
+    diff = float(np.max(np.abs(rewards[1] - rewards[0]) / np.abs(rewards[0])))
+    return rows, diff
 
 
 def run(quick=False):
@@ -89,6 +133,17 @@ def run(quick=False):
              'episodes_per_s': r['episodes_per_s'], 'msteps_per_s': r['vessel_steps_per_s'] / 1e6,
              'cpu_s_per_episode': r['cpu_per_episode'], 'load': r['load'],
              'ray_start_s': r.get('ray_start_s')} for r in out]
+    varying, diff = _varying_current(quick)
+    rows += varying
+    single, batch = varying
+    gm = VARYING['base']
+    notes.append(f'Gauss-Markov current ({batch["episodes"]} episodes of {DURATION_S:g} s, '
+                 f'speed sd {gm["current_speed_std_mps"]:g} m/s, direction sd '
+                 f'{gm["current_direction_std_deg"]:g} deg, T {gm["current_time_constant_s"]:g} '
+                 f's): batched / one at a '
+                 f'time {batch["episodes_per_s"] / single["episodes_per_s"]:.1f}x wall, '
+                 f'{single["cpu_s_per_episode"] / batch["cpu_s_per_episode"]:.1f}x CPU; '
+                 f'rewards agree to {diff:.1e} relative')
     goals = []
     speed = {r['label']: r['episodes_per_s'] for r in out}
     for name in ('local processes', 'Ray'):
@@ -108,4 +163,4 @@ def run(quick=False):
                         ['cpu_s_per_episode', 'worker CPU s/episode'],
                         ['load', 'load (1 min)'], ['ray_start_s', 'Ray start s']],
             'rows': rows, 'goals': goals, 'notes': notes,
-            'failed': len(tables) != 1}
+            'failed': len(tables) != 1 or not diff < 1e-9}

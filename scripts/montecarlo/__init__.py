@@ -2,8 +2,8 @@
 
 A sweep file (``spec``) names a base environment and the parameters to vary, as a grid and
 as seeded random draws; ``spec.expand`` turns it into episodes, each with its own parameters;
-``episodes.run_chunk`` runs a chunk of episodes in one process (the batched closed loop when
-it covers them, else the single-vessel in-process loop of scripts/evaluate_controllers.py;
+``episodes.run_chunk`` runs a chunk of episodes in one process (the batched closed loop, each
+episode equal to the single-vessel in-process loop of scripts/evaluate_controllers.py;
 ``encounters``: an Imazu case with perturbed targets and collision avoidance, for a file naming
 ``encounter``);
 ``backends`` runs the chunks in local processes or as Ray tasks and streams the rows back;

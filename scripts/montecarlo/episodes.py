@@ -3,12 +3,12 @@
 The closed loop is ship_autopilot.batch_closed_loop.BatchClosedLoop: the chunk's episodes (one
 model and controller) stepped together as arrays, each equal to the single-vessel in-process
 loop of scripts/evaluate_controllers.py (``run``: MSS plant with RK4 at 0.1 s, guidance and
-autopilot every 0.1 s, the policy at its own step, the Table I reward) to rounding. Episodes
-with a varying current, which the batch does not model, run in that single-vessel loop. Wind
-and waves (``weather``) run in the batch: a batch holds one wind and sea (random wind or wave
-parameters make batches of one episode: correct, but slow), each episode's gusts and waves
-from its own seed. A
-chunk of one episode is run with a copy of itself, so that every episode takes the batch's
+autopilot every 0.1 s, the policy at its own step, the Table I reward) to rounding. A
+Gauss-Markov current runs in the batch too, each episode's from its own seed (a batch holds
+one pattern of variability: speed, direction, both or neither). Wind and waves (``weather``)
+run in the batch: a batch holds one wind and sea (random wind or wave parameters make
+batches of one episode: correct, but slow), each episode's gusts and waves from its own
+seed. A chunk of one episode is run with a copy of itself, so that every episode takes the batch's
 array path (one vessel alone would take the plant's float path, equal only to rounding) and a
 row never depends on the chunking. Metrics per episode (METRICS): the Table I reward (cumulative Gaussian, eq. 8 of
 Martinsen and Lekkas 2018, at every 0.1 s sample), cross-track RMS / mean / max and mean over
@@ -68,18 +68,20 @@ def _maybe_fail_once():
     os._exit(17)
 
 
-def _current_field(ep):
-    """An OceanCurrent with Gauss-Markov speed / direction for one episode, or None."""
-    s_std, d_std = ep['current_speed_std_mps'], math.radians(ep['current_direction_std_deg'])
-    if s_std == 0.0 and d_std == 0.0:
+def _current_field(chunk):
+    """An OceanCurrent of shape (len(chunk),), each episode's Gauss-Markov speed and direction
+    from its own seed (the current of its single-vessel run, ship_sim.current), or None when
+    no episode's current varies."""
+    if not any(_varying(e) for e in chunk):
         return None
     from ship_sim.current import OceanCurrent
-    tc = ep['current_time_constant_s']
-    # Stationary std sqrt(q T / 2)  =>  q = 2 std^2 / T (ship_sim.current).
-    return OceanCurrent(ep['current_speed_mps'], math.radians(ep['current_direction_deg']),
-                        speed_time_constant=tc, speed_noise=2.0 * s_std ** 2 / tc,
-                        direction_time_constant=tc, direction_noise=2.0 * d_std ** 2 / tc,
-                        seed=ep['seed'], shape=(1,))
+
+    def col(key):
+        return np.array([e[key] for e in chunk], dtype=float)
+    return OceanCurrent.from_std(
+        col('current_speed_mps'), np.radians(col('current_direction_deg')),
+        col('current_speed_std_mps'), np.radians(col('current_direction_std_deg')),
+        col('current_time_constant_s'), seed=[e['seed'] for e in chunk], shape=(len(chunk),))
 
 
 def weather(ep):
@@ -92,23 +94,12 @@ def weather(ep):
                             ep['wave_period_s'], ep['wave_direction_deg'])
 
 
-def run_episode(ep):
-    """One episode (a dict of spec.expand plus 'route_key') -> its metrics (dict)."""
-    import evaluate_controllers as ec
-    from ship_autopilot.learning.env import EnvConfig
-    try:
-        r = ec.run(ep['model'], _route(ep['route_key']), ep['controller'], [_start(ep, 0)],
-                   ep['current_speed_mps'], ep['duration_s'], current_field=_current_field(ep),
-                   condition=weather(ep), seeds=[ep['seed']])
-    except RuntimeError:   # the state left the model's domain
-        return dict({k: math.nan for k in METRICS}, completed=0)
-    row = {k: float(r[v][0]) for k, v in _FROM_LOOP.items()}
-    row['completed'] = int(row['max_abs_e_m'] < EnvConfig().terminate_cross_track)
-    return row
-
-
 def _batch_key(ep):
-    return ep['model'], ep['controller'], ep['duration_s'], weather(ep)
+    """Episodes of one key run in one batch: one model, controller, length, wind and sea, and
+    one pattern of current variability (an episode's current stream is its single run's only
+    if it draws for the speed and the direction as every episode of its batch does)."""
+    return (ep['model'], ep['controller'], ep['duration_s'], weather(ep),
+            ep['current_speed_std_mps'] > 0.0, ep['current_direction_std_deg'] > 0.0)
 
 
 def _varying(ep):
@@ -124,20 +115,21 @@ def _start(ep, route_index):
 
 
 def run_batch(chunk):
-    """Metrics (dicts) of episodes of one model, controller, length and weather (wind and
-    sea; each episode's gusts and waves from its own seed), stepped together."""
+    """Metrics (dicts) of episodes of one ``_batch_key`` (each episode's gusts, waves and
+    Gauss-Markov current from its own seed), stepped together."""
     import evaluate_controllers as ec
     from ship_autopilot.learning.env import EnvConfig
     first = chunk[0]
     if any(_batch_key(e) != _batch_key(first) for e in chunk):
-        raise ValueError('a batch runs one model, one controller, one episode length and one '
-                         'wind and sea')
+        raise ValueError('a batch runs one model, one controller, one episode length, one '
+                         'wind and sea and one pattern of current variability')
     padded = chunk * 2 if len(chunk) == 1 else chunk
     keys = list(dict.fromkeys(e['route_key'] for e in padded))
     res = ec.run_batched(first['model'], [_route(k) for k in keys], first['controller'],
                          [_start(e, keys.index(e['route_key'])) for e in padded],
                          first['duration_s'], condition=weather(first),
-                         seeds=[e['seed'] for e in padded])
+                         seeds=[e['seed'] for e in padded],
+                         current_field=_current_field(padded))
     limit = EnvConfig().terminate_cross_track
     out = []
     for i in range(len(chunk)):
@@ -160,10 +152,7 @@ def run_chunk(chunk):
     metrics = {}
     groups = {}
     for ep in chunk:
-        if _varying(ep):
-            metrics[ep['episode']] = run_episode(ep)
-        else:
-            groups.setdefault(_batch_key(ep), []).append(ep)
+        groups.setdefault(_batch_key(ep), []).append(ep)
     for group in groups.values():
         metrics.update(zip((e['episode'] for e in group), run_batch(group)))
     rows = []

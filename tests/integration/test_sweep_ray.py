@@ -5,8 +5,9 @@ failure (no ROS graph: no domain needed). It must give the same table, byte for 
 local backend with one process; and a Ray worker process killed while running a chunk (the
 test-only SHIPNAV_SWEEP_FAIL_ONCE hook, os._exit in the worker) makes Ray rerun that task
 (max_retries) with every row still once. A tiny encounter sweep (montecarlo.encounters: Imazu
-runs with colav, 30 s each) gives the same table on Ray as locally too. Skipped, with the reason,
-only if Ray cannot start.
+runs with colav, 30 s each) and a tiny wind and waves sweep (a random wind direction: batches of
+one episode, each with its own gusts, sea and Gauss-Markov current from its seed) give the same
+table on Ray as locally too. Skipped, with the reason, only if Ray cannot start.
 """
 import pytest
 
@@ -60,3 +61,15 @@ def test_ray_table_equals_local_and_a_killed_worker_is_retried(ray_local, monkey
     local, _ = run_sweep(enc, 'local', workers=1, chunk_size=2, progress=False)
     assert (results.table_text(on_ray, enc.columns(), encounters.METRICS)
             == results.table_text(local, enc.columns(), encounters.METRICS))
+    weather = spec.parse({'name': 'ray_wind', 'seed': 6, 'episodes': 3,
+                          'base': {'model': 'mariner', 'controller': 'ilos', 'duration_s': 10.0,
+                                   'wind_speed_mps': 15.0, 'wave_height_m': 3.0,
+                                   'wave_direction_deg': 200.0, 'current_speed_mps': 0.5,
+                                   'current_direction_std_deg': 20.0,
+                                   'current_time_constant_s': 10.0},
+                          'vary': {'wind_direction_deg': {'uniform': [0, 360]},
+                                   'start_cross_m': {'uniform': [-50, 50]}}}, 'wind.yaml')
+    on_ray, _ = run_sweep(weather, 'ray', workers=2, chunk_size=1, progress=False)
+    local, _ = run_sweep(weather, 'local', workers=1, chunk_size=3, progress=False)
+    assert (results.table_text(on_ray, weather.columns())
+            == results.table_text(local, weather.columns()))

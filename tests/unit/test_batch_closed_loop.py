@@ -95,6 +95,48 @@ def test_an_episode_with_its_own_seed_does_not_depend_on_its_batch():
     assert_metrics_equal(res, refs)
 
 
+#: Gauss-Markov currents of three episodes (ship_sim.current): speed and direction varying
+#: with their own nominal values, standard deviations, time constants and seeds, and one
+#: constant (zero intensities) in the same batch.
+GM_CURRENTS = {'speed': [0.9, 0.5, 0.7], 'direction': [0.4, -2.0, 1.5],
+               'speed_sd': [0.3, 0.2, 0.0], 'direction_sd': [0.5, 0.3, 0.0],
+               'time_constant': [5.0, 20.0, 10.0], 'seed': [11, 4, 9]}
+
+
+def gm_current(i=None):
+    """The Gauss-Markov current of episode i (shape (1,), default_rng(its seed): what the
+    single-vessel loop draws), or of all three (shape (3,), a stream per episode)."""
+    from ship_sim.current import OceanCurrent
+    c = {k: np.asarray(v, dtype=float) for k, v in GM_CURRENTS.items()}
+    sel = slice(None) if i is None else slice(i, i + 1)
+    return OceanCurrent.from_std(c['speed'][sel], c['direction'][sel], c['speed_sd'][sel],
+                                 c['direction_sd'][sel], c['time_constant'][sel],
+                                 seed=c['seed'].astype(int) if i is None else int(c['seed'][i]),
+                                 shape=c['seed'][sel].shape)
+
+
+@pytest.mark.parametrize('controller', ['ilos', 'policy'])   # PD, and the policy's features
+def test_a_gauss_markov_current_per_episode_equals_the_single_vessel_loop(controller):
+    """Each episode's current is what its single-vessel run draws (same seed, same stream):
+    the episode equals evaluate_controllers.run with that episode's OceanCurrent alone, and
+    the constant one equals the run without a current field. The variation must show: the
+    varying episodes differ from their constant-current runs."""
+    route = curved_route('mariner')
+    starts = [dict(s, current_direction=d)
+              for s, d in zip(ec.start_states(3), GM_CURRENTS['direction'])]
+    duration = 30.0
+    loop = BatchClosedLoop('mariner', [route], *CONTROLLERS[controller])
+    eps = episodes(starts, GM_CURRENTS['speed'])
+    res = loop.run(eps, duration, current=gm_current()).metrics
+    refs = [ec.run('mariner', route, controller, [s], v, duration, activity=True,
+                   current_field=gm_current(i) if i < 2 else None)
+            for i, (s, v) in enumerate(zip(starts, GM_CURRENTS['speed']))]
+    assert_metrics_equal(res, refs)
+    const = loop.run(eps, duration).metrics
+    assert const['max_abs_e'][2] == res['max_abs_e'][2]
+    assert (np.abs(const['max_abs_e'][:2] - res['max_abs_e'][:2]) > 1e-3).all()
+
+
 def test_turn_rate_lead_and_per_episode_gains_equal_the_single_loop():
     """'los_lead' of Table I: a faster PD per episode (k1, k2 arrays) and the lead."""
     from ship_autopilot.gains import autopilot_gains, nomoto_gains

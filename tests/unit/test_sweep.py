@@ -7,7 +7,8 @@
   (evaluate_controllers.run) for the same start to rounding, the tuned ILOS loop included,
   and in wind and waves (a named condition or explicit keys) with the episode's own seed;
   the metrics obey their definitions (RMS >= mean |e|, max >= RMS, reward at most one per
-  sample); a Gauss-Markov current is reproduced by its seed and changes the episode.
+  sample); a Gauss-Markov current runs in the batch, each row equal to the single-vessel loop
+  with the current of its own seed, and changes the episode.
 - Confidence intervals: Student-t against scipy's interval; Wilson's lower bound for all
   successes is n / (n + z^2).
 - Determinism: the CSV is identical byte for byte for 1 or 2 local workers and any chunk size,
@@ -144,15 +145,42 @@ def test_a_row_is_the_single_vessel_loop_and_obeys_the_metric_definitions():
     assert 0.0 <= row['reward'] <= 20.0 / ec.SIM_DT and row['completed'] == 1
 
 
-def test_a_varying_current_follows_its_seed():
-    eps = mc_episodes.with_route_keys(spec.expand(tiny(episodes=1)))
-    ep = dict(eps[1], current_speed_std_mps=0.3, current_direction_std_deg=30.0,
-              current_time_constant_s=5.0)
-    a, b = (mc_episodes.run_episode(ep) for _ in range(2))
-    const = mc_episodes.run_episode(eps[1])
-    other = mc_episodes.run_episode(dict(ep, seed=ep['seed'] + 1))
-    assert a == b
-    assert a['max_abs_e_m'] != const['max_abs_e_m'] != other['max_abs_e_m']
+def test_a_varying_current_runs_in_the_batch_and_follows_its_seed():
+    """Gauss-Markov currents in speed, direction, both or neither (grid), in one sweep: the
+    table is the same byte for byte for any chunking (each pattern a batch of its own), a
+    row equals the single-vessel loop of that episode alone with its current drawn from
+    default_rng(its seed) (ship_sim.current), and the variation changes the row."""
+    from ship_sim.current import OceanCurrent
+    sw = spec.parse({'seed': 2, 'episodes': 2,
+                     'base': dict(BASE, duration_s=10.0, controller='ilos',
+                                  current_speed_mps=0.6, current_time_constant_s=5.0),
+                     'vary': {'current_speed_std_mps': [0.0, 0.3],
+                              'current_direction_std_deg': [0.0, 30.0],
+                              'current_direction_deg': {'uniform': [-180, 180]},
+                              'start_cross_m': {'uniform': [-50, 50]}}}, 'c.yaml')
+    rows, _ = run_sweep(sw, 'local', workers=1, chunk_size=100, progress=False)
+    for chunk in (1,):
+        other, _ = run_sweep(sw, 'local', workers=1, chunk_size=chunk, progress=False)
+        assert results.table_text(other, sw.columns()) == results.table_text(rows, sw.columns())
+    eps = mc_episodes.with_route_keys(spec.expand(sw))
+    route = mc_episodes._route(eps[0]['route_key'])
+    const = {}
+    for ep, row in zip(eps, rows):
+        s_std, d_std = ep['current_speed_std_mps'], math.radians(ep['current_direction_std_deg'])
+        if s_std == d_std == 0.0:
+            const[ep['start_cross_m']] = row
+            continue
+        field = OceanCurrent.from_std(0.6, math.radians(ep['current_direction_deg']), s_std,
+                                      d_std, ep['current_time_constant_s'], seed=ep['seed'],
+                                      shape=(1,))
+        direct = ec.run('mariner', route, 'ilos', [mc_episodes._start(ep, 0)], 0.6, 10.0,
+                        current_field=field)
+        assert row['reward'] == pytest.approx(direct['gaussian'][0], rel=1e-12)
+        assert row['max_abs_e_m'] == pytest.approx(direct['max_abs_e'][0], rel=1e-12)
+    assert len(const) == 2                      # paired: every cell meets the same starts
+    for ep, row in zip(eps, rows):
+        if ep['current_speed_std_mps'] > 0.0:
+            assert row['rms_e_m'] != const[ep['start_cross_m']]['rms_e_m']
 
 
 def test_wind_and_waves_rows_follow_their_seed_whatever_the_chunking():

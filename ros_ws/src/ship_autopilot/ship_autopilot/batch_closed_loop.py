@@ -13,7 +13,7 @@ N episodes of one plant model, each with its own route, start, current, guidance
 It is the loop of scripts/evaluate_controllers.py (Table I of Martinsen and Lekkas 2018) for
 many episodes at once: the same modules, the same order of operations, so each episode equals
 that single-vessel loop to rounding (tests/unit/test_batch_closed_loop.py), and through it the
-node graph in lockstep (tests/integration/test_graph_inprocess.py). No Python loop runs over
+node graph in lockstep (tests/integration/test_closed_loop.py). No Python loop runs over
 the vessels per step, and memory is O(N): metrics are running sums, the optional log is
 preallocated and decimated.
 
@@ -161,12 +161,16 @@ class BatchClosedLoop:
         return build_autopilot('fuzzy_pid', self.gains, m.rudder_max, m.rudder_rate_max)
 
     # -- the loop ------------------------------------------------------------------------------
-    def run(self, episodes, duration, log_every=0, wind=None, waves=None):
+    def run(self, episodes, duration, log_every=0, wind=None, waves=None, current=None):
         """Run every episode for ``duration`` s; -> BatchResult. ``log_every``: log every that
         many steps (0: no log). ``wind``: a ship_sim.environment.wind.WindField of shape (N,)
         (its loads enter the plant); ``waves``: a batch ship_sim.environment.sea_state.ShipWaves
         of N sea states, whose wave-frequency motion is superposed on what the guidance, the
-        autopilot or policy and the metrics measure (PathFollowingBatch.measured)."""
+        autopilot or policy and the metrics measure (PathFollowingBatch.measured).
+        ``current``: a ship_sim.current.OceanCurrent of shape (N,) (a Gauss-Markov current per
+        episode, e.g. one seed each) that sets the plant's current before every step and is
+        then advanced by it, as in the single-vessel loop (it replaces the episodes' constant
+        current from the first step on; give the same nominal values there)."""
         t_setup = time.perf_counter()
         n, ep = _episode_arrays(episodes, START_KEYS + PARAM_KEYS)
         for k, v in self.defaults().items():
@@ -258,6 +262,9 @@ class BatchClosedLoop:
                 cmd = np.asarray(autopilot.update(psi, r, psi_c, dt))
             if log:
                 self._log_row(log, step, log_every, t, x, m, rud_prev, cmd, e, psi_c)
+            if current is not None:
+                env.current[:, 0], env.current[:, 1] = current.velocity_ne()
+                current.advance(dt)
             ok = env.integrate(cmd, 1)
             if not ok.all():
                 failed |= ~ok

@@ -33,17 +33,24 @@ import math
 import numpy as np
 
 
-def _param(name, value, lo, hi, lo_open=False):
-    """Float parameter check: ValueError naming the parameter, its value and the allowed range."""
+def _param(name, value, lo, hi, lo_open=False, array=False):
+    """Float parameter check: ValueError naming the parameter, its value and the allowed range.
+    ``array``: the value (and the bounds) may be arrays, checked element by element; a float
+    comes back for a scalar, an array otherwise."""
     try:
-        v = float(value)
+        v = np.asarray(value, dtype=float) if array else float(value)
     except (TypeError, ValueError):
         raise ValueError(f'{name} = {value!r} is not a number') from None
-    ok = (v > lo if lo_open else v >= lo) and v <= hi
-    if not (np.isfinite(v) and ok):
-        raise ValueError(f"{name} = {value!r} is outside the allowed range "
-                         f"{'(' if lo_open else '['}{lo}, {hi}]")
-    return v
+    ok = np.atleast_1d(np.isfinite(v) & ((v > lo) if lo_open else (v >= lo)) & (v <= hi))
+    if not ok.all():
+        i = int(np.argmin(ok))       # the first element out of range
+
+        def at(x):
+            return np.broadcast_to(x, ok.shape).ravel()[i].item()
+        shown = f'{at(v)!r} (element {i})' if np.ndim(v) else repr(value)
+        raise ValueError(f"{name} = {shown} is outside the allowed range "
+                         f"{'(' if lo_open else '['}{at(lo)}, {at(hi)}]")
+    return float(v) if np.ndim(v) == 0 else v
 
 
 class OceanCurrent:
@@ -53,6 +60,14 @@ class OceanCurrent:
     from north); ``speed_time_constant``, ``direction_time_constant`` (s, > 0, or None for a
     constant); ``speed_noise`` ((m/s)^2/s), ``direction_noise`` (rad^2/s) intensities (>= 0);
     ``speed_min``/``speed_max`` (m/s; default 0 and 2 * speed + 0.5 m/s); ``seed``; ``shape``.
+
+    Batches (``shape=(n,)``): every parameter may be an array of that shape, one value per
+    element, and ``seed`` one int per element (a stream each, ElementStreams), so that element
+    i is, number for number, the current of shape (1,) with element i's parameters and seed:
+    a batch of episodes each with the current its single-vessel run draws. An element draws
+    from its stream for the speed (direction) whenever any element's speed (direction) varies,
+    so that equality holds for elements whose speed and direction vary as the batch's do (or
+    that vary in neither: a zero intensity keeps the value at its nominal exactly).
     """
 
     MAX_SPEED = 10.0
@@ -61,29 +76,53 @@ class OceanCurrent:
                  direction_time_constant=None, direction_noise=0.0, speed_min=0.0,
                  speed_max=None, seed=None, shape=()):
         self.shape = tuple(shape)
-        self.speed_nominal = _param('speed', speed, 0.0, self.MAX_SPEED)
-        self.direction_nominal = _param('direction', direction, -1e3, 1e3)
-        self.speed_min = _param('speed_min', speed_min, 0.0, self.speed_nominal)
+        batch = self.shape != ()
+        self.speed_nominal = _param('speed', speed, 0.0, self.MAX_SPEED, array=batch)
+        self.direction_nominal = _param('direction', direction, -1e3, 1e3, array=batch)
+        self.speed_min = _param('speed_min', speed_min, 0.0, self.speed_nominal, array=batch)
         if speed_max is None:
-            speed_max = min(2.0 * self.speed_nominal + 0.5, self.MAX_SPEED)
-        self.speed_max = _param('speed_max', speed_max, self.speed_nominal, self.MAX_SPEED)
-        self.speed_noise = _param('speed_noise', speed_noise, 0.0, 100.0)
-        self.direction_noise = _param('direction_noise', direction_noise, 0.0, 100.0)
+            speed_max = np.minimum(2.0 * self.speed_nominal + 0.5, self.MAX_SPEED)
+        self.speed_max = _param('speed_max', speed_max, self.speed_nominal, self.MAX_SPEED,
+                                array=batch)
+        self.speed_noise = _param('speed_noise', speed_noise, 0.0, 100.0, array=batch)
+        self.direction_noise = _param('direction_noise', direction_noise, 0.0, 100.0,
+                                      array=batch)
         self.speed_time_constant = (None if speed_time_constant is None else
                                     _param('speed_time_constant', speed_time_constant,
-                                           0.0, 1e7, lo_open=True))
+                                           0.0, 1e7, lo_open=True, array=batch))
         self.direction_time_constant = (None if direction_time_constant is None else
                                         _param('direction_time_constant',
-                                               direction_time_constant, 0.0, 1e7, lo_open=True))
-        self._rng = np.random.default_rng(seed)
+                                               direction_time_constant, 0.0, 1e7,
+                                               lo_open=True, array=batch))
+        self._rng = random_source(seed, self.shape)
         self.speed = np.full(self.shape, self.speed_nominal)
         self.direction = np.full(self.shape, self.direction_nominal)
+
+    @classmethod
+    def from_std(cls, speed, direction, speed_sd, direction_sd, time_constant, *, seed=None,
+                 shape=()):
+        """A Gauss-Markov current given the stationary standard deviations of its speed (m/s)
+        and direction (rad) and one time constant (s) for both: intensities q = 2 sd^2 / T
+        (the stationary sd is sqrt(q T / 2)). Arrays of ``shape`` or scalars, as __init__."""
+        return cls(speed, direction, speed_time_constant=time_constant,
+                   speed_noise=2.0 * np.square(speed_sd) / time_constant,
+                   direction_time_constant=time_constant,
+                   direction_noise=2.0 * np.square(direction_sd) / time_constant,
+                   seed=seed, shape=shape)
+
+    @property
+    def _speed_varies(self):
+        return self.speed_time_constant is not None and bool(np.any(self.speed_noise > 0.0))
+
+    @property
+    def _direction_varies(self):
+        return (self.direction_time_constant is not None
+                and bool(np.any(self.direction_noise > 0.0)))
 
     @property
     def varying(self):
         """True if advance() changes the current."""
-        return ((self.speed_time_constant is not None and self.speed_noise > 0.0)
-                or (self.direction_time_constant is not None and self.direction_noise > 0.0))
+        return self._speed_varies or self._direction_varies
 
     def velocity_ne(self):
         """Current velocity (v_north, v_east) in m/s, floats or arrays of ``shape``."""
@@ -101,11 +140,11 @@ class OceanCurrent:
         dt = _param('dt', dt, 0.0, 1e6)
         if dt == 0.0:
             return
-        if self.speed_time_constant is not None and self.speed_noise > 0.0:
+        if self._speed_varies:
             s = self._gm_step(self.speed, self.speed_nominal, self.speed_time_constant,
                               self.speed_noise, dt)
             self.speed = np.clip(s, self.speed_min, self.speed_max)
-        if self.direction_time_constant is not None and self.direction_noise > 0.0:
+        if self._direction_varies:
             self.direction = self._gm_step(self.direction, self.direction_nominal,
                                            self.direction_time_constant,
                                            self.direction_noise, dt)
@@ -115,13 +154,31 @@ class ElementStreams:
     """One random stream per element of a batch: ``seeds`` (one int per element) ->
     numpy.random.default_rng(seed) each; ``standard_normal(shape)`` draws one number from every
     stream. An element's numbers are then those of its own default_rng(seed) of shape (1,),
-    whatever batch it sits in (a sweep's rows do not depend on the chunking)."""
+    whatever batch it sits in (a sweep's rows do not depend on the chunking).
+
+    The streams are read ahead in blocks (one generator call per element every ``block``
+    draws, not one per draw, which would be a Python call per vessel and step): numpy fills
+    an array of normals one number after another, so a stream gives the same numbers in the
+    same order either way. The generators are private: drawing from them otherwise would
+    skip the numbers read ahead."""
+
+    #: Numbers read ahead over the whole batch per refill (8 bytes each: 8 MB), at most 256 per
+    #: stream: a refill is a Python call per element (~1 us), so it must be rare.
+    READ_AHEAD = 1 << 20
 
     def __init__(self, seeds):
-        self.generators = [np.random.default_rng(int(s)) for s in seeds]
+        self._generators = [np.random.default_rng(int(s)) for s in seeds]
+        self.block = int(np.clip(self.READ_AHEAD // max(1, len(self._generators)), 1, 256))
+        self._buffer = np.empty((0, len(self._generators)))
+        self._next = 0
 
     def standard_normal(self, shape):
-        out = np.array([g.standard_normal() for g in self.generators])
+        if self._next == len(self._buffer):
+            self._buffer = np.stack([g.standard_normal(self.block) for g in self._generators],
+                                    axis=1)
+            self._next = 0
+        out = self._buffer[self._next]
+        self._next += 1
         return out.reshape(shape)
 
 

@@ -157,6 +157,30 @@ def test_rule_17b_is_judged_against_every_threat_at_once():
         == 'avoid'
 
 
+def test_sbmpc_inside_the_safe_distance_still_ranks_deeper_intrusions_first():
+    # The MSS tanker in Imazu case 4 (stand-on, acting): it has turned to starboard and runs
+    # beside the crosser 852 m off, inside d_safe, turning back towards its route (nominal 000).
+    # Every scenario intrudes in its first steps; that shared part must not hide what the
+    # choice changes: a scenario that closes to a near miss must cost more than the chosen one
+    # by more than all COLREGs penalties together (the design ordering of ColavParams: any
+    # avoidable intrusion outweighs them), and the chosen one keeps the most distance that any
+    # scenario keeps (within the step-to-step change of the model, 1 %).
+    from imazu.runner import own_ship_model
+    tanker = OwnShipModel.from_dict(own_ship_model('tanker', U))
+    own = ShipState(0.0, 0.0, 0.668, 5.58, 0.758, 0.00216)
+    target = Target(316.5, -791.5, math.radians(45.0), U, name='ts1')
+    col = make_colav('sbmpc', ship=tanker)
+    sc = col.scenarios(own, [target], 0.0, 1.0)
+    assert sc.threat[0] and (sc.dist[:, 0, 0] < P.d_safe_m).all()
+    cost = col.costs(sc)
+    clear = np.minimum(sc.dist.min(axis=(1, 2)), sc.dcpa_beyond[:, 0])
+    k = int(np.argmin(cost))
+    assert clear[k] >= 0.99 * clear.max(), (math.degrees(sc.offsets[k]), clear[k], clear.max())
+    penalties = P.w_wrong_side + P.w_port_turn + P.w_not_apparent
+    near = clear < P.near_miss_m
+    assert near.any() and (cost[near] - cost[k] > penalties).all()
+
+
 def test_sbmpc_scores_a_meeting_just_beyond_its_horizon():
     # a crosser from starboard meeting the own ship at 900 s (horizon 600 s): within the horizon
     # the nominal keeps it beyond d_safe (|v_rel| 300 s away), after it the straight lines meet

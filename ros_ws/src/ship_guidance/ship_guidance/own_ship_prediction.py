@@ -154,15 +154,16 @@ def speed_response(u0, u_c, t, model, chi=None):
     inv_tu = 1.0 / model.speed_time_constant_s
     if chi is None or model.turn_speed_loss_s == 0.0 or t.size < 2:
         return u_c + (u0 - u_c) * np.exp(-t * inv_tu)
-    # per step: u_dot = -a u + u_c / T_u, a = 1 / T_u + k r^2 held; u -> u_ss + (u - u_ss) e
+    # per step n: u_dot = -a_n u + u_c / T_u, a_n = 1 / T_u + k r_n^2 held, so
+    # u_{n+1} = e_n u_n + (1 - e_n) u_c / (T_u a_n), e_n = exp(-a_n dt_n); unrolled with
+    # E_n = e_0 ... e_{n-1}: u_n = E_n (u_0 + sum_{j<n} (1 - e_j) u_c / (T_u a_j) / E_{j+1})
     dt = np.diff(t)
-    a = inv_tu + model.turn_speed_loss_s * (np.diff(chi, axis=1) / dt) ** 2    # (S, N)
-    decay = np.exp(-a * dt)
-    u_ss = u_c * inv_tu / a
+    a_dt = (inv_tu + model.turn_speed_loss_s * (np.diff(chi, axis=1) / dt) ** 2) * dt   # (S, N)
+    big_e = np.exp(-np.cumsum(a_dt, axis=1))
+    gain = -np.expm1(-a_dt) * (u_c * inv_tu * dt / a_dt) / big_e
     u = np.empty(chi.shape)
     u[:, 0] = u0
-    for n in range(dt.size):
-        u[:, n + 1] = u_ss[:, n] + (u[:, n] - u_ss[:, n]) * decay[:, n]
+    u[:, 1:] = big_e * (u0 + np.cumsum(gain, axis=1))
     return u
 
 

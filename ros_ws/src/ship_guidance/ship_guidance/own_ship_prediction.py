@@ -27,10 +27,9 @@ cheap model of the ship under its own autopilot rather than the full plant:
 
   the surge equation's coupling (m + X_vr) v r with the sway velocity of a turn proportional to
   u r (drift angle ~ r, linear sway-yaw theory), lumped into one constant k (s) identified on
-  the plant in a full-rudder turn (the MSS tanker at 12 kn, k 41 s: a 60 deg change under its
-  autopilot costs it 14 % of its speed, which the model without k put 350 m ahead of the plant
-  after 600 s). r is the course model's mean turn rate over each prediction step, held over
-  the step, and the linear ODE integrated exactly over it;
+  the plant in a full-rudder turn (its accuracy against the MSS plants: doc/colav.md). r is
+  the course model's mean turn rate over each prediction step, held over the step, and the
+  linear ODE integrated exactly over it;
 - position: the NED velocity (u cos chi, u sin chi) integrated by the trapezoidal rule on the
   prediction grid, so a prediction restarted on the grid reproduces the samples of a longer one.
 

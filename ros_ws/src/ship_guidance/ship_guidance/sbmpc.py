@@ -23,10 +23,7 @@ own-ship model and scored, all scenarios x targets x steps at once:
   this changes nothing until no scenario can; then it is the intrusion no choice avoids (a
   target already inside d_safe: the first steps intrude whatever the command), and with the
   weight T_h / t it outweighed every deeper intrusion later, so all scenarios cost the same
-  and the least deviation won. Measured: the MSS tanker in Imazu case 4, stand-on, passed
-  the crosser at 818 m running beside it and then chose the +15 deg scenario back towards its
-  route, predicted to pass 94 m from the target (all scenarios about 3600 from the first
-  step); the plant came to 194 m;
+  and the least deviation won, even one turning back into the target (doc/colav.md);
 - COLREGs (mu, for threats passing closer than d_close at their predicted closest point):
   head-on (Rule 14) passed with the target on the own starboard side, or crossing give-way
   (Rule 15) passed ahead of the target; ``port_k``: a port offset while a threat is head-on or

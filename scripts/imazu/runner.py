@@ -67,7 +67,8 @@ def own_ship_model(ship, speed_mps):
         out['speed_time_constant_s'] = speed_time_constant(ship, float(speed_mps))
         out['stop_turn_authority'] = stop_turn_authority(ship, float(speed_mps))
     t_u = out.get('speed_time_constant_s', OwnShipModel.speed_time_constant_s)
-    out['turn_speed_loss_s'] = turn_speed_loss(ship, float(speed_mps), t_u)
+    out['turn_speed_loss_s'] = turn_speed_loss(ship, float(speed_mps), t_u, float(T),
+                                               out['max_turn_rate'])
     return out
 
 
@@ -81,21 +82,28 @@ def _plant(ship, speed_mps, dt_s):
 
 
 @functools.lru_cache(maxsize=None)
-def turn_speed_loss(ship, speed_mps, speed_time_constant_s, dt_s=1.0, window_s=300.0):
+def turn_speed_loss(ship, speed_mps, speed_time_constant_s, course_time_constant_s,
+                    max_turn_rate, dt_s=1.0, window_s=300.0):
     """k (s) of colav's speed model u_dot = (u_c - u) / T_u - k u r^2 for ``ship``'s plant: from
     the trim at ``speed_mps``, full rudder held for ``window_s`` (an avoidance turn's length) at
-    the trim's shaft, least squares of the per-second speed change less the lag term
-    (u_c - u) / T_u, against -u r^2 (u and r the step's means)."""
+    the trim's shaft, least squares of the plant's per-second speed change less the lag term
+    (u_c - u) / T_u, against -u r^2 with u the plant's speed and r the turn rate the course
+    model predicts for full rudder, max_turn_rate (1 - exp(-t / T)) (T the Nomoto time
+    constant): the model's own turn rate is what k multiplies in a prediction (the mariner's
+    course model turns up to 4 times faster than its plant, so the plant's rate gave it 27 s
+    and a predicted speed collapse; the tanker's and the container's build up like their
+    plants')."""
     model, sim = _plant(ship, speed_mps, dt_s)
     shaft = sim.shaft_command
-    u, r = [], []
+    u = []
     for _ in range(int(round(window_s / dt_s)) + 1):
-        _, _, _, _, uu, vv, rr = sim.nav_state()
+        _, _, _, _, uu, vv, _ = sim.nav_state()
         u.append(math.hypot(uu, vv))
-        r.append(rr)
         sim.step(model.rudder_max, shaft)
-    u, r = np.array(u), np.array(r)
-    u_m, r_m = 0.5 * (u[1:] + u[:-1]), 0.5 * (r[1:] + r[:-1])
+    u = np.array(u)
+    t_m = (np.arange(u.size - 1) + 0.5) * dt_s
+    u_m = 0.5 * (u[1:] + u[:-1])
+    r_m = max_turn_rate * -np.expm1(-t_m / course_time_constant_s)
     y = np.diff(u) / dt_s + (u_m - speed_mps) / speed_time_constant_s
     x = u_m * r_m ** 2
     return float(max(-(x @ y) / (x @ x), 0.0))

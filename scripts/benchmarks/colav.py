@@ -18,6 +18,9 @@ from ship_guidance.own_ship_prediction import OwnShipModel
 from . import common
 
 U = 7.7175                   # m/s, the Mariner's 15 kn
+#: The own-ship model's speed lost in a turn (s): the MSS mariner's k, 27 s identified at 12 kn
+#: (scripts/imazu/runner.py turn_speed_loss), at 15 kn (k U / L is the nondimensional constant).
+TURN_SPEED_LOSS_S = 27.0 * 6.1733 / U
 N_TARGETS = 10
 GOAL_MS = 10.0
 LAYOUTS = {'spread 3.0-6.6 km': (3000.0, 6600.0), 'close 0.6-1.5 km': (600.0, 1500.0)}
@@ -45,7 +48,8 @@ def run(quick=False):
     for layout, (r_min, r_max) in LAYOUTS.items():
         targets = converging_targets(r_min, r_max)
         for method in METHODS:
-            col = make_colav(method, ColavParams(), OwnShipModel(speed_at_factor_one_mps=U))
+            col = make_colav(method, ColavParams(), OwnShipModel(
+                speed_at_factor_one_mps=U, turn_speed_loss_s=TURN_SPEED_LOSS_S))
             decision = col.decide(0.0, own, targets, 0.0, 1.0)
             t = common.time_call(lambda: col.decide(0.0, own, targets, 0.0, 1.0), quick)
             rows.append({'layout': layout, 'method': method, 'best_ms': t['best_us'] / 1e3,

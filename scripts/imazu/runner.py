@@ -48,9 +48,11 @@ def own_ship_model(ship, speed_mps):
     (omega_n, zeta) that the autopilot's PD gains (the gain table, as the runs use it) place
     on the Nomoto model at this speed (ship_guidance.heading_loop.pd_design); for a ship
     with a shaft also the speed at factor 1 (the route speed) and the surge time constant
-    identified on the plant (``speed_time_constant``)."""
+    identified on the plant (``speed_time_constant``); for every ship the speed it loses in a
+    turn (``turn_speed_loss``)."""
     from ship_autopilot.gains import heading_loop_design, nomoto_gains
     from ship_guidance.heading_loop import pd_design
+    from ship_guidance.own_ship_prediction import OwnShipModel
     from ship_sim.models import make_model
     g = nomoto_gains(ship)
     K = g['K_nd'] * speed_mps / g['length_m']
@@ -64,7 +66,47 @@ def own_ship_model(ship, speed_mps):
         out['speed_at_factor_one_mps'] = float(speed_mps)
         out['speed_time_constant_s'] = speed_time_constant(ship, float(speed_mps))
         out['stop_turn_authority'] = stop_turn_authority(ship, float(speed_mps))
+    t_u = out.get('speed_time_constant_s', OwnShipModel.speed_time_constant_s)
+    out['turn_speed_loss_s'] = turn_speed_loss(ship, float(speed_mps), t_u, float(T),
+                                               out['max_turn_rate'])
     return out
+
+
+def _plant(ship, speed_mps, dt_s):
+    """(model, VesselSimulator) of ``ship`` trimmed straight at ``speed_mps`` (the unpropelled
+    mariner built to run straight at that speed, as the Imazu scenarios build it)."""
+    from ship_sim.models import make_model
+    from ship_sim.simulator import VesselSimulator
+    model = make_model(ship, **({} if make_model(ship).has_shaft else {'U0': speed_mps}))
+    return model, VesselSimulator(model, dt=dt_s, speed=speed_mps)
+
+
+@functools.lru_cache(maxsize=None)
+def turn_speed_loss(ship, speed_mps, speed_time_constant_s, course_time_constant_s,
+                    max_turn_rate, dt_s=1.0, window_s=300.0):
+    """k (s) of colav's speed model u_dot = (u_c - u) / T_u - k u r^2 for ``ship``'s plant: from
+    the trim at ``speed_mps``, full rudder held for ``window_s`` (an avoidance turn's length) at
+    the trim's shaft, least squares of the plant's per-second speed change less the lag term
+    (u_c - u) / T_u, against -u r^2 with u the plant's speed and r the turn rate the course
+    model predicts for full rudder, max_turn_rate (1 - exp(-t / T)) (T the Nomoto time
+    constant): the model's own turn rate is what k multiplies in a prediction (the mariner's
+    course model turns up to 4 times faster than its plant, so the plant's rate gave it 27 s
+    and a predicted speed collapse; the tanker's and the container's build up like their
+    plants')."""
+    model, sim = _plant(ship, speed_mps, dt_s)
+    shaft = sim.shaft_command
+    u = []
+    for _ in range(int(round(window_s / dt_s)) + 1):
+        _, _, _, _, uu, vv, _ = sim.nav_state()
+        u.append(math.hypot(uu, vv))
+        sim.step(model.rudder_max, shaft)
+    u = np.array(u)
+    t_m = (np.arange(u.size - 1) + 0.5) * dt_s
+    u_m = 0.5 * (u[1:] + u[:-1])
+    r_m = max_turn_rate * -np.expm1(-t_m / course_time_constant_s)
+    y = np.diff(u) / dt_s + (u_m - speed_mps) / speed_time_constant_s
+    x = u_m * r_m ** 2
+    return float(max(-(x @ y) / (x @ x), 0.0))
 
 
 @functools.lru_cache(maxsize=None)
@@ -72,12 +114,9 @@ def stop_turn_authority(ship, speed_mps, dt_s=1.0, window_s=120.0):
     """Turn authority of ``ship``'s plant with the shaft stopped, for colav's course model: from
     the trim at ``speed_mps``, full rudder for ``window_s`` (the first part of an avoidance
     turn) with the shaft stopped and with it kept, the ratio of the mean turn rates."""
-    from ship_sim.models import make_model
-    from ship_sim.simulator import VesselSimulator
     rates = []
     for factor in (0.0, 1.0):
-        model = make_model(ship)
-        sim = VesselSimulator(model, dt=dt_s, speed=speed_mps)
+        model, sim = _plant(ship, speed_mps, dt_s)
         shaft = factor * sim.shaft_command
         total = 0.0
         for _ in range(int(round(window_s / dt_s))):

@@ -53,7 +53,7 @@ from ship_guidance import colregs
 from ship_guidance.colav_params import ColavParams
 from ship_guidance.cpa import cpa, velocity
 from ship_guidance.own_ship_prediction import (OwnShipModel, predict_own, predict_targets,
-                                               segment_min_distance, speed_response, time_grid)
+                                               segment_min_distance, time_grid)
 from ship_sim.frames import wrap_angle
 
 
@@ -214,11 +214,10 @@ class CollisionAvoidance:
         chi_c = nominal_course + self._offsets
         u_c = self._multipliers * u_nom
         p_own0 = np.array([own.north, own.east], dtype=float)
-        p_own, chi = predict_own(own.north, own.east, own.course, own.speed, chi_c, u_c, self._t,
-                                 self.ship, own.yaw_rate,
-                                 self.ship.turn_authority(self._multipliers))
-        u_end = speed_response(own.speed, u_c, self._t[-1:], self.ship)[:, 0]
-        v_own_end = velocity(chi[:, -1], u_end)
+        p_own, chi, u = predict_own(own.north, own.east, own.course, own.speed, chi_c, u_c,
+                                    self._t, self.ship, own.yaw_rate,
+                                    self.ship.turn_authority(self._multipliers), with_speed=True)
+        v_own_end = velocity(chi[:, -1], u[:, -1])
         p_tgt0 = np.array([[tg.north, tg.east] for tg in targets], dtype=float)
         v_tgt = velocity(np.array([tg.course for tg in targets]), np.array([tg.speed for tg in targets]))
         p_tgt = predict_targets(p_tgt0, v_tgt, self._t)
@@ -249,8 +248,7 @@ class CollisionAvoidance:
         acting = bool((late | must).any())
         return Scenarios(self._offsets, self._multipliers, chi_c, u_c, max(float(u_nom), 0.1),
                          self._t, p_own, chi, p_own0, p_tgt, p_tgt0, v_tgt, dist, frac, step,
-                         codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must,
-                         speed_response(own.speed, u_c, self._t, self.ship))
+                         codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must, u)
 
     def _assess(self, own, targets, sc):
         if sc is None:

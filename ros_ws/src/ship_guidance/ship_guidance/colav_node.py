@@ -98,6 +98,8 @@ SCALARS = (
      'the shaft stopped (1: rudder independent of the shaft)', 0.0, 1.0, ''),
     ('speed_at_factor_one_mps', 0.0, 'own-ship model: speed at factor 1 (0: current speed)', 0.0,
      100.0, 'm/s'),
+    ('turn_speed_loss_s', SHIP.turn_speed_loss_s, 'own-ship model: speed lost in a turn, k in '
+     'u_dot = (u_c - u) / T_u - k u r^2 (0: none)', 0.0, 1e4, 's'),
 )
 LISTS = (('course_offsets_deg', [float(v) for v in range(-90, 91, 15)],
           'course offsets from the nominal (deg, + starboard; must hold 0)'),
@@ -308,7 +310,7 @@ def _stamp_ns(msg):
 
 OWN_SHIP_KEYS = ('course_time_constant_s', 'max_turn_rate', 'heading_loop_omega_n',
                  'heading_loop_zeta', 'speed_time_constant_s', 'stop_turn_authority',
-                 'speed_at_factor_one_mps')
+                 'speed_at_factor_one_mps', 'turn_speed_loss_s')
 
 
 def main(args=None):

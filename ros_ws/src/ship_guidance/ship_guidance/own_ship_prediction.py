@@ -21,7 +21,15 @@ cheap model of the ship under its own autopilot rather than the full plant:
   a = a_0 + (1 - a_0) P for the speed multiplier P of the scenario, a_0 the authority with the
   shaft stopped (the MSS tanker's rudder inflow is c^2 = cun u n + cnn n^2: stopped, it kept
   0.31 of its full-rudder turn over the first 2 min, the container 0.66);
-- speed: a first-order response towards the commanded speed, u_dot = (u_c - u) / T_u;
+- speed: a first-order response towards the commanded speed, less the speed a turn costs,
+
+      u_dot = (u_c - u) / T_u - k u r^2,
+
+  the surge equation's coupling (m + X_vr) v r with the sway velocity of a turn proportional to
+  u r (drift angle ~ r, linear sway-yaw theory), lumped into one constant k (s) identified on
+  the plant in a full-rudder turn (its accuracy against the MSS plants: doc/colav.md). r is
+  the course model's mean turn rate over each prediction step, held over the step, and the
+  linear ODE integrated exactly over it;
 - position: the NED velocity (u cos chi, u sin chi) integrated by the trapezoidal rule on the
   prediction grid, so a prediction restarted on the grid reproduces the samples of a longer one.
 
@@ -61,6 +69,8 @@ class OwnShipModel:
     speed_at_factor_one_mps: float | None = None
     #: False for ships without a shaft (speed) command: only speed factor 1 is considered.
     has_shaft: bool = True
+    #: Speed lost in a turn: k (s) in u_dot = (u_c - u) / T_u - k u r^2 (0: none modelled).
+    turn_speed_loss_s: float = 0.0
 
     def __post_init__(self):
         for name in ('course_time_constant_s', 'max_turn_rate', 'heading_loop_omega_n',
@@ -69,6 +79,8 @@ class OwnShipModel:
                 raise ValueError(f'{name} = {getattr(self, name)!r} must be > 0')
         if not 0.0 <= self.stop_turn_authority <= 1.0:
             raise ValueError(f'stop_turn_authority = {self.stop_turn_authority!r} must lie in [0, 1]')
+        if not self.turn_speed_loss_s >= 0.0:
+            raise ValueError(f'turn_speed_loss_s = {self.turn_speed_loss_s!r} must be >= 0')
 
     @classmethod
     def from_dict(cls, values):
@@ -134,22 +146,39 @@ def course_response(chi0, chi_c, t, model, r0=0.0, with_rate=False, authority=1.
     return (chi, r) if with_rate else chi
 
 
-def speed_response(u0, u_c, t, model):
-    """(S, N+1) predicted speeds (m/s) for commanded speeds ``u_c`` (S,)."""
+def speed_response(u0, u_c, t, model, chi=None):
+    """(S, N+1) predicted speeds (m/s) for commanded speeds ``u_c`` (S,), on the courses ``chi``
+    (S, N+1) of ``course_response`` (their turn rates cost speed, module doc; None: straight)."""
     u_c = np.asarray(u_c, dtype=float)[:, None]
-    return u_c + (u0 - u_c) * np.exp(-t / model.speed_time_constant_s)
+    inv_tu = 1.0 / model.speed_time_constant_s
+    if chi is None or model.turn_speed_loss_s == 0.0 or t.size < 2:
+        return u_c + (u0 - u_c) * np.exp(-t * inv_tu)
+    # per step n: u_dot = -a_n u + u_c / T_u, a_n = 1 / T_u + k r_n^2 held, so
+    # u_{n+1} = e_n u_n + (1 - e_n) u_c / (T_u a_n), e_n = exp(-a_n dt_n); unrolled with
+    # E_n = e_0 ... e_{n-1}: u_n = E_n (u_0 + sum_{j<n} (1 - e_j) u_c / (T_u a_j) / E_{j+1})
+    dt = np.diff(t)
+    a_dt = (inv_tu + model.turn_speed_loss_s * (np.diff(chi, axis=1) / dt) ** 2) * dt   # (S, N)
+    big_e = np.exp(-np.cumsum(a_dt, axis=1))
+    gain = -np.expm1(-a_dt) * (u_c * inv_tu * dt / a_dt) / big_e
+    u = np.empty(chi.shape)
+    u[:, 0] = u0
+    u[:, 1:] = big_e * (u0 + np.cumsum(gain, axis=1))
+    return u
 
 
-def predict_own(north, east, chi0, u0, chi_c, u_c, t, model, r0=0.0, authority=1.0):
+def predict_own(north, east, chi0, u0, chi_c, u_c, t, model, r0=0.0, authority=1.0,
+                with_speed=False):
     """(S, N+1, 2) NED positions and (S, N+1) courses of the own ship under each command, from
-    course ``chi0`` turning at ``r0`` (rad/s) and speed ``u0``, with the turn ``authority``."""
+    course ``chi0`` turning at ``r0`` (rad/s) and speed ``u0``, with the turn ``authority``;
+    with ``with_speed`` also the (S, N+1) speeds (``speed_response`` on those courses)."""
     chi = course_response(chi0, chi_c, t, model, r0, authority=authority)
-    u = speed_response(u0, u_c, t, model)
+    u = speed_response(u0, u_c, t, model, chi)
     v = np.stack((u * np.cos(chi), u * np.sin(chi)), axis=-1)
     dt = np.diff(t)[None, :, None]
     steps = 0.5 * dt * (v[:, 1:] + v[:, :-1])
     p = np.concatenate((np.zeros_like(v[:, :1]), np.cumsum(steps, axis=1)), axis=1)
-    return p + np.array([north, east], dtype=float), chi
+    p += np.array([north, east], dtype=float)
+    return (p, chi, u) if with_speed else (p, chi)
 
 
 def predict_targets(p_targets, v_targets, t):

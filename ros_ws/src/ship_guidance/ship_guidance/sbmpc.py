@@ -18,6 +18,12 @@ own-ship model and scored, all scenarios x targets x steps at once:
   ships meeting at 1200 s) looked safe with the 600 s horizon on a straight course and a slow
   turner (the MSS tanker) held it until the meeting entered the horizon and no turn could clear
   it. Beyond 2 T_h the targets' straight lines are not trusted;
+- the risk every scenario shares is taken off: per target and step (and beyond the horizon)
+  the smallest R over the scenarios. It is zero while one scenario keeps d_safe there, so
+  this changes nothing until no scenario can; then it is the intrusion no choice avoids (a
+  target already inside d_safe: the first steps intrude whatever the command), and with the
+  weight T_h / t it outweighed every deeper intrusion later, so all scenarios cost the same
+  and the least deviation won, even one turning back into the target (doc/colav.md);
 - COLREGs (mu, for threats passing closer than d_close at their predicted closest point):
   head-on (Rule 14) passed with the target on the own starboard side, or crossing give-way
   (Rule 15) passed ahead of the target; ``port_k``: a port offset while a threat is head-on or
@@ -50,7 +56,9 @@ class SBMPC(CollisionAvoidance):
             when = (p.horizon_s / np.maximum(t_step, p.dt_s)) ** p.risk_time_exponent
             depth = (p.d_safe_m / np.maximum(sc.dist[inside], 1e-3)) ** p.risk_distance_exponent
             risk[inside] = p.w_collision * speed * when * depth
-        risk = np.maximum(risk.max(axis=2), self._risk_beyond_horizon(sc))
+            risk -= risk.min(axis=0)                   # what no scenario avoids (module doc)
+        beyond = self._risk_beyond_horizon(sc)
+        risk = np.maximum(risk.max(axis=2), beyond - beyond.min(axis=0))
         per_target = risk + p.w_wrong_side * self._wrong_side(sc)
         return (per_target.max(axis=1) + self.port_turn_penalty(sc) + self.not_apparent_penalty(sc)
                 + self.deviation_cost(sc))

@@ -174,8 +174,10 @@ def superpose(eta, nu, north, east, psi, u, v, r):
 
 
 def peak_encounter_frequency(w0, U, beta):
-    """|w0 - w0^2 U cos(beta) / g| (rad/s): beta = wave direction - heading (0 following)."""
-    return abs(w0 - w0 ** 2 * U * math.cos(beta) / G)
+    """|w0 - w0^2 U cos(beta) / g| (rad/s): beta = wave direction - heading (0 following).
+    Floats, or arrays of a batch."""
+    cos = math.cos if isinstance(beta, float) else np.cos
+    return abs(w0 - w0 ** 2 * U * cos(beta) / G)
 
 
 def mean_drift_upper_bound(hs, length, beam, beta, rho=RHO):

@@ -107,9 +107,19 @@ class WaveFilter:
 
     def notch_frequency(self, speed, psi):
         """The notch frequency w_e (rad/s) for speed (m/s) and heading psi (rad)."""
-        w = self._notch(*(np.broadcast_to(np.atleast_1d(np.asarray(a, dtype=float)),
-                                          self._freq.shape) for a in (speed, psi)))
-        return self._out(w)
+        return self._out(self._notch(*self._inputs(speed, psi)))
+
+    def _inputs(self, *values):
+        """Floats or arrays -> arrays (B,)."""
+        if not self.batch:
+            return [np.array([float(v)]) for v in values]
+        return [np.broadcast_to(np.asarray(v, dtype=float), self._freq.shape) for v in values]
+
+    @staticmethod
+    def _u(psi, r):
+        u = np.empty((psi.shape[0], 1, 2))       # B x 1 x 2
+        u[:, 0, 0], u[:, 0, 1] = psi, r
+        return u
 
     def _lowpass(self, w_e):
         return np.full_like(w_e, self.lowpass) if self.lowpass else w_e
@@ -117,10 +127,9 @@ class WaveFilter:
     def update(self, t, psi, r, speed=0.0):
         """Filtered (psi, r) of the measurement (psi rad, r rad/s) at time t (s); a batch:
         psi, r and speed arrays (B,), the filtered ones arrays."""
-        psi, r, speed = (np.broadcast_to(np.atleast_1d(np.asarray(a, dtype=float)),
-                                         self._freq.shape) for a in (psi, r, speed))
+        psi, r, speed = self._inputs(psi, r, speed)
         if self._x is None:
-            u = np.stack([psi, r], axis=-1)[:, None, :]          # B x 1 x 2
+            u = self._u(psi, r)
             self._psi_prev, self._t = psi.copy(), t
             w_e = self._notch(speed, psi)
             A, B, _, _ = _cascade(w_e, self.zeta, self._lowpass(w_e))
@@ -150,7 +159,7 @@ class WaveFilter:
                 self._w[idx] = w_e[idx]
             self._dt = dt
         Ad, Bd, C, D = self._d
-        u = np.stack([unwrapped, r], axis=-1)[:, None, :]      # B x 1 x 2
+        u = self._u(unwrapped, r)
         y = C @ self._x + D @ u
         self._x = Ad @ self._x + Bd @ u
         self._psi, self._r = wrap_angle(y[:, 0, 0]), y[:, 0, 1]

@@ -164,8 +164,7 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
     m = env.model
     filters = None
     if wave_filter and waves is not None and controller != 'policy':
-        filters = [WaveFilter(peak_frequency=sea.peak_frequency, direction=sea.direction)
-                   for sea in seas]
+        filters = [wave_filters([sea]) for sea in seas]
     gains = autopilot_gains(m.name)
     speed = env.speed0
     d = loop_design(m.name, controller, speed, env.length, tuning)
@@ -237,6 +236,15 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
     return out
 
 
+def wave_filters(seas):
+    """The classical autopilots' wave filter (ship_autopilot.wave_filter) tuned to each sea
+    state of ``seas``: one filter for one sea, a batch of filters for several."""
+    if len(seas) == 1:
+        return WaveFilter(peak_frequency=seas[0].peak_frequency, direction=seas[0].direction)
+    return WaveFilter(peak_frequency=np.array([s.peak_frequency for s in seas]),
+                      direction=np.array([s.direction for s in seas]))
+
+
 def disturbances(condition, routes, model, route_index, seeds=None):
     """(WindField of shape (k,) or None, batch ShipWaves of k sea states or None, the k
     SeaStates or None) of a condition (a mission.conditions name or Condition) for k episodes
@@ -260,12 +268,12 @@ def disturbances(condition, routes, model, route_index, seeds=None):
 
 
 def run_batched(model, routes, controller, starts, duration, tunings=None, condition='calm',
-                seeds=None, current_field=None):
+                seeds=None, wave_filter=False, current_field=None):
     """``run`` for many starts at once in the batched closed loop
     (ship_autopilot.batch_closed_loop), each equal to ``run`` to rounding. ``starts``: dicts
     as ``run``'s, each with its ``route`` (index into ``routes``) and ``current_speed``;
-    ``tunings``: one (omega_n_nd, lookahead_L) or None per start (tuned loops); ``condition``
-    and ``seeds`` as ``run``'s (``run`` with the same starts and seeds; no wave filter);
+    ``tunings``: one (omega_n_nd, lookahead_L) or None per start (tuned loops); ``condition``,
+    ``seeds`` and ``wave_filter`` as ``run``'s (``run`` with the same starts and seeds);
     ``current_field`` an OceanCurrent of shape (len(starts),) as ``run``'s. Returns the
     metrics (name -> array per start, BatchClosedLoop.METRICS)."""
     from ship_autopilot.batch_closed_loop import START_KEYS, BatchClosedLoop
@@ -284,8 +292,11 @@ def run_batched(model, routes, controller, starts, duration, tunings=None, condi
         eps['lead'] = [lead[t] for t in tunings]
         eps['k1'] = [designs[t]['k1'] for t in tunings]
         eps['k2'] = [designs[t]['k2'] for t in tunings]
-    wind, waves, _ = disturbances(condition, routes, loop.model, eps['route'], seeds)
-    return loop.run(eps, duration, wind=wind, waves=waves, current=current_field).metrics
+    wind, waves, seas = disturbances(condition, routes, loop.model, eps['route'], seeds)
+    filt = (wave_filters(seas) if wave_filter and waves is not None and controller != 'policy'
+            else None)
+    return loop.run(eps, duration, wind=wind, waves=waves, current=current_field,
+                    wave_filter=filt).metrics
 
 
 def _task(args):
@@ -296,15 +307,15 @@ def _task(args):
     k = len(starts)
     t0 = time.perf_counter()
     try:
-        # The batched closed loop equals run to rounding; it has no wave filter, which the
-        # policy does not use.
-        if batched and (not wave_filter or ctrl == 'policy'):
+        # The batched closed loop equals run to rounding, wave filter included.
+        if batched:
             if policy_file:
                 raise ValueError('--batched runs the shipped policies only')
             r = run_batched(model, [route], ctrl, [dict(s, current_speed=c) for c in currents
                                                    for s in starts], duration,
                             condition=condition,
-                            seeds=[SEED + i for _ in currents for i in range(k)])
+                            seeds=[SEED + i for _ in currents for i in range(k)],
+                            wave_filter=wave_filter)
             if r['failed'].any():
                 raise RuntimeError(f'{model}/{ctrl}: state left the model domain')
             per = {c: {key: r[key][j * k:(j + 1) * k] for key in r
@@ -499,9 +510,8 @@ def main(argv=None):
                    help='current speeds (m/s) of the table\'s columns (default %(default)s)')
     p.add_argument('--batched', action='store_true',
                    help='every cell in the batched closed loop (ship_autopilot.'
-                        "batch_closed_loop, equal to this loop to rounding), except the "
-                        "cells behind the wave filter, which the batch does not have; "
-                        "'_batched' is appended to --out")
+                        "batch_closed_loop, equal to this loop to rounding; the wave "
+                        "filter too); '_batched' is appended to --out")
     args = p.parse_args(argv)
     models = [m for m in args.models.split(',') if m]
     controllers = [c for c in args.controllers.split(',') if c]

@@ -4,9 +4,13 @@ vessel_node adds the wave-frequency motion (ship_sim.environment.sea_state.ShipW
 to every odom it publishes, and the autopilot's wave filter runs once per odom; both sit in
 the 10 Hz loop. Goal: the default sea (100 components, one direction) costs less than 1 ms a
 step (a tenth of the 10 Hz period, so realtime keeps its margin); the spread sea (16
-directions) and the filter are reported.
+directions) and the filter are reported. The batched loops (Table I, sweeps) superpose the
+surge, sway and yaw only (``dofs=SURGE_SWAY_YAW``): a batch of 10 and of 100 vessels in the
+wind10 sea (100 x 8 components each) with all 6 DOF and with those 3, alternated in one
+process, CPU time per step (the machine is shared: wall time would measure the share).
 """
 import math
+import time
 
 from . import common
 
@@ -24,6 +28,7 @@ def run(quick=False):
         t = common.time_call(lambda: waves.motion(123.4, 7.0, 0.3), quick)
         rows.append({'what': f'wave motion, {label}', 'best_us': t['best_us'],
                      'median_us': t['median_us']})
+    rows += batch_rows(quick)
     filt = WaveFilter(peak_frequency=0.6, direction=math.pi)
     state = {'k': 0}
 
@@ -38,4 +43,33 @@ def run(quick=False):
             'rows': rows,
             'goals': [common.goal('default sea: wave motion per step', rows[0]['median_us'],
                                   1000.0, 'us')],
-            'notes': []}
+            'notes': [f'{r["what"]}: 3 DOF / 6 DOF CPU = {r["ratio"]:.3f}' for r in rows
+                      if 'ratio' in r]}
+
+
+def batch_rows(quick=False):
+    """CPU us per step of a batch's wave motion, all 6 DOF against surge, sway and yaw (the
+    same numbers: tests/unit/test_sea_state.py), blocks alternated so both see the same load."""
+    import numpy as np
+    from mission.conditions import CONDITIONS, sea_state
+    from ship_sim.environment.sea_state import ShipWaves, rao_table_for
+    from ship_sim.environment.wave_rao import SURGE_SWAY_YAW
+    rows = []
+    for n in (10, 100):
+        waves = ShipWaves([sea_state(CONDITIONS['wind10'], 0.0, 1 + i) for i in range(n)],
+                          rao_table_for('container', 175.0))
+        U, psi = np.full(n, 7.0), np.linspace(0.0, 6.0, n)
+        calls = (20 if quick else 100) // (n // 10)
+        best = {None: math.inf, SURGE_SWAY_YAW: math.inf}
+        for _ in range(3 if quick else 7):
+            for dofs in best:
+                c0 = time.process_time()
+                for k in range(calls):
+                    waves.motion(0.1 * k, U, psi, dofs=dofs)
+                best[dofs] = min(best[dofs], (time.process_time() - c0) / calls * 1e6)
+        full, part = best[None], best[SURGE_SWAY_YAW]
+        rows.append({'what': f'wave motion, batch of {n} (100 x 8 components), 6 DOF, CPU',
+                     'best_us': full, 'median_us': math.nan})
+        rows.append({'what': f'wave motion, batch of {n}, surge/sway/yaw only, CPU',
+                     'best_us': part, 'median_us': math.nan, 'ratio': part / full})
+    return rows

@@ -275,3 +275,24 @@ def test_bad_episodes_are_refused():
         loop.run(dict(eps, lookahead=-1.0), 1.0)
     with pytest.raises(ValueError, match='controller'):
         BatchClosedLoop('mariner', [zigzag()], 'bangbang')
+
+
+@pytest.mark.parametrize('model', ['mariner', 'container', 'tanker'])
+@pytest.mark.parametrize('controller', ['los', 'fuzzy_pid'])
+def test_wave_filter_each_episode_equals_the_single_vessel_filtered_loop(model, controller):
+    """Behind the wave filter (a batch of filters, one per sea state) each episode equals the
+    single-vessel loop with its own filter; the filter must act (the rudder's total
+    variation differs from the unfiltered run's; a start whose rudder turns at its rate limit
+    throughout has the same either way), so equality is not that of two unfiltered runs."""
+    route = curved_route(model)
+    starts = ec.start_states(2)
+    duration = 30.0   # the tanker's rudder turns at its rate limit for the first 20 s
+    eps = [dict(s, current_speed=0.9) for s in starts]
+    plain = ec.run_batched(model, [route], controller, eps, duration, condition='wind10')
+    res = ec.run_batched(model, [route], controller, eps, duration, condition='wind10',
+                         wave_filter=True)
+    ref = ec.run(model, route, controller, starts, 0.9, duration, condition='wind10',
+                 wave_filter=True, activity=True)
+    assert_metrics_equal({k: res[k] for k in ref}, [{k: v[[i]] for k, v in ref.items()}
+                                                   for i in range(2)])
+    assert np.any(res['rudder_tv_deg'] != plain['rudder_tv_deg'])

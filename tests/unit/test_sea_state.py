@@ -8,9 +8,11 @@ import pytest
 
 from mission.fields import ScenarioError
 from mission.waves import wave_filter_parameters, wave_parameters
-from ship_sim.environment.sea_state import (SeaState, ShipWaves, mean_drift_upper_bound,
-                                            pm_peak_frequency, rao_table_for)
-from ship_sim.environment.wave_rao import load_rao_table
+from ship_sim.environment.sea_state import (MODEL_RAO, SeaState, ShipWaves,
+                                            mean_drift_upper_bound, pm_peak_frequency,
+                                            rao_table_for)
+from ship_sim.environment.wave_rao import SURGE_SWAY_YAW, load_rao_table
+from ship_sim.models import make_model
 
 
 def test_sea_from_wind_is_the_fully_developed_pm_sea():
@@ -104,3 +106,32 @@ def test_scenario_with_waves_gives_the_nodes_their_parameters():
     calm = load_scenario(root / 'scenarios' / 'flagship_mariner.yaml')
     params, _ = node_parameters(calm, calm.vessels[0], 0, record=True)
     assert not [k for n in params.values() for k in n if 'wave' in k]
+
+
+@pytest.mark.parametrize('model_name', sorted(MODEL_RAO))
+def test_surge_sway_yaw_only_equals_the_full_motion_bit_for_bit(model_name):
+    """ShipWaves.motion(dofs=SURGE_SWAY_YAW) (what the 3-DOF loops compute) gives exactly the
+    surge, sway and yaw of the full 6-DOF computation (==, not approx), NaN for the rest: one
+    vessel and a batch, two spreading layouts, headings round the compass (every RAO heading
+    segment), ahead and astern of the wave speed."""
+    table = rao_table_for(model_name, make_model(model_name).length)
+    keep, drop = list(SURGE_SWAY_YAW), [2, 3, 4]
+    for spreading in (False, True):
+        seas = [SeaState(hs=2.0 + i, tp=0.0 if i else 9.0, spectrum=s, direction=0.3 * i,
+                         spreading=spreading, n_directions=8, seed=11 + i)
+                for i, s in enumerate(('JONSWAP', 'Modified PM', 'Torsethaugen'))]
+        psi = np.linspace(-math.pi, math.pi, 3)
+        U = np.array([0.0, 7.5, 15.0])
+        batch = ShipWaves(seas, table)
+        for t in (0.0, 37.3, 1234.5):
+            for h in np.linspace(0.0, 2.0 * math.pi, 40):
+                full, part = batch.motion(t, U, psi + h), batch.motion(t, U, psi + h,
+                                                                       dofs=SURGE_SWAY_YAW)
+                for f, p in zip(full, part):
+                    assert (p[keep] == f[keep]).all() and np.isnan(p[drop]).all()
+            single = ShipWaves(seas[1], table)
+            for h in np.linspace(0.0, 2.0 * math.pi, 40):
+                full, part = single.motion(t, 7.5, h), single.motion(t, 7.5, h,
+                                                                     dofs=SURGE_SWAY_YAW)
+                for f, p in zip(full, part):
+                    assert (p[keep] == f[keep]).all() and np.isnan(p[drop]).all()

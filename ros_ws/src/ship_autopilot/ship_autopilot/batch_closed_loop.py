@@ -6,7 +6,8 @@ N episodes of one plant model, each with its own route, start, current, guidance
            wind loads in the model's force equations; optional wave-frequency motion
            superposed on what everything downstream measures, ship_sim.environment.sea_state)
     -> guidance (ship_guidance.batch_guidance.BatchGuidance: LOS / ILOS [+ turn-rate lead])
-    -> autopilot (PD or fuzzy PID, ship_autopilot.controller on arrays), or the learned policy
+    -> autopilot (PD or fuzzy PID, ship_autopilot.controller on arrays; optionally behind
+       the wave filter, ship_autopilot.wave_filter on arrays), or the learned policy
        (learning.policy, numpy MLP on the eq. 9 path state, at its own control step)
     -> rudder command back into the plant, every ``sim_dt``.
 
@@ -161,16 +162,21 @@ class BatchClosedLoop:
         return build_autopilot('fuzzy_pid', self.gains, m.rudder_max, m.rudder_rate_max)
 
     # -- the loop ------------------------------------------------------------------------------
-    def run(self, episodes, duration, log_every=0, wind=None, waves=None, current=None):
+    def run(self, episodes, duration, log_every=0, wind=None, waves=None, current=None,
+            wave_filter=None):
         """Run every episode for ``duration`` s; -> BatchResult. ``log_every``: log every that
         many steps (0: no log). ``wind``: a ship_sim.environment.wind.WindField of shape (N,)
         (its loads enter the plant); ``waves``: a batch ship_sim.environment.sea_state.ShipWaves
         of N sea states, whose wave-frequency motion is superposed on what the guidance, the
-        autopilot or policy and the metrics measure (PathFollowingBatch.measured).
-        ``current``: a ship_sim.current.OceanCurrent of shape (N,) (a Gauss-Markov current per
-        episode, e.g. one seed each) that sets the plant's current before every step and is
-        then advanced by it, as in the single-vessel loop (it replaces the episodes' constant
-        current from the first step on; give the same nominal values there)."""
+        autopilot or policy and the metrics measure (PathFollowingBatch.measured);
+        ``wave_filter``: a ship_autopilot.wave_filter.WaveFilter of N filters (with waves,
+        PD or fuzzy PID) between the measured heading and yaw rate and the autopilot (the
+        guidance and the metrics keep the measured ones), as scripts/evaluate_controllers.run
+        and the autopilot node place it. ``current``: a ship_sim.current.OceanCurrent of shape
+        (N,) (a Gauss-Markov current per episode, e.g. one seed each) that sets the plant's
+        current before every step and is then advanced by it, as in the single-vessel loop (it
+        replaces the episodes' constant current from the first step on; give the same nominal
+        values there)."""
         t_setup = time.perf_counter()
         n, ep = _episode_arrays(episodes, START_KEYS + PARAM_KEYS)
         for k, v in self.defaults().items():
@@ -187,6 +193,8 @@ class BatchClosedLoop:
         single = len(groups) == 1
         policy = self.policy
         autopilot = None if policy else self._autopilot(ep)
+        if wave_filter is not None and (policy is not None or waves is None):
+            raise ValueError('the wave filter needs waves and a PD or fuzzy PID autopilot')
         features = PathFeatures((n,)) if policy else None
         control_dt = policy.control_dt if policy else dt
         # Running metrics (O(N)).
@@ -258,6 +266,9 @@ class BatchClosedLoop:
                     act = policy.action(z).astype(np.float64) * policy.action_scale
                     cmd = np.where(ok, act, cmd)
                     t_feat = t
+            elif wave_filter is not None:
+                psi_f, r_f = wave_filter.update(t, psi, r, np.hypot(u_m, v_m))
+                cmd = np.asarray(autopilot.update(psi_f, r_f, psi_c, dt))
             else:
                 cmd = np.asarray(autopilot.update(psi, r, psi_c, dt))
             if log:

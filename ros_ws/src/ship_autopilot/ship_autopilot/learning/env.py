@@ -294,10 +294,12 @@ class PathFollowingBatch:
         ship_sim.environment.sea_state.ShipWaves of N sea states; ``superpose``), the RAOs
         taken at the speed through the water, as vessel_node superposes them on odom."""
         from ship_sim.environment.sea_state import superpose
+        from ship_sim.environment.wave_rao import SURGE_SWAY_YAW
         m, x = self.model, self.x
         u, v, r = self.ground_velocity()
         psi = x[:, m.IPSI]
-        eta, nu = waves.motion(t, np.hypot(m.surge_speed(x), x[:, m.IV]), psi)
+        eta, nu = waves.motion(t, np.hypot(m.surge_speed(x), x[:, m.IV]), psi,
+                               dofs=SURGE_SWAY_YAW)
         return superpose(eta, nu, x[:, m.IX], x[:, m.IY], psi, u, v, r)
 
     def wind_loads(self, x=None):

@@ -145,11 +145,14 @@ class ShipWaves:
                                      np.stack([c.Amp for c, _ in comps]),
                                      np.stack([p for _, p in comps]), wrap_headings=True)
 
-    def motion(self, t, U, psi):
+    def motion(self, t, U, psi, dofs=None):
         """(eta_WF, nu_WF), 6 each: [surge, sway, heave (m, down), roll, pitch, yaw (rad)] and
         their rates (FRD body axes) at time t (s), speed U (m/s), heading psi (rad); a batch:
-        U and psi arrays (B), eta_WF and nu_WF 6 x B."""
-        eta, nu, _ = self.response.motion(t, U, psi, self.direction, accelerations=False)
+        U and psi arrays (B), eta_WF and nu_WF 6 x B. ``dofs``: compute only those DOF
+        (wave_rao.SURGE_SWAY_YAW: what ``superpose`` reads), the others NaN; the computed
+        ones bit for bit those of the full computation."""
+        eta, nu, _ = self.response.motion(t, U, psi, self.direction, accelerations=False,
+                                          dofs=dofs)
         return eta, nu
 
     def peak_encounter_frequency(self, U, psi):
@@ -162,7 +165,8 @@ def superpose(eta, nu, north, east, psi, u, v, r):
     (north, east, psi, u, v, r) (NED m, rad; body FRD m/s, rad/s) plus the wave-frequency motion
     (eta_WF, nu_WF of ``ShipWaves.motion``): position + the surge/sway displacement rotated by
     the heading, heading + yaw, body velocities + the wave-frequency rates. Floats, or arrays
-    of a batch (eta_WF, nu_WF 6 x B)."""
+    of a batch (eta_WF, nu_WF 6 x B). Reads surge, sway and yaw only (SURGE_SWAY_YAW: the
+    ``dofs`` that ``ShipWaves.motion`` needs to compute for it)."""
     trig = (math.cos, math.sin) if isinstance(psi, float) else (np.cos, np.sin)
     c, s = trig[0](psi), trig[1](psi)
     return (north + c * eta[0] - s * eta[1], east + s * eta[0] + c * eta[1], psi + eta[5],
@@ -170,8 +174,10 @@ def superpose(eta, nu, north, east, psi, u, v, r):
 
 
 def peak_encounter_frequency(w0, U, beta):
-    """|w0 - w0^2 U cos(beta) / g| (rad/s): beta = wave direction - heading (0 following)."""
-    return abs(w0 - w0 ** 2 * U * math.cos(beta) / G)
+    """|w0 - w0^2 U cos(beta) / g| (rad/s): beta = wave direction - heading (0 following).
+    Floats, or arrays of a batch."""
+    cos = math.cos if isinstance(beta, float) else np.cos
+    return abs(w0 - w0 ** 2 * U * cos(beta) / G)
 
 
 def mean_drift_upper_bound(hs, length, beam, beta, rho=RHO):

@@ -151,25 +151,32 @@ class WaveResponse:
             raise ValueError('WaveResponse takes one batch axis')
         rao = (re[:, i] + s * (re[:, i + 1] - re[:, i])) \
             + 1j * (im[:, i] + s * (im[:, i + 1] - im[:, i]))     # 6 x [batch x] N x n_h
-        self._rao = np.ascontiguousarray(np.moveaxis(rao, [0, -1], [-2, -3]))
+        self._rao = {None: np.ascontiguousarray(np.moveaxis(rao, [0, -1], [-2, -3]))}
         self._vessel = np.arange(self.batch_shape[0])[:, None] if self.batch_shape else None
         self._headings = headings
+        # w^2 / g of every component: depends on the sea only, not on the step.
+        self._om2_g = self.Omega[..., :, None] ** 2 / self.g
 
-    def _at(self, U, psi, beta_wave):
+    def _at(self, U, psi, beta_wave, dofs=None):
         """Encounter frequencies ([batch x] N x D) and complex RAOs (6 x [batch x] N x D) for
-        one heading per vessel (U, psi, beta_wave: scalars, or arrays of the batch shape)."""
+        one heading per vessel (U, psi, beta_wave: scalars, or arrays of the batch shape);
+        ``dofs`` (indices into the 6 DOF): the RAOs of those DOF only (len(dofs) x ...)."""
         U, psi, beta_wave = (np.asarray(a, dtype=float)[..., None] for a in (U, psi, beta_wave))
         beta = np.mod(beta_wave - psi + self.mu, 2.0 * np.pi)
         Om = self.Omega[..., :, None]
-        Oe = np.abs(Om - (Om ** 2 / self.g) * U[..., None] * np.cos(beta)[..., None, :])
+        Oe = np.abs(Om - self._om2_g * U[..., None] * np.cos(beta)[..., None, :])
         i, s = _interp_extrap(self._headings, beta)
-        z0, z1 = (self._pick(j) for j in (i, i + 1))
+        z0, z1 = (self._pick(j, dofs) for j in (i, i + 1))
         s = s[None, ..., None, :]
         return Oe, z0 + s * (z1 - z0)
 
-    def _pick(self, i):
-        """RAOs at heading-table column i ([batch x] D) -> 6 x [batch x] N x D (contiguous)."""
-        z = self._rao[i] if self._vessel is None else self._rao[self._vessel, i]
+    def _pick(self, i, dofs=None):
+        """RAOs at heading-table column i ([batch x] D) -> 6 (or len(dofs)) x [batch x] N x D
+        (contiguous)."""
+        rao = self._rao.get(dofs)
+        if rao is None:   # the stored RAOs of those DOF only, made once
+            rao = self._rao[dofs] = np.ascontiguousarray(self._rao[None][..., list(dofs), :])
+        z = rao[i] if self._vessel is None else rao[self._vessel, i]
         return np.ascontiguousarray(np.moveaxis(z, [-3, -2], [-1, 0]))
 
     def encounter_frequencies(self, U, psi, beta_wave):
@@ -200,17 +207,33 @@ class WaveResponse:
         Oe, Z = self._at(U, psi, beta_wave)
         return np.real(np.sum(Z * self._phasors(Oe, t), axis=(-2, -1)))
 
-    def motion(self, t, U, psi, beta_wave, rates=True, accelerations=True):
+    def motion(self, t, U, psi, beta_wave, rates=True, accelerations=True, dofs=None):
         """Wave-frequency motion (eta_WF, nu_WF, nudot_WF), 6 each (m, rad; per s; per s^2), MSS
         waveMotionRAO (Fossen 2021, eq. 10.105); ``rates=False`` returns eta_WF only,
-        ``accelerations=False`` None for nudot_WF (not computed)."""
-        Oe, Z = self._at(U, psi, beta_wave)
+        ``accelerations=False`` None for nudot_WF (not computed). ``dofs``: a tuple of DOF
+        indices (e.g. SURGE_SWAY_YAW) to compute, the others not computed and NaN; the
+        computed ones are the numbers of the full computation, bit for bit (the same
+        element-wise arithmetic and the same sum over each DOF's components)."""
+        Oe, Z = self._at(U, psi, beta_wave, dofs)
         zp = Z * self._phasors(Oe, t)
-        eta = np.real(np.sum(zp, axis=(-2, -1)))
+        eta = _rows(np.real(np.sum(zp, axis=(-2, -1))), dofs)
         if not rates:
             return eta
         izp = 1j * Oe * zp
-        nu = np.real(np.sum(izp, axis=(-2, -1)))
+        nu = _rows(np.real(np.sum(izp, axis=(-2, -1))), dofs)
         if not accelerations:
             return eta, nu, None
-        return eta, nu, np.real(np.sum(1j * Oe * izp, axis=(-2, -1)))
+        return eta, nu, _rows(np.real(np.sum(1j * Oe * izp, axis=(-2, -1))), dofs)
+
+
+#: The DOF a 3-DOF (surge, sway, yaw) manoeuvring model uses, for ``WaveResponse.motion``.
+SURGE_SWAY_YAW = (0, 1, 5)
+
+
+def _rows(values, dofs):
+    """len(dofs) x ... -> 6 x ...: the computed DOF in their rows, NaN in the others."""
+    if dofs is None:
+        return values
+    out = np.full((6,) + values.shape[1:], np.nan)
+    out[list(dofs)] = values
+    return out

@@ -150,3 +150,51 @@ def test_colav_node_decides_on_target_states_up_to_its_stamp_and_waits_for_locks
     assert tn.wait_for_message(cmd, 10.0, count=12) is not None, node.report()
     assert cmd.times[11] - t0 >= 1.5
     assert node.wait_for_output('silent', 5.0), node.report()
+
+
+@pytest.mark.timeout(120)
+def test_colav_node_keeps_off_a_charted_coast_in_a_head_on(ros_graph):
+    """colav_node with `chart_topic`: a latched nav_msgs/OccupancyGrid puts a coast 500 m to the
+    own ship's starboard (south of it, heading east), the widened clearance included. The same
+    head-on that gives a starboard alteration without a chart (the test above) must now not
+    turn to starboard: every starboard scenario held over the horizon runs aground."""
+    from nav_msgs.msg import OccupancyGrid, Odometry
+    from std_msgs.msg import Float64
+
+    from ship_sim.frames import yaw_to_psi
+    from ship_sim.ros.conversions import make_odometry
+    from ship_sim.ros.qos import LATCHED
+    config = REPO_ROOT / 'ros_ws' / 'install' / 'ship_guidance' / 'share' / 'ship_guidance' / \
+        'config' / 'colav.yaml'
+    node = ros_graph.start('ship_guidance', 'colav_node', namespace='/vessel_0',
+                           params_file=config,
+                           params={'target_topics': ['/v1/odom'], 'chart_topic': '/map',
+                                   'use_sim_time': True})
+    tn = ros_graph.test_node()
+    chart = tn.publisher('/map', OccupancyGrid, LATCHED)
+    grid = OccupancyGrid()
+    grid.header.frame_id = 'map'
+    res, width, height = 100.0, 200, 100            # 20 km east-west, 10 km south of y = 0
+    grid.info.resolution, grid.info.width, grid.info.height = res, width, height
+    grid.info.origin.position.x, grid.info.origin.position.y = -10_000.0, -10_000.0
+    grid.info.origin.orientation.w = 1.0
+    cells = np.zeros((height, width), dtype=np.int8)
+    cells[:95, :] = 100                             # land south of y = -500 m
+    grid.data = cells.ravel().tolist()
+    chart.publish(grid)
+    odom = tn.publisher('/vessel_0/odom', Odometry)
+    ref = tn.publisher('/vessel_0/heading_ref', Float64)
+    tgt = tn.publisher('/v1/odom', Odometry)
+    cmd = tn.subscribe('/vessel_0/heading_cmd', Float64)
+    for pub in (odom, ref, tgt):
+        assert tn.wait_for_subscribers(pub, timeout=20.0), node.report()
+    assert node.wait_for_output(r'chart 200 x 100 cells of 100 m', 20.0), node.report()
+    U, east, nominal = 7.7, float(yaw_to_psi(0.0)), 0.0
+    tgt.publish(make_odometry(0.0, 0.0, 4000.0, float(yaw_to_psi(3.141592653589793)), U, 0.0,
+                              0.0, 'v1/base_link'))          # head-on, 4 km ahead
+    tn.spin_for(0.3)
+    odom.publish(make_odometry(0.0, 0.0, 0.0, east, U, 0.0, 0.0, 'vessel_0/base_link'))
+    ref.publish(Float64(data=nominal))
+    m = tn.wait_for_message(cmd, 10.0)
+    assert m is not None, node.report()
+    assert m.data >= nominal, f'turned to starboard into the charted coast (ENU yaw {m.data})'

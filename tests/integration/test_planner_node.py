@@ -112,6 +112,19 @@ def test_publishes_a_latched_route_that_keeps_the_clearance(ros_graph, chart_png
     nb, eb = route_samples(back.route)
     assert distance_to_land(eb, nb).min() >= CLEARANCE
 
+    # The chart it planned on, latched too: every land pixel of the image is land in the grid
+    # (the chart may extend past the image; cells there are what its reader made of them).
+    from nav_msgs.msg import OccupancyGrid
+    grid = tn.wait_for_message(tn.subscribe(f'{NS}/chart', OccupancyGrid, qos=LATCHED), 10.0)
+    assert grid is not None and grid.header.frame_id == 'map'
+    from ship_guidance.land_mask import LandMask
+    mask = LandMask.from_occupancy(grid.data, grid.info.width, grid.info.height,
+                                   grid.info.resolution, grid.info.origin.position.x,
+                                   grid.info.origin.position.y)
+    r, c = np.indices(land_mask().shape)
+    centres = np.stack([(r + 0.5) * RES, (c + 0.5) * RES], axis=-1)      # NED (north, east)
+    assert np.array_equal(mask.hits(centres), land_mask())
+
     assert ros_graph.stop(node) == 0
 
 

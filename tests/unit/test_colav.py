@@ -19,6 +19,7 @@ from ship_guidance.colav_evaluation import EvaluationParams
 from ship_guidance.colav_methods import make_colav
 from ship_guidance.colav_params import ColavParams
 from ship_guidance.cpa import cpa, velocity
+from ship_guidance.land_mask import LandMask
 from ship_guidance.own_ship_prediction import (OwnShipModel, course_response, predict_own,
                                                predict_targets, segment_min_distance,
                                                speed_response, time_grid)
@@ -560,3 +561,71 @@ def test_a_stopped_shaft_turns_with_the_rudder_authority_left():
                                                   0.0, 1.0)
     same = np.isclose(sc.offsets, math.radians(45.0))
     assert np.ptp(sc.chi[same][:, 12]) == 0.0
+
+
+# -- grounding (ship_guidance.land_mask, SB-MPC's G term) --------------------------------------
+def test_land_mask_clearance_and_occupancy_grid_layout():
+    land = np.zeros((20, 30), dtype=bool)
+    land[10, 20] = True                        # one 50 m cell: centre 525 m north, 1025 m east
+    mask = LandMask(land, 0.0, 0.0, 50.0, clearance_m=120.0)
+    centre = np.array([525.0, 1025.0])
+    # cell centres within 120 m of the land cell's centre are blocked: 0, 50, 100 m away (and
+    # diagonals up to 70.7 m), not 150 m
+    assert mask.hits(centre + [[0.0, 0.0], [0.0, 100.0], [100.0, 0.0], [50.0, 50.0]]).all()
+    assert not mask.hits(centre + [[0.0, 150.0], [-150.0, 0.0], [100.0, 100.0]]).any()
+    assert not mask.hits([[-1.0, 0.0], [0.0, 1500.0], [1e9, 1e9]]).any()     # off the chart
+    assert mask.hits(np.broadcast_to(centre, (3, 4, 2))).shape == (3, 4)
+    # nav_msgs/OccupancyGrid: rows along ENU y (north) from origin_y, columns along x (east)
+    data = np.full((4, 6), -1, dtype=np.int8)          # unknown is not land
+    data[1, 4] = 100
+    grid = LandMask.from_occupancy(data.ravel().tolist(), 6, 4, 10.0, origin_x=-30.0,
+                                   origin_y=200.0)
+    assert grid.hits([[215.0, 15.0]])[0]                  # north 200 + 1.5 res, east -30 + 4.5 res
+    assert not grid.hits([[245.0, -15.0], [205.0, 15.0]]).any()
+    with pytest.raises(ValueError, match='not 6 x 5'):
+        LandMask.from_occupancy(data.ravel().tolist(), 6, 5, 10.0, 0.0, 0.0)
+
+
+def test_sbmpc_head_on_with_a_coast_to_starboard_keeps_off_the_land():
+    """Head-on, the rules say starboard; with a coast 500 m to starboard (every starboard
+    alteration held over the horizon runs into its clearance) the chosen scenario stays clear of
+    it, and without the chart the same decision does run into it (the chart decided)."""
+    target = _target_on_collision_course(180.0, 480.0)
+    land = np.zeros((200, 100), dtype=bool)
+    land[:, 5:] = True                        # 100 m cells: east of 500 m, 10 km north and south
+    coast = LandMask(land, -10_000.0, 0.0, 100.0, clearance_m=P.grounding_clearance_m)
+
+    def chosen_track(col, d):
+        sc = col.scenarios(OWN, [target], 0.0, 1.0)
+        k = np.flatnonzero(np.isclose(sc.offsets, d.scenario_offset)
+                           & np.isclose(sc.multipliers, d.speed_multiplier))[0]
+        return sc.p_own[k]
+
+    free = make_colav('sbmpc', ship=SHIP)
+    d_free = free.decide(0.0, OWN, [target], 0.0, 1.0)
+    assert d_free.course_offset > 0.0 and coast.hits(chosen_track(free, d_free)).any()
+    col = make_colav('sbmpc', ship=SHIP)
+    col.land = coast
+    d = col.decide(0.0, OWN, [target], 0.0, 1.0)
+    assert d.mode == 'avoid' and not coast.hits(chosen_track(col, d)).any()
+
+
+def test_planner_chart_as_occupancy_grid_reads_back_cell_for_cell():
+    """planner_node's `chart` message (ship_planner.ros.chart_msgs) and colav_node's reading of
+    it (LandMask.from_occupancy) agree on every cell centre of the chart."""
+    from builtin_interfaces.msg import Time
+
+    from ship_planner.chart import Chart
+    from ship_planner.ros.chart_msgs import chart_to_occupancy_grid
+    rng = np.random.default_rng(3)
+    chart = Chart(water=rng.random((7, 11)) > 0.3, resolution_m=25.0, north0=-120.0,
+                  east0=310.0)
+    msg = chart_to_occupancy_grid(chart, Time(sec=5))
+    i, j = np.indices(chart.water.shape)
+    centres = np.stack([chart.north0 + i * 25.0, chart.east0 + j * 25.0], axis=-1)
+    mask = LandMask.from_occupancy(msg.data, msg.info.width, msg.info.height,
+                                   msg.info.resolution, msg.info.origin.position.x,
+                                   msg.info.origin.position.y)
+    assert np.array_equal(mask.hits(centres), ~chart.water)
+    # a quarter cell off every centre stays in the same cell
+    assert np.array_equal(mask.hits(centres + [6.0, -6.0]), ~chart.water)

@@ -153,7 +153,7 @@ def test_colav_yaml_lists_exactly_the_node_parameters():
     declared.update({name: default for name, default, _ in colav_node.LISTS})
     declared.update(method='sbmpc', decision_period_s=1.0, pairing='sequence', targets_topic='targets',
                     target_stale_s=30.0, lockstep_target_timeout_s=10.0, has_shaft=True,
-                    targets_sync_topic='')
+                    targets_sync_topic='', chart_topic='')
     assert set(listed) == set(declared)
     for key, value in listed.items():
         numeric = not isinstance(value, (str, bool)) and key != 'target_topics'

@@ -152,6 +152,8 @@ class CollisionAvoidance:
         self._multipliers = np.array([m for m in mults for _ in offs])
         self._t = time_grid(p.horizon_s, p.dt_s)
         self._latched = {}
+        # ship_guidance.land_mask.LandMask or None; SB-MPC scores grounding against it.
+        self.land = None
         self.reset()
 
     def reset(self):

@@ -21,6 +21,9 @@ and at each decision (every `decision_period_s` of sim time, on the own stamps):
                     speed_multiplier, threat, n_targets] (mode codes in colav_io.MODE_CODES)
   colav_markers     visualization_msgs/MarkerArray  d_safe circles around the targets, the
                     CPA points of own ship and target, the commanded course as an arrow
+With `chart_topic` it also subscribes a nav_msgs/OccupancyGrid (latched, e.g. a map server's
+`/map`): SB-MPC then scores grounding against its land cells widened by `grounding_clearance_m`
+(ship_guidance.land_mask); decisions before it arrives have no chart.
 
 Determinism: a decision at own stamp t uses each target's latest state stamped <= t,
 dead-reckoned to t, and waits (the own odom is queued, lockstep holds the own simulator) until
@@ -31,7 +34,7 @@ older than `target_stale_s` of sim time is left out.
 """
 import time
 
-from nav_msgs.msg import Odometry
+from nav_msgs.msg import OccupancyGrid, Odometry
 from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
@@ -41,13 +44,14 @@ from visualization_msgs.msg import MarkerArray
 from ship_guidance import colav_io
 from ship_guidance.colav_methods import METHODS, make_colav
 from ship_guidance.colav_params import ColavParams
+from ship_guidance.land_mask import LandMask
 from ship_guidance.own_ship_prediction import OwnShipModel
 from ship_guidance.ros.colav_markers import colav_markers
 from ship_sim.frames import yaw_to_psi
 from ship_sim.pacing import SequencePairer
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
-from ship_sim.ros.qos import STREAM
+from ship_sim.ros.qos import LATCHED, STREAM
 from ship_sim.ros.run import run_node
 
 DEFAULTS = ColavParams()
@@ -71,6 +75,10 @@ SCALARS = (
     ('w_wrong_side', DEFAULTS.w_wrong_side, 'Rule 14/15 wrong-side penalty', 0.0, 1e9, ''),
     ('w_port_turn', DEFAULTS.w_port_turn, 'port-turn penalty (Rules 14, 15, 17(c))', 0.0, 1e9, ''),
     ('w_not_apparent', DEFAULTS.w_not_apparent, 'Rule 8(b) not-apparent penalty', 0.0, 1e9, ''),
+    ('w_grounding', DEFAULTS.w_grounding, 'SB-MPC grounding weight (with chart_topic)', 0.0, 1e9,
+     ''),
+    ('grounding_clearance_m', DEFAULTS.grounding_clearance_m, 'distance kept from charted land '
+     '(with chart_topic)', 0.0, 1e5, 'm'),
     ('apparent_course_change_deg', 30.0, 'apparent course change (Rule 8(b))', 0.0, 180.0, 'deg'),
     ('apparent_speed_ratio', DEFAULTS.apparent_speed_ratio, 'apparent speed reduction (Rule '
      '8(b)): predicted speed at the closest point at most this x nominal', 0.0, 1.0, ''),
@@ -135,6 +143,9 @@ class ColavRosNode(Node):
                                  choices=('sequence', 'latest'), read_only=True)
         self.has_shaft = p.declare('has_shaft', True, 'own ship has a speed (shaft) command',
                                    read_only=True)
+        chart_topic = p.declare('chart_topic', '', 'nav_msgs/OccupancyGrid of the chart (ENU '
+                                "map frame, unrotated, latched; cells >= 50 are land): SB-MPC's "
+                                "grounding cost ('': none)", read_only=True)
         values = {name: p.declare(name, default, desc, lo=lo, hi=hi, unit=unit, read_only=True)
                   for name, default, desc, lo, hi, unit in SCALARS}
         lists = {name: self._declare_list(name, default, desc) for name, default, desc in LISTS}
@@ -175,6 +186,8 @@ class ColavRosNode(Node):
             self.create_subscription(Odometry, self.targets_topic, self._on_targets, STREAM)
         if self.sync is not None:
             self.create_subscription(UInt64MultiArray, self.sync_topic, self._on_sync, STREAM)
+        if chart_topic:
+            self.create_subscription(OccupancyGrid, chart_topic, self._on_chart, LATCHED)
         self.create_subscription(Float64, 'heading_ref', self._on_ref, STREAM)
         self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
         self.create_timer(0.2, self._drain, clock=Clock(clock_type=ClockType.STEADY_TIME))
@@ -193,6 +206,24 @@ class ColavRosNode(Node):
             self._add_target(topic, msg, lockstep=True)
             self._drain()
         return callback
+
+    def _on_chart(self, msg):
+        info, q = msg.info, msg.info.origin.orientation
+        if (q.x, q.y, q.z) != (0.0, 0.0, 0.0):
+            self.get_logger().error('chart refused: a rotated grid origin is not supported')
+            return
+        try:
+            self.colav.land = LandMask.from_occupancy(
+                msg.data, info.width, info.height, info.resolution, info.origin.position.x,
+                info.origin.position.y, clearance_m=self.params.grounding_clearance_m)
+        except ValueError as exc:
+            self.get_logger().error(f'chart refused: {exc}')
+            return
+        blocked = self.colav.land.blocked
+        self.get_logger().info(
+            f'chart {info.width} x {info.height} cells of {info.resolution:g} m: '
+            f'{blocked.mean():.1%} land or within {self.params.grounding_clearance_m:g} m of it'
+            + ('' if self.colav.method == 'sbmpc' else f' (not used by {self.colav.method})'))
 
     def _on_targets(self, msg):
         self._add_target(msg.child_frame_id, msg, lockstep=False)

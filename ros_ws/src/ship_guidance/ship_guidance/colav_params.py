@@ -38,6 +38,11 @@ class ColavParams:
     # --- COLREGs penalties ---
     w_wrong_side: float = 10.0             # Rule 14 starboard-to-starboard / Rule 15 crossing ahead
     w_port_turn: float = 5.0               # course offset to port in head-on or crossing (14, 15, 17(c))
+    # Grounding (a chart given): the first predicted step within the clearance of land costs
+    # what a collision-distance intrusion costs at that time, w_collision (d_safe / r_col)^q,
+    # at relative speed U: running aground is no better than a collision.
+    w_grounding: float = 2500.0
+    grounding_clearance_m: float = 185.2   # distance kept from land (r_col)
     w_not_apparent: float = 3.0            # give-way alteration not readily apparent (Rule 8(b))
     apparent_course_change: float = float(np.deg2rad(30.0))   # rad; or the speed below:
     apparent_speed_ratio: float = 0.5      # predicted speed at the closest point, x nominal

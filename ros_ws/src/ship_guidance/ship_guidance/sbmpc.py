@@ -3,7 +3,7 @@
 Each scenario k (course offset x speed multiplier, held over the horizon) is predicted with the
 own-ship model and scored, all scenarios x targets x steps at once:
 
-    H_k = max_i [ max_t R_ik(t) + kappa mu_ik ] + port_k + apparent_k + f_k + change_k
+    H_k = max_i [ max_t R_ik(t) + kappa mu_ik ] + G_k + port_k + apparent_k + f_k + change_k
 
 - collision risk R (Johansen et al. 2016's C R): on every step where the predicted distance d to
   target i is below d_safe, w_collision (|v_rel| / U)^2 (T_h / t)^p (d_safe / d)^q, with |v_rel|
@@ -30,6 +30,11 @@ own-ship model and scored, all scenarios x targets x steps at once:
   crossing (Rules 14, 15, 17(c)); ``apparent_k``: a give-way alteration that is neither a course
   change of at least ``apparent_course_change`` nor predicted to bring the speed down to
   ``apparent_speed_ratio`` (half) of the nominal by the closest point (Rule 8(b));
+- grounding G (when the decision maker has a ``land`` mask, ship_guidance.land_mask: a chart
+  raster widened by ``grounding_clearance_m``): w_grounding (T_h / t)^p at the first predicted
+  position on a blocked cell, t its time; as a collision at that time, so no intrusion on a
+  target is traded for running aground. Like the risk, the part every scenario shares is taken
+  off (a ship already inside the clearance);
 - f and change: quadratic course deviation and linear speed reduction from the nominal, and the
   change from the previous decision, port weighted more (CollisionAvoidance.deviation_cost).
 
@@ -60,8 +65,19 @@ class SBMPC(CollisionAvoidance):
         beyond = self._risk_beyond_horizon(sc)
         risk = np.maximum(risk.max(axis=2), beyond - beyond.min(axis=0))
         per_target = risk + p.w_wrong_side * self._wrong_side(sc)
-        return (per_target.max(axis=1) + self.port_turn_penalty(sc) + self.not_apparent_penalty(sc)
-                + self.deviation_cost(sc))
+        return (per_target.max(axis=1) + self._grounding(sc) + self.port_turn_penalty(sc)
+                + self.not_apparent_penalty(sc) + self.deviation_cost(sc))
+
+    def _grounding(self, sc):
+        """(S,) grounding cost (module doc); 0 without a land mask."""
+        if self.land is None:
+            return 0.0
+        p = self.params
+        hit = self.land.hits(sc.p_own[:, 1:])                                  # (S, N)
+        t_hit = sc.t[1:][hit.argmax(axis=1)]
+        cost = np.where(hit.any(axis=1), p.w_grounding
+                        * (p.horizon_s / np.maximum(t_hit, p.dt_s)) ** p.risk_time_exponent, 0.0)
+        return cost - cost.min()
 
     def _risk_beyond_horizon(self, sc):
         """(S, M) risk of the straight-line closest approach after the horizon (module doc)."""

@@ -11,6 +11,10 @@ ship_guidance.ros.path_msgs.route_to_path_msg (lines and fillet arcs exactly). T
 the tangent plane at the chart's origin (origin_lat_deg/lon_deg, default the box centre), the same
 frame route_node gives for the route file this node can write (route_file_out).
 
+Also `chart` (nav_msgs/OccupancyGrid, latched, published before the route): the raster it planned
+on, 100 = land or too shallow (ship_planner.ros.chart_msgs); colav_node's `chart_topic` takes it for
+SB-MPC's grounding cost, RViz and Foxglove draw it as a map.
+
 Parameters (all read-only; see config/planner.yaml for a commented example):
   chart_file          '' for the real shoreline of the box; else an S-57 ENC cell (.000) or an
                       image (north up, dark land, light water, one pixel per resolution_m cell,
@@ -49,7 +53,7 @@ import os
 import sys
 import time
 
-from nav_msgs.msg import Path
+from nav_msgs.msg import OccupancyGrid, Path
 from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -59,6 +63,7 @@ from ship_planner.chart import (DEFAULT_MAX_CELLS, IMAGE_EXTENSIONS, PROVIDERS, 
                                 enc_chart, shoreline_chart)
 from ship_planner.fillets import suggest_fillet_radius
 from ship_planner.optimal_route import DEFAULT_ENERGY_WEIGHT, PlannerConfig, plan_route, route_yaml_text
+from ship_planner.ros.chart_msgs import chart_to_occupancy_grid
 from ship_planner.route_loader import RouteError
 from ship_planner.yaml_route_reader import load_route_yaml
 from ship_sim.frames import enu_to_ned_xy
@@ -87,6 +92,7 @@ class PlannerNode(Node):
         self._t0 = time.perf_counter()
         self._p = self._declare_all()
         self.pub = self.create_publisher(Path, 'route', LATCHED)
+        self.pub_chart = self.create_publisher(OccupancyGrid, 'chart', LATCHED)
         # Plan once the node spins (it is on the graph meanwhile): a one-shot steady timer, so
         # it fires without /clock under use_sim_time.
         self._plan_timer = self.create_timer(0.0, self._plan_once,
@@ -111,7 +117,9 @@ class PlannerNode(Node):
         plan = self._plan(p, chart, start, goal)
         if p['route_file_out']:
             self._write_route_file(p, chart, plan)
-        msg = route_to_path_msg(plan.route(), self.get_clock().now().to_msg(), p['max_arc_step_m'])
+        stamp = self.get_clock().now().to_msg()
+        self.pub_chart.publish(chart_to_occupancy_grid(chart, stamp))   # before the route
+        msg = route_to_path_msg(plan.route(), stamp, p['max_arc_step_m'])
         self.pub.publish(msg)
         self.get_logger().info(
             f"route '{p['route_name']}' published: {len(plan.waypoints)} waypoints, {plan.length:.1f} m "

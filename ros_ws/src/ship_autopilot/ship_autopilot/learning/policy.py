@@ -59,6 +59,10 @@ def weights_hash(weights):
     return h.hexdigest()
 
 
+#: Rows per matrix product of Policy.action (its docstring).
+ROW_BLOCK = 64
+
+
 def mlp_forward(weights, z):
     """tanh(relu(relu(z W0 + b0) W1 + b1) W2 + b2) for z (..., 9) -> (...,) in [-1, 1]
     (in the dtype of z and the weights)."""
@@ -89,11 +93,20 @@ class Policy:
     def action(self, z):
         """Normalised observation(s) (..., 9) -> action(s) in [-1, 1] (float64).
 
-        Evaluated in float64 on float64 copies of the float32 weights: float32 BLAS sums a batch
-        of rows in another order than one row (differences of ~1e-6), float64 keeps one vessel
-        and a batch (ship_autopilot.batch_closed_loop) equal to ~1e-16."""
+        Evaluated in float64 on float64 copies of the float32 weights, in blocks of ROW_BLOCK
+        rows (the last one padded with zeros): BLAS sums a row's products in an order that
+        depends on the matrix's shape and the row's place in it (float32: ~1e-6 between one row
+        and a batch; float64: the last row of 31 or 257 differed by 1 ulp), and a block of fixed
+        shape gives every row the same sums wherever it sits. So one vessel, a batch
+        (ship_autopilot.batch_closed_loop) and any chunking of a sweep get the same bits."""
         z = np.asarray(z, dtype=np.float32).astype(np.float64)
-        return mlp_forward(self._weights64, z)
+        rows = z.reshape(-1, z.shape[-1])
+        n = len(rows)
+        padded = np.zeros((-(-n // ROW_BLOCK) * ROW_BLOCK, rows.shape[1]))
+        padded[:n] = rows
+        out = np.concatenate([mlp_forward(self._weights64, padded[i:i + ROW_BLOCK])
+                              for i in range(0, len(padded), ROW_BLOCK)])
+        return out[:n].reshape(z.shape[:-1])
 
     def rudder(self, raw_state):
         """Raw eq. 9 state(s) -> rudder command(s) (rad, unified sign), always finite."""

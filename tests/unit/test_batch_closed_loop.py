@@ -133,28 +133,38 @@ def test_batched_guidance_equals_guidance_per_vessel_at_corners():
     eps = {'route': 0, 'along': [0, 50, 100, 200], 'cross': [-80, 0, 40, 120],
            'heading': [0.2, -0.1, 0.0, 0.3], 'current_speed': [0, 0.5, 0.9, 0.3],
            'current_direction': [0, 1.0, -2.0, 2.5], 'lookahead': [300, 400, 500, 600]}
-    duration = 900.0
+    # The route is ~5 km: at about 7.7 m/s every vessel finishes by ~720 s (the last at
+    # 717.5 s); 780 s leaves every vessel a minute of finished steps.
+    duration = 780.0
     res = loop.run(eps, duration, log_every=1)
     assert res.metrics['finished'].all()
+    assert np.nanmax(res.metrics['finish_time_s']) <= duration - 30.0
     north, east = res.log['north'], res.log['east']
     sigma = loop.defaults()['integral_gain']
     singles = [Guidance(route, 'ilos', d, 150.0, integral_gain=sigma)
                for d in eps['lookahead']]
     batch = BatchGuidance(route, n, 'ilos', eps['lookahead'], integral_gain=sigma,
                           acceptance_radius=150.0)
-    legs_seen = [set() for _ in range(n)]
-    for step in range(len(res.log['t'])):
+    # Every step's outputs gathered, then compared at once (step, vessel, quantity).
+    steps = len(res.log['t'])
+    got, want = np.empty((2, steps, n, 4))
+    legs, finished = np.empty((2, steps, n), dtype=int), np.empty((2, steps, n), dtype=bool)
+    heading = np.empty((steps, n))
+    for step in range(steps):
         dt = 0.1 if step else 0.0
         out = batch.update(north[step], east[step], dt)
+        got[step] = np.column_stack([out.heading_cmd, out.cross_track, out.s, out.integral])
+        legs[0, step], finished[0, step], heading[step] = \
+            out.leg_index, out.finished, out.heading_cmd
         for i, g in enumerate(singles):
             o = g.update(north[step, i], east[step, i], 0.0, dt)
-            legs_seen[i].add(o.leg_index)
-            assert out.leg_index[i] == o.leg_index and out.finished[i] == o.finished
-            np.testing.assert_allclose(
-                [out.heading_cmd[i], out.cross_track[i], out.s[i], out.integral[i]],
-                [o.heading_cmd, o.cross_track, o.s, o.integral], rtol=RTOL, atol=1e-9)
-        np.testing.assert_array_equal(out.heading_cmd, res.log['heading_cmd'][step])
-    assert all(seen == set(range(len(route.legs))) for seen in legs_seen)
+            want[step, i] = o.heading_cmd, o.cross_track, o.s, o.integral
+            legs[1, step, i], finished[1, step, i] = o.leg_index, o.finished
+    np.testing.assert_array_equal(legs[0], legs[1])
+    np.testing.assert_array_equal(finished[0], finished[1])
+    np.testing.assert_allclose(got, want, rtol=RTOL, atol=1e-9)
+    np.testing.assert_array_equal(heading, res.log['heading_cmd'])
+    assert all(set(legs[1, :, i]) == set(range(len(route.legs))) for i in range(n))
 
 
 def test_an_episode_does_not_depend_on_its_batch():

@@ -1,4 +1,6 @@
 """Fixtures of the integration tests (real node processes; see harness.py)."""
+import contextlib
+
 import pytest
 
 from harness import RosGraph
@@ -13,9 +15,10 @@ def pytest_collection_modifyitems(items):
             item.add_marker(pytest.mark.integration)
 
 
-@pytest.fixture
-def ros_graph(tmp_path, monkeypatch):
-    """A fresh ROS graph for one test: own domain, localhost discovery, all ended at teardown."""
+@contextlib.contextmanager
+def _fresh_graph(folder, monkeypatch):
+    """A ROS graph on its own domain with localhost discovery, logs in ``folder``; every
+    process it started is ended on exit."""
     lease = DomainLease()
     try:
         for var in ('ROS_LOCALHOST_ONLY', 'ROS_STATIC_PEERS', 'FASTRTPS_DEFAULT_PROFILES_FILE'):
@@ -25,13 +28,29 @@ def ros_graph(tmp_path, monkeypatch):
         env = install_env()
         env['PYTHONUNBUFFERED'] = '1'
         env['RCUTILS_COLORIZED_OUTPUT'] = '0'
-        graph = RosGraph(tmp_path, lease.domain_id, env)
+        graph = RosGraph(folder, lease.domain_id, env)
         try:
             yield graph
         finally:
             graph.close()
     finally:
         lease.close()
+
+
+@pytest.fixture
+def ros_graph(tmp_path, monkeypatch):
+    """A fresh ROS graph for one test: own domain, localhost discovery, all ended at teardown."""
+    with _fresh_graph(tmp_path, monkeypatch) as graph:
+        yield graph
+
+
+@pytest.fixture(scope='module')
+def module_ros_graph(tmp_path_factory):
+    """One fresh ROS graph for a module, for a run that several of its tests check (a
+    module-scoped fixture of that module makes the run); ended after the module's last test."""
+    with pytest.MonkeyPatch.context() as monkeypatch, \
+            _fresh_graph(tmp_path_factory.mktemp('module_graph'), monkeypatch) as graph:
+        yield graph
 
 
 @pytest.fixture

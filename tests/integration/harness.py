@@ -339,6 +339,16 @@ def _reached_duration(run, wall_timeout_s):
     return run_dir
 
 
+def run_complete(launch, scenario, duration_s, wall_timeout_s=240.0):
+    """Run a lockstep ``scenario`` once through the launcher to ``duration_s`` and assert a
+    clean exit at the duration and a complete record; returns (run folder, its metrics)."""
+    args = ('--wall-timeout', wall_timeout_s, '--duration', duration_s)
+    run = _reached_duration(launch(scenario, *args), wall_timeout_s)
+    metrics = json.loads((run / 'metrics.json').read_text())
+    assert metrics['record']['complete'], metrics['record']
+    return run, metrics
+
+
 def run_twice_complete(launch, scenario, duration_s, wall_timeout_s=240.0, colav_ns=None):
     """Run a lockstep ``scenario`` twice through the launcher, each to ``duration_s`` (the
     launcher's ``--duration``), and assert what a repeat needs: both exits clean at the
@@ -350,11 +360,8 @@ def run_twice_complete(launch, scenario, duration_s, wall_timeout_s=240.0, colav
     The two runs go one after the other. Started together, a light target's step-0 odom was once
     lost while both graphs came up (colav then decided without it after 10 s: a known start-up
     race, see the README's Known limits), which the repeat check must not trip on."""
-    args = ('--wall-timeout', wall_timeout_s, '--duration', duration_s)
-    runs = [_reached_duration(launch(scenario, *args), wall_timeout_s) for _ in range(2)]
-    metrics = [json.loads((run / 'metrics.json').read_text()) for run in runs]
-    for m in metrics:
-        assert m['record']['complete'], m['record']
+    runs, metrics = zip(*(run_complete(launch, scenario, duration_s, wall_timeout_s)
+                          for _ in range(2)))
     assert metrics[0]['vessels'] == metrics[1]['vessels']
     assert metrics[0].get('traffic') == metrics[1].get('traffic')
     if colav_ns is None:

@@ -31,6 +31,7 @@ file, with the glue written out here, not taken from the launcher) and listens t
      the second).
 2. Determinism: the same graph twice gives bit-identical odom, heading_cmd and rudder_cmd
    streams, message by message (lockstep pairs by sequence, so wall-clock load cannot matter).
+3. The first of those two runs equals the in-process loop step by step.
 """
 import math
 
@@ -308,11 +309,17 @@ def _run_to_max_steps(ros_graph, scenario, tag):
     return out
 
 
-@pytest.mark.timeout(150)
-def test_graph_in_lockstep_is_bit_identical_on_repeat(ros_graph):
+@pytest.fixture(scope='module')
+def two_runs(module_ros_graph):
+    """The graph run twice to DETERMINISM_STEPS, one run after the other: the repeat test
+    compares them, the in-process test checks the first."""
     scenario = load_scenario(SCENARIO)
-    first = _run_to_max_steps(ros_graph, scenario, '_run1')
-    second = _run_to_max_steps(ros_graph, scenario, '_run2')
+    return [_run_to_max_steps(module_ros_graph, scenario, f'_run{k}') for k in (1, 2)]
+
+
+@pytest.mark.timeout(150)
+def test_graph_in_lockstep_is_bit_identical_on_repeat(two_runs):
+    first, second = two_runs
     for name in ('odom', 'heading_cmd', 'rudder_cmd'):
         assert first[name] == second[name], (
             f'{name}: first difference at message '
@@ -326,7 +333,7 @@ def test_graph_in_lockstep_is_bit_identical_on_repeat(ros_graph):
 # -- 3. the graph in lockstep equals the in-process loop -----------------------------------------
 
 @pytest.mark.timeout(150)
-def test_graph_in_lockstep_equals_the_in_process_loop(ros_graph):
+def test_graph_in_lockstep_equals_the_in_process_loop(two_runs):
     """The four nodes in lockstep compute what the pure modules compute in one process, step
     by step (scripts/benchmarks/closed_loop_inprocess.py builds that loop from the scenario the
     way the nodes do): positions, heading commands and rudder commands agree to rounding (the
@@ -336,8 +343,7 @@ def test_graph_in_lockstep_equals_the_in_process_loop(ros_graph):
     from benchmarks.closed_loop_inprocess import build_loop
     from ship_sim.frames import psi_to_yaw
 
-    scenario = load_scenario(SCENARIO)
-    graph = _run_to_max_steps(ros_graph, scenario, '_inproc')
+    graph = two_runs[0]
     sim, guidance, autopilot, dt = build_loop(SCENARIO)
     north, east, yaw_cmd, rudder = [], [], [], []
     t_prev = None

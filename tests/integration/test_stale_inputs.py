@@ -88,8 +88,9 @@ def test_autopilot_holds_last_heading_when_heading_cmd_goes_stale(ros_graph):
     tn = ros_graph.test_node()
     heading = tn.publisher(f'{NS}/heading_cmd', Float64)
     assert tn.wait_for_subscribers(heading, timeout=15.0)
+    # x40: the 500 s of sim time below take 12.5 s of wall time (each wait allows 40 s).
     sim = ros_graph.start('ship_sim', 'vessel_node', namespace=NS,
-                          params={'model': 'mariner', 'stepping_mode': 'realtime', 'speedup': 20.0,
+                          params={'model': 'mariner', 'stepping_mode': 'realtime', 'speedup': 40.0,
                                   'initial_yaw_deg': 90.0})
     odom = tn.subscribe(f'{NS}/odom', Odometry)
     target = math.radians(60.0)   # a 30 deg turn to starboard (ENU yaw 90 -> 60 deg)

@@ -240,7 +240,9 @@ def test_table_is_sorted_and_complete(reference_table):
     assert [int(line.split(',')[0]) for line in lines[1:]] == list(range(8))
 
 
-@pytest.mark.parametrize('workers, chunk', [(2, 1), (2, 3), (1, 2)])
+# Two workers with chunks of one episode: test_a_killed_worker_is_replaced_and_every_row_comes_once
+# (the same table after a worker died, the other chunks run as here).
+@pytest.mark.parametrize('workers, chunk', [(2, 3), (1, 2)])
 def test_table_is_identical_for_any_workers_and_chunks(reference_table, workers, chunk):
     sw, text = reference_table
     rows, run = run_sweep(sw, 'local', workers=workers, chunk_size=chunk, progress=False)

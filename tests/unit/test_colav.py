@@ -629,3 +629,25 @@ def test_planner_chart_as_occupancy_grid_reads_back_cell_for_cell():
     assert np.array_equal(mask.hits(centres), ~chart.water)
     # a quarter cell off every centre stays in the same cell
     assert np.array_equal(mask.hits(centres + [6.0, -6.0]), ~chart.water)
+
+
+def test_vo_least_bad_choice_still_avoids_a_collision_while_inside_another_targets_d_safe():
+    # target a keeps station 500 m off the port beam (inside d_safe: every straight line starts
+    # inside its cone, so nothing is admissible); target b meets the own ship head-on in 300 s.
+    # Ranked by the first entry into d_safe every candidate ties at 0 and the nominal, which runs
+    # into b, was taken; ranked by the time to collision (Fiorini and Shiller 1998) the choice
+    # keeps both targets beyond the collision radius on its straight line within the horizon.
+    a = Target(0.0, -500.0, 0.0, U, name='a')
+    b = _target_on_collision_course(180.0, 300.0, name='b')
+    col = make_colav('vo', ship=SHIP)
+    sc = col.scenarios(OWN, [a, b], 0.0, 1.0)
+    ok, first_entry = col.admissible(sc)
+    assert not ok.any() and (first_entry == 0.0).all()
+    d = col.decide(0.0, OWN, [a, b], 0.0, 1.0)
+    assert d.mode == 'avoid' and d.course_offset > 0.0          # starboard (Rule 14)
+    v = velocity(d.course, U)
+    for tg in (a, b):
+        tcpa, dcpa = cpa([0.0, 0.0], v, [tg.north, tg.east], velocity(tg.course, tg.speed))
+        t = min(max(float(tcpa), 0.0), P.horizon_s)
+        rel = np.array([tg.north, tg.east]) + (velocity(tg.course, tg.speed) - v) * t
+        assert np.hypot(*rel) > P.collision_m, tg.name

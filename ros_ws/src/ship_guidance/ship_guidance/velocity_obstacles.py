@@ -29,7 +29,7 @@ import numpy as np
 
 from ship_guidance import colregs
 from ship_guidance.colav import CollisionAvoidance
-from ship_guidance.cpa import cpa, velocity
+from ship_guidance.cpa import cpa, disc_window, velocity
 
 
 class VelocityObstacles(CollisionAvoidance):
@@ -39,11 +39,9 @@ class VelocityObstacles(CollisionAvoidance):
         """((S,) bool, (S,) s until the first target enters d_safe, inf if none does)."""
         p = self.params
         v_c = velocity(sc.chi_c, sc.u_c)[:, None, :]                            # (S, 1, 2)
-        tcpa, dcpa = cpa(sc.p_own0, v_c, sc.p_tgt0[None], sc.v_tgt[None])       # (S, M)
-        half = np.sqrt(np.maximum(p.d_safe_m ** 2 - dcpa ** 2, 0.0))
-        hits = dcpa < p.d_safe_m
-        t_in = np.where(hits, tcpa - half, np.inf)
-        in_cone = hits & (t_in < p.horizon_s) & (tcpa + half > 0.0)
+        tcpa, _ = cpa(sc.p_own0, v_c, sc.p_tgt0[None], sc.v_tgt[None])          # (S, M)
+        t_in, t_out = disc_window(sc.p_own0, v_c, sc.p_tgt0[None], sc.v_tgt[None], p.d_safe_m)
+        in_cone = (t_in < p.horizon_s) & (t_out > 0.0)
         los = sc.p_tgt0[None] - sc.p_own0                                       # (1, M, 2)
         w = v_c - sc.v_tgt[None]                                                # own relative velocity
         to_port = los[..., 0] * w[..., 1] - los[..., 1] * w[..., 0] < 0.0
@@ -58,11 +56,10 @@ class VelocityObstacles(CollisionAvoidance):
         within the horizon)."""
         p = self.params
         v_c = velocity(sc.chi_c, sc.u_c)[:, None, :]                            # (S, 1, 2)
-        tcpa, dcpa = cpa(sc.p_own0, v_c, sc.p_tgt0[None], sc.v_tgt[None])       # (S, M)
-        half = np.sqrt(np.maximum(p.collision_m ** 2 - dcpa ** 2, 0.0))
-        t_in = np.maximum(tcpa - half, 0.0)
-        hits = (dcpa < p.collision_m) & (t_in < p.horizon_s) & (tcpa + half > 0.0)
-        t_col = np.where(hits, t_in, np.inf).min(axis=1)
+        tcpa, _ = cpa(sc.p_own0, v_c, sc.p_tgt0[None], sc.v_tgt[None])          # (S, M)
+        t_in, t_out = disc_window(sc.p_own0, v_c, sc.p_tgt0[None], sc.v_tgt[None], p.collision_m)
+        hits = (t_in < p.horizon_s) & (t_out > 0.0)
+        t_col = np.where(hits, np.maximum(t_in, 0.0), np.inf).min(axis=1)
         t_c = np.clip(tcpa, 0.0, p.horizon_s)[..., None]
         rel = sc.p_tgt0[None] + (sc.v_tgt[None] - v_c) * t_c - sc.p_own0        # (S, M, 2)
         return t_col, np.hypot(rel[..., 0], rel[..., 1]).min(axis=1)

@@ -18,7 +18,7 @@ from ship_guidance.colav_io import NODE_KEYS
 from ship_guidance.colav_evaluation import EvaluationParams
 from ship_guidance.colav_methods import make_colav
 from ship_guidance.colav_params import ColavParams
-from ship_guidance.cpa import cpa, velocity
+from ship_guidance.cpa import cpa, disc_window, velocity
 from ship_guidance.land_mask import LandMask
 from ship_guidance.own_ship_prediction import (OwnShipModel, course_response, predict_own,
                                                predict_targets, segment_min_distance,
@@ -629,3 +629,36 @@ def test_planner_chart_as_occupancy_grid_reads_back_cell_for_cell():
     assert np.array_equal(mask.hits(centres), ~chart.water)
     # a quarter cell off every centre stays in the same cell
     assert np.array_equal(mask.hits(centres + [6.0, -6.0]), ~chart.water)
+
+
+def test_vo_least_bad_choice_still_avoids_a_collision_while_inside_another_targets_d_safe():
+    # target a keeps station 500 m off the port beam (inside d_safe: every straight line starts
+    # inside its cone, so nothing is admissible); target b meets the own ship head-on in 300 s.
+    # Ranked by the first entry into d_safe every candidate ties at 0 and the nominal, which runs
+    # into b, was taken; ranked by the time to collision (Fiorini and Shiller 1998) the choice
+    # keeps both targets beyond the collision radius on its straight line within the horizon.
+    a = Target(0.0, -500.0, 0.0, U, name='a')
+    b = _target_on_collision_course(180.0, 300.0, name='b')
+    col = make_colav('vo', ship=SHIP)
+    sc = col.scenarios(OWN, [a, b], 0.0, 1.0)
+    ok, first_entry = col.admissible(sc)
+    assert not ok.any() and (first_entry == 0.0).all()
+    d = col.decide(0.0, OWN, [a, b], 0.0, 1.0)
+    assert d.mode == 'avoid' and d.course_offset > 0.0          # starboard (Rule 14)
+    v = velocity(d.course, U)
+    for tg in (a, b):
+        tcpa, dcpa = cpa([0.0, 0.0], v, [tg.north, tg.east], velocity(tg.course, tg.speed))
+        t = min(max(float(tcpa), 0.0), P.horizon_s)
+        rel = np.array([tg.north, tg.east]) + (velocity(tg.course, tg.speed) - v) * t
+        assert np.hypot(*rel) > P.collision_m, tg.name
+
+
+def test_disc_window_is_in_seconds():
+    # closing at 10 m/s from 2000 m: within 500 m from 150 s to 250 s (DCPA 0); 300 m abeam at
+    # the closest point: TCPA 200 s, half-chord 400 m = 40 s; 600 m: never within 500 m; no
+    # relative motion 300 m apart: always within
+    own_v, tgt_v = velocity(0.0, 5.0), velocity(math.pi, 5.0)
+    assert np.allclose(disc_window([0, 0], own_v, [2000, 0], tgt_v, 500.0), (150.0, 250.0))
+    assert np.allclose(disc_window([0, 0], own_v, [2000, 300], tgt_v, 500.0), (160.0, 240.0))
+    assert disc_window([0, 0], own_v, [2000, 600], tgt_v, 500.0) == (np.inf, -np.inf)
+    assert disc_window([0, 0], own_v, [300, 0], own_v, 500.0) == (-np.inf, np.inf)

@@ -37,6 +37,20 @@ def cpa(p_own, v_own, p_target, v_target):
     return tcpa, np.hypot(closest[..., 0], closest[..., 1])
 
 
+def disc_window(p_own, v_own, p_target, v_target, radius):
+    """(t_in s, t_out s): the times between which the straight-line range is below ``radius``
+    (m), TCPA -+ sqrt(radius^2 - DCPA^2) / |v|; (inf, -inf) where it never is, (-inf, inf)
+    where the relative velocity vanishes inside the radius."""
+    tcpa, dcpa = cpa(p_own, v_own, p_target, v_target)
+    v = np.asarray(v_target, dtype=float) - np.asarray(v_own, dtype=float)
+    speed = np.hypot(v[..., 0], v[..., 1])
+    inside = dcpa < radius
+    still = speed <= STILL_MPS
+    half = np.sqrt(np.maximum(radius ** 2 - dcpa ** 2, 0.0)) / np.where(still, 1.0, speed)
+    half = np.where(still, np.inf, half)
+    return (np.where(inside, tcpa - half, np.inf), np.where(inside, tcpa + half, -np.inf))
+
+
 def range_and_bearing(p_own, p_target):
     """(range m, true bearing rad in [0, 2 pi), clockwise from north) of targets."""
     d = np.asarray(p_target, dtype=float) - np.asarray(p_own, dtype=float)

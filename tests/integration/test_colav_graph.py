@@ -22,6 +22,7 @@ import yaml
 from mission.bag import read_bag
 from mission.encounter import alteration, decision_rows, min_distance
 from ship_guidance.colav_params import ColavParams
+from ship_sim.ros.qos import STREAM_KEPT
 
 from harness import REPO_ROOT, run_twice_complete
 
@@ -107,7 +108,7 @@ def test_colav_node_decides_on_target_states_up_to_its_stamp_and_waits_for_locks
                                    'lockstep_target_timeout_s': 2.0, 'use_sim_time': True})
     tn = ros_graph.test_node()
     odom = tn.publisher('/vessel_0/odom', Odometry)
-    ref = tn.publisher('/vessel_0/heading_ref', Float64)
+    ref = tn.publisher('/vessel_0/heading_ref', Float64, STREAM_KEPT)   # as guidance_node's
     tgt = tn.publisher('/v1/odom', Odometry)
     cmd = tn.subscribe('/vessel_0/heading_cmd', Float64)
     rows = tn.subscribe('/vessel_0/colav_targets', Float64MultiArray)
@@ -183,7 +184,7 @@ def test_colav_node_keeps_off_a_charted_coast_in_a_head_on(ros_graph):
     grid.data = cells.ravel().tolist()
     chart.publish(grid)
     odom = tn.publisher('/vessel_0/odom', Odometry)
-    ref = tn.publisher('/vessel_0/heading_ref', Float64)
+    ref = tn.publisher('/vessel_0/heading_ref', Float64, STREAM_KEPT)   # as guidance_node's
     tgt = tn.publisher('/v1/odom', Odometry)
     cmd = tn.subscribe('/vessel_0/heading_cmd', Float64)
     for pub in (odom, ref, tgt):

@@ -1,7 +1,8 @@
 """colav_node: collision avoidance between guidance and autopilot (thin; logic in colav_io).
 
 Subscribes `odom` (own ship, nav_msgs/Odometry ENU), `heading_ref` (std_msgs/Float64, the
-nominal ENU yaw: guidance_node's heading_cmd, remapped) and targets as nav_msgs/Odometry: the
+nominal ENU yaw: guidance_node's heading_cmd, remapped; reliable + transient_local, so its
+publisher must offer transient_local too, as guidance_node's does) and targets as nav_msgs/Odometry: the
 `targets_topic` (default `targets`, relative: the vessel namespace's; ais_node publishes every
 AIS target there, each named by its child_frame_id) and each of `target_topics` (full vessels
 stepping in lockstep, e.g. `/vessel_1/odom`; the topic names the target). With
@@ -51,7 +52,7 @@ from ship_sim.frames import yaw_to_psi
 from ship_sim.pacing import SequencePairer
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
-from ship_sim.ros.qos import LATCHED, STREAM
+from ship_sim.ros.qos import LATCHED, STREAM, STREAM_KEPT
 from ship_sim.ros.run import run_node
 
 DEFAULTS = ColavParams()
@@ -188,7 +189,9 @@ class ColavRosNode(Node):
             self.create_subscription(UInt64MultiArray, self.sync_topic, self._on_sync, STREAM)
         if chart_topic:
             self.create_subscription(OccupancyGrid, chart_topic, self._on_chart, LATCHED)
-        self.create_subscription(Float64, 'heading_ref', self._on_ref, STREAM)
+        # Kept for a late match (qos.STREAM_KEPT): a missed heading_ref 0 would pair every
+        # later odom with the next step's reference and stall the lockstep graph step by step.
+        self.create_subscription(Float64, 'heading_ref', self._on_ref, STREAM_KEPT)
         self.create_subscription(Odometry, 'odom', self._on_odom, STREAM, raw=True)
         self.create_timer(0.2, self._drain, clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.get_logger().info(f'colav {method}: decision every {period:g} s, d_safe '

@@ -1,7 +1,8 @@
 """The three per-odom outputs every guidance-type node publishes (guidance_node, follower_node).
 
 Exactly one message on each of these topics per odom message, so lockstep consumers pair by
-sequence (DESIGN.md); QoS ship_sim.ros.qos.STREAM:
+sequence (DESIGN.md); QoS ship_sim.ros.qos.STREAM, heading_cmd STREAM_KEPT (colav_node's
+heading_ref subscription must get step 0's command however late it matched):
   heading_cmd        std_msgs/Float64  ENU yaw command (rad)
   cross_track_error  std_msgs/Float64  m, positive when the vessel is to starboard of the path
   progress           std_msgs/Float64MultiArray  [s (m), distance remaining (m), leg index,
@@ -15,7 +16,7 @@ import math
 from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension
 
 from ship_sim.frames import psi_to_yaw
-from ship_sim.ros.qos import STREAM
+from ship_sim.ros.qos import STREAM, STREAM_KEPT
 
 PROGRESS_LABELS = ('s_m', 'remaining_m', 'leg', 'finished', 'path_yaw_rad', 'curvature_1pm')
 
@@ -30,7 +31,8 @@ class GuidancePublishers:
     """Publishers and reused messages of heading_cmd, cross_track_error and progress."""
 
     def __init__(self, node, qos=STREAM):
-        self.pub_heading = node.create_publisher(Float64, 'heading_cmd', qos)
+        self.pub_heading = node.create_publisher(Float64, 'heading_cmd',
+                                                 STREAM_KEPT if qos is STREAM else qos)
         self.pub_xte = node.create_publisher(Float64, 'cross_track_error', qos)
         self.pub_progress = node.create_publisher(Float64MultiArray, 'progress', qos)
         self.m_heading, self.m_xte = Float64(), Float64()

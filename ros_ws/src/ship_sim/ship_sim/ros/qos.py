@@ -31,6 +31,15 @@ def stream_with_depth(depth):
                       reliability=STREAM.reliability, durability=STREAM.durability)
 
 
+#: STREAM kept for late joiners (transient_local): a link between two of our own nodes that no
+#: one gates on, where a subscription matched after the first messages went out would lose them
+#: and pair every later message with the wrong step (guidance's heading_cmd -> colav_node's
+#: heading_ref). A transient_local publisher also serves volatile subscriptions (the autopilot,
+#: `ros2 topic echo`); a transient_local subscription needs a transient_local publisher.
+STREAM_KEPT = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=STREAM.depth,
+                         reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
 LATCHED = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                      reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)

@@ -551,11 +551,14 @@ def _wait_for_ready(proc, namespace, vparams, monitor, group):
     """Wait until the lockstep simulator ``proc`` of ``namespace`` has published its step 0
     (its latched ``ready`` topic says so), so that a follower started next never waits for a
     predecessor that has not begun: its first wait would run out and the run would no longer
-    be deterministic. Returns early if a process has exited (the run loop reports it)."""
+    be deterministic. Returns early if ``proc`` has exited or another process has failed (the
+    run loop reports it); a simulator that has finished its run (exit 0) is not a failure: a
+    leader can finish before a slow-starting follower has begun, and that follower's own
+    followers must still wait for it."""
     limit = float(vparams.get('lockstep_start_timeout', 30.0)) + 15.0
     deadline = time.monotonic() + limit
     while not monitor.ready[namespace]:
-        if group.failed():
+        if any(p is proc or p.returncode != 0 for p in group.failed()):
             return
         if _stop_signals:
             raise KeyboardInterrupt(_stop_signals[0])

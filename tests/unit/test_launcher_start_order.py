@@ -1,0 +1,38 @@
+"""The launcher's wait for a predecessor's step 0 (mission.launcher._wait_for_ready), without DDS."""
+import time
+from types import SimpleNamespace
+
+import pytest
+
+from mission.launcher import MissionFailed, _wait_for_ready
+
+
+class Proc:
+    def __init__(self, label, returncode=None):
+        self.label, self.returncode, self.log_path = label, returncode, f'{label}.log'
+
+    def output(self):
+        return 'lockstep: waiting for the graph'
+
+
+def wait(proc, others, seconds=0.3):
+    group = SimpleNamespace(failed=lambda: [p for p in [proc, *others] if p.returncode is not None])
+    monitor = SimpleNamespace(ready={'vessel_1': False}, spin=time.sleep)
+    t0 = time.monotonic()
+    _wait_for_ready(proc, 'vessel_1', {'lockstep_start_timeout': seconds - 15.0}, monitor, group)
+    return time.monotonic() - t0
+
+
+def test_a_leader_that_finished_does_not_end_the_wait_for_its_follower():
+    """A leader's simulator that ran its whole run (exit 0) before a slow follower published
+    step 0 must not release that follower's own followers: they would start first and wait for
+    a predecessor that has not begun (a platoon run was then not deterministic)."""
+    follower, leader = Proc('vessel_1/vessel_node'), Proc('vessel_0/vessel_node', returncode=0)
+    with pytest.raises(MissionFailed, match='did not publish step 0'):
+        wait(follower, [leader])
+
+
+def test_a_failed_process_or_the_awaited_one_exiting_ends_the_wait_at_once():
+    follower = Proc('vessel_1/vessel_node')
+    assert wait(follower, [Proc('vessel_0/autopilot_node', returncode=1)], seconds=5.0) < 1.0
+    assert wait(Proc('vessel_1/vessel_node', returncode=1), [], seconds=5.0) < 1.0

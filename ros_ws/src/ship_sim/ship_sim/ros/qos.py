@@ -23,7 +23,6 @@ STREAM = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                     reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 
 
-
 def stream_with_depth(depth):
     """STREAM with a deeper keep-last queue, for a subscriber fed faster than it may take
     messages (the depth does not take part in QoS matching)."""
@@ -37,7 +36,7 @@ def stream_with_depth(depth):
 #: heading_ref). A transient_local publisher also serves volatile subscriptions (the autopilot,
 #: `ros2 topic echo`); a transient_local subscription needs a transient_local publisher.
 STREAM_KEPT = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=STREAM.depth,
-                         reliability=ReliabilityPolicy.RELIABLE,
+                         reliability=STREAM.reliability,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 LATCHED = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,

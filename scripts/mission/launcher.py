@@ -547,6 +547,35 @@ class Monitor:
         self.rclpy.try_shutdown(context=self.context)
 
 
+def simulator_start_plan(scenario):
+    """[(namespace, namespaces whose step 0 must be out first)]: the order in which the launcher
+    starts the simulators. In lockstep, whoever others wait for comes first and is waited for:
+    every platoon predecessor before its followers (mission.platoon.start_order), and every
+    traffic vessel before the colav vessels, whose colav_node waits for each target's sample at
+    every decision from step 0 on. A target started together with the own ship was once ~35 s
+    late to its step 0 (the own ship then ran alone: colav_node stops waiting for a silent target
+    after lockstep_target_timeout_s and decides without it, so the run did not repeat); once it
+    has published step 0 its recorder and colav_node subscriptions are there, and its follower
+    gate holds it within lockstep_follower_window steps of the own ship. In realtime nobody
+    waits (predecessors still start first)."""
+    specs = list(scenario.vessels)
+    if scenario.platoon is not None:
+        from mission.platoon import start_order
+        rank = {ns: i for i, ns in enumerate(start_order(scenario.platoon))}
+        specs.sort(key=lambda s: rank[s.namespace])
+    if scenario.stepping != 'lockstep':
+        return [(s.namespace, ()) for s in specs]
+    traffic = tuple(s.namespace for s in specs if s.traffic)
+    specs.sort(key=lambda s: not s.traffic)     # stable: the order above within each kind
+    plan = []
+    for s in specs:
+        awaited = () if s.predecessor is None else (s.predecessor,)
+        if s.colav_params is not None:
+            awaited += traffic
+        plan.append((s.namespace, awaited))
+    return plan
+
+
 def _wait_for_ready(proc, namespace, vparams, monitor, group):
     """Wait until the lockstep simulator ``proc`` of ``namespace`` has published its step 0
     (its latched ``ready`` topic says so), so that a follower started next never waits for a
@@ -664,14 +693,11 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             _wait_for_clock_subscriber(monitor, 'ais_node', group)
             _wait_for_ready_topic(monitor, 'ais_node', group)
         simulators = {}
-        if scenario.platoon is not None:   # every predecessor's simulator before its followers'
-            from mission.platoon import start_order
-            rank = {ns: i for i, ns in enumerate(start_order(scenario.platoon))}
-            vessel_params.sort(key=lambda item: rank[item[0].namespace])
-        for spec, vparams, _plan in vessel_params:
-            if spec.predecessor is not None and scenario.stepping == 'lockstep':
-                _wait_for_ready(simulators[spec.predecessor], spec.predecessor, vparams, monitor,
-                                group)
+        by_ns = {spec.namespace: (spec, vparams) for spec, vparams, _plan in vessel_params}
+        for ns, awaited in simulator_start_plan(scenario):
+            spec, vparams = by_ns[ns]
+            for other in awaited:
+                _wait_for_ready(simulators[other], other, by_ns[other][1], monitor, group)
             if scenario.stepping == 'realtime':
                 _wait_for_odom_subscribers(monitor, spec, group, progress)
             f = write_params(run, spec.namespace, 'vessel_node', vparams)

@@ -52,11 +52,15 @@ from ship_sim.frames import yaw_to_psi
 from ship_sim.pacing import SequencePairer
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
-from ship_sim.ros.qos import LATCHED, STREAM, STREAM_KEPT
+from ship_sim.ros.qos import LATCHED, STREAM, STREAM_KEPT, stream_with_depth
 from ship_sim.ros.run import run_node
 
 DEFAULTS = ColavParams()
 SHIP = OwnShipModel()
+# A lockstep target's queue: the target may publish many steps before the own ship starts or
+# once its gate has stopped waiting for the own ship (vessel_node's lockstep_follower_window),
+# and a decision may use any of them (the depth takes no part in QoS matching).
+LOCKSTEP_TARGET = stream_with_depth(20000)
 # (name, default, description, lo, hi, unit) of the scalar ColavParams / OwnShipModel keys.
 SCALARS = (
     ('d_safe_m', DEFAULTS.d_safe_m, 'safe passing distance r_min', 1.0, 1e5, 'm'),
@@ -182,7 +186,8 @@ class ColavRosNode(Node):
             label=','.join(colav_io.DECISION_COLUMNS), size=len(colav_io.DECISION_COLUMNS),
             stride=1)]
         for topic in topics:
-            self.create_subscription(Odometry, topic, self._lockstep_target(topic), STREAM)
+            self.create_subscription(Odometry, topic, self._lockstep_target(topic),
+                                     LOCKSTEP_TARGET)
         if self.targets_topic:
             self.create_subscription(Odometry, self.targets_topic, self._on_targets, STREAM)
         if self.sync is not None:

@@ -4,7 +4,9 @@ For each vessel namespace: route_node, guidance_node, autopilot_node and, last, 
 (in lockstep it publishes step 0 only once its odom subscribers are all there). In a platoon
 (mission.platoon) a follower runs follower_node in place of guidance_node, steering at its
 predecessor's odom; every vessel_node is started after all the other nodes and waits for its
-own subscribers, which include the followers of that vessel. Light targets get one
+own subscribers, which include the followers of that vessel; in lockstep the traffic vessels'
+simulators start first and a colav vessel's only once every target has published step 0
+(simulator_start_plan). Light targets get one
 traffic_node, a scenario's `ais:` section one graph-wide ais_node (both started before the
 simulators and, in lockstep, waited for until they follow /clock). In realtime a simulator waits
 for no one, so the launcher starts each only once its vessel's odom followers are there. A

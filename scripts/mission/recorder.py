@@ -37,7 +37,9 @@ the topics it covers; the value is the number of complete steps recorded, the sm
 count over the covered topics. A group's first message (0) goes out once every covered topic is
 subscribed and matched to a publisher, so no step 0 is missed; vessel_node's
 ``lockstep_record_topic`` waits for it and then stays at most ``lockstep_record_window`` steps
-ahead. In realtime nobody waits: losses are counted by ``mission.bag.record_integrity``.
+ahead (QoS ``ship_sim.ros.qos.RECORD_ACK``, transient_local: a simulator that matches the
+recorder late still gets the first one). In realtime nobody waits: losses are counted by
+``mission.bag.record_integrity``.
 
 Stopping: SIGINT/SIGTERM (the launcher's ``ProcessGroup.stop``) end the spin and ``close()``
 finalises the bag, so an interrupted run still leaves a complete bag. SIGKILL leaves an MCAP
@@ -299,8 +301,10 @@ class Recorder:
                  depth=1000, discovery_period_s=0.2, node_name='mission_recorder', on_subscribe=None,
                  context=None, custom_data=None, acks=None):
         import rclpy.node  # rclpy only for the node layer
-        from rclpy.qos import QoSProfile, ReliabilityPolicy
+        from rclpy.qos import QoSProfile
         from std_msgs.msg import UInt64
+
+        from ship_sim.ros.qos import RECORD_ACK   # the simulators' side of the acks
         if time_source not in ('sim', 'wall'):
             raise ValueError(f"time_source must be 'sim' or 'wall', got {time_source!r}")
         if depth < 1:
@@ -318,9 +322,7 @@ class Recorder:
         # Lockstep acks: ack topic -> covered topics; per covered topic, the groups it counts in.
         self.acks = {a: list(ts) for a, ts in (acks or {}).items()}
         self._ack_msg = UInt64
-        self._ack_pubs = {a: self.node.create_publisher(
-            UInt64, a, QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE))
-            for a in self.acks}
+        self._ack_pubs = {a: self.node.create_publisher(UInt64, a, RECORD_ACK) for a in self.acks}
         self._ack_sent = {a: None for a in self.acks}   # last value sent (None: not ready yet)
         self._seen = {}                                  # covered topic -> messages received
         self._groups_of = {}

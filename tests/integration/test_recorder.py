@@ -22,7 +22,7 @@ from std_msgs.msg import Float64, UInt64
 
 from mission.bag import read_bag
 from mission.processes import die_with_parent
-from ship_sim.ros.qos import LATCHED, STREAM
+from ship_sim.ros.qos import LATCHED, RECORD_ACK, STREAM
 
 RECORDER = Path(__file__).resolve().parents[2] / 'scripts' / 'mission' / 'recorder.py'
 NS = '/vessel_0'
@@ -87,6 +87,11 @@ def test_recorder_process_records_a_late_latched_route_and_every_step(ros_graph,
         # The recorder's lockstep acknowledgement: every step of the three topics is written.
         assert tn.spin_until(lambda: len(acks) and acks.last.data == N, timeout=20.0), (
             [m.data for m in acks.messages[-3:]], out.read_text())
+        # A simulator that matches the recorder only after an ack went out still gets it
+        # (transient_local): a lost first ack held a simulator for its whole start timeout.
+        late = tn.subscribe(ACK, UInt64, RECORD_ACK)
+        assert tn.spin_until(lambda: len(late) and late.last.data == N, timeout=20.0), (
+            [m.data for m in late.messages])
         rec.send_signal(signal.SIGINT)
         assert rec.wait(timeout=10.0) == 0, out.read_text()
     finally:

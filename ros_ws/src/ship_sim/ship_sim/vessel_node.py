@@ -64,7 +64,6 @@ from nav_msgs.msg import Odometry
 import rclpy.logging
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
-from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock as ClockMsg
 from std_msgs.msg import Bool, Float64, UInt64
 
@@ -75,7 +74,7 @@ from ship_sim.models import MODEL_NAMES, ModelStateError, make_model
 from ship_sim.pacing import LockstepPacer, RealtimePacer, StepGate
 from ship_sim.ros.conversions import base_link_frame, fill_odometry, time_to_msg
 from ship_sim.ros.params import NodeParameters, ParameterError
-from ship_sim.ros.qos import CLOCK, DISPLAY, LATCHED, STREAM
+from ship_sim.ros.qos import CLOCK, DISPLAY, LATCHED, RECORD_ACK, STREAM
 from ship_sim.ros.run import finish, run_node, wait_for_acks
 from ship_sim.ros.waves import WaveOdometry, declare_waves
 from ship_sim.simulator import VesselSimulator
@@ -92,7 +91,6 @@ MODEL_KWARGS = {
     'nps_auv2': {'U0': 'U'},
 }
 #: The recorder's step acknowledgements (std_msgs/UInt64), as it publishes them.
-ACK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
 
 class VesselNode(Node):
@@ -331,7 +329,7 @@ class VesselNode(Node):
                 gates.append(self._gate(StepGate(f'the recorder ({self.record_topic})',
                                                  self.record_window, needed_at_start=True),
                                         UInt64, self.record_topic,
-                                        lambda g, msg: g.acknowledge(msg.data), ACK_QOS))
+                                        lambda g, msg: g.acknowledge(msg.data), RECORD_ACK))
             gates += self._speed_factor_gates()
             for topic in filter(None, (t.strip() for t in self.follower_topics.split(','))):
                 gates.append(self._gate(StepGate(f'follower {topic}', self.follower_window,

@@ -16,6 +16,12 @@
   transient_local subscription that matches late gets the steps it missed from the publisher's
   history. rclpy's own (best-effort, volatile) /clock subscriptions match CLOCK as before; a
   CLOCK_STEPS subscription needs a transient_local /clock publisher.
+- RECORD_ACK: the recorder's per-vessel acknowledgements (mission.recorder -> vessel_node in
+  lockstep). Reliable + transient_local: the recorder sends its first one as soon as it has
+  matched the simulator's publishers, which can be before the simulator's subscription has
+  matched the recorder's; volatile, that first one was lost, nothing else came before step 0
+  and the simulator waited its whole lockstep_start_timeout (30 s). The values are cumulative,
+  so the ones a late subscription gets from the history do no harm.
 """
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
@@ -57,3 +63,7 @@ CLOCK = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
 CLOCK_STEPS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                          reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+RECORD_ACK = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+                        reliability=ReliabilityPolicy.RELIABLE,
+                        durability=DurabilityPolicy.TRANSIENT_LOCAL)

@@ -554,13 +554,11 @@ def simulator_start_plan(scenario):
     starts the simulators. In lockstep, whoever others wait for comes first and is waited for:
     every platoon predecessor before its followers (mission.platoon.start_order), and every
     traffic vessel before the colav vessels, whose colav_node waits for each target's sample at
-    every decision from step 0 on. A target started together with the own ship was once 30 s
-    late to its step 0 (its first record ack had been lost, now ship_sim.ros.qos.RECORD_ACK);
-    the own ship ran alone, colav_node stopped waiting for the silent target after
-    lockstep_target_timeout_s and decided without it, and the run did not repeat. Once a target
-    has published step 0 its recorder and colav_node subscriptions are there, and its follower
-    gate holds it within lockstep_follower_window steps of the own ship. In realtime nobody
-    waits (predecessors still start first)."""
+    every decision from step 0 on and, after lockstep_target_timeout_s, decides without a
+    silent one (the run then does not repeat). Once a target has published step 0 its recorder
+    and colav_node subscriptions are there, and its follower gate holds it within
+    lockstep_follower_window steps of the own ship. In realtime nobody waits (predecessors
+    still start first)."""
     specs = list(scenario.vessels)
     if scenario.platoon is not None:
         from mission.platoon import start_order

@@ -90,7 +90,6 @@ MODEL_KWARGS = {
     'nomoto2': {'preset': 'preset', 'U0': 'U'},
     'nps_auv2': {'U0': 'U'},
 }
-#: The recorder's step acknowledgements (std_msgs/UInt64), as it publishes them.
 
 
 class VesselNode(Node):

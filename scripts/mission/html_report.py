@@ -21,7 +21,8 @@ Batch page, for any batch script (run_seed_scenarios.py, evaluate_controllers.py
 - ``columns``: header strings; ``rows``: one sequence of cell values per case (str, number,
   bool or None; floats shown to 4 significant digits, None as '-').
 - ``links``: per row the path of that case's report.html (or None): the first cell becomes a
-  link, relative to the page's folder so a copied batch folder keeps working.
+  link, relative to the page's folder so a copied batch folder keeps working; a link that
+  starts with '#' stays an anchor on the page (e.g. '#' + figure_id(png) of an embedded plot).
 - ``intro``: a paragraph under the title; ``sections``: more tables after the main one, each
   (heading, columns, rows) or (heading, columns, rows, links), e.g. a claims table;
 - ``command``: shown in the header (default: this process's command line);
@@ -103,7 +104,7 @@ def table(columns, rows, links=None, base=None, classes=None):
 
 
 def _href(target, base):
-    if base is None:
+    if base is None or str(target).startswith('#'):   # an anchor on the same page
         return str(target)
     return Path(os.path.relpath(Path(target).resolve(), Path(base).resolve())).as_posix()
 
@@ -124,8 +125,13 @@ def png_figure(path, caption=None):
     data = base64.b64encode(Path(path).read_bytes()).decode('ascii')
     name = esc(Path(path).name)
     text = f'{name}: {esc(caption)}' if caption else name
-    return (f'<figure><img src="data:image/png;base64,{data}" alt="{name}">'
+    return (f'<figure id="{figure_id(path)}"><img src="data:image/png;base64,{data}" alt="{name}">'
             f'<figcaption>{text}</figcaption></figure>')
+
+
+def figure_id(path):
+    """The id of a PNG's <figure> (link to it with '#' + this)."""
+    return 'fig-' + re.sub(r'[^A-Za-z0-9_-]+', '-', Path(path).stem)
 
 
 def figures_block(paths, captions=None):

@@ -1,10 +1,11 @@
 """Bag -> metrics.json + PNG plots + report.html: what the launcher runs after a mission and replay_bag.py runs later.
 
 Reads the bag with ``mission.bag``, computes ``mission.metrics.vessel_metrics`` per vessel and
-draws ``mission.plots``. The rudder limit for the saturation count and the plot comes from the
-argument, else from the bag's custom_data key ``mission.rudder_limit_rad/<vessel>`` (the
-launcher stores one per vessel with the recorder's ``--meta``), else ``mission.rudder_limit_rad``
-(one for all), else it is left out.
+draws ``mission.plots`` (with each vessel's settling window as the metrics computed it, and the
+route's waypoints from the route file the run's params name: ``route_waypoints``). The rudder
+limit for the saturation count and the plot comes from the argument, else from the bag's
+custom_data key ``mission.rudder_limit_rad/<vessel>`` (the launcher stores one per vessel with
+the recorder's ``--meta``), else ``mission.rudder_limit_rad`` (one for all), else it is left out.
 
 Each vessel's record ends at its own route completion (the guidance's finish flag, else the
 first odometry past the route's end, ``vessel_completion``): the launcher stops the graph only

@@ -15,9 +15,10 @@ ship_guidance.colav_evaluation (doc/colav_benchmark.md).
 Writes runs/imazu-<UTC stamp>/: results.csv (one row per run and target), summary.json (per
 ship and method, per case), case_NN.png (tracks with 5-minute marks and range to each target,
 every ship x method), summary.png, index.html (one row per case x ship x method, linking to
-the case's plot). ``--quick``: cases 1-4 (the single-target ones) on the
-mariner, both methods. ``--scenario-out DIR``: write each selected case as a scenario YAML
-(scripts/run_mission.py DIR/<name>.yaml runs it through the node graph) and stop.
+the case's plot; summary.png and every case plot embedded in the page). ``--quick``: cases
+1-4 (the single-target ones) on the mariner, both methods. ``--scenario-out DIR``: write each
+selected case as a scenario YAML (scripts/run_mission.py DIR/<name>.yaml runs it through the
+node graph) and stop.
 """
 import argparse
 import csv
@@ -246,13 +247,15 @@ def markdown_tables(summary, cases):
 
 def html_page(path, per_run, summary, cases, plots=True):
     """index.html (mission.html_report.batch_page): the totals per ship and method, then one row
-    per case x ship x method, its first cell linking to the case's plot (case_NN.png)."""
-    from mission.html_report import batch_page
+    per case x ship x method, its first cell linking to the case's plot (case_NN.png, embedded
+    in the page below the tables with summary.png first)."""
+    from mission.html_report import batch_page, figure_id
     totals = [[key, g['runs'], g['collisions'], g['near_misses'], g['below_safe'],
                g['min_distance_m'], g['rule_score_mean'], g['rule_score_single_target_mean'],
                g['path_deviation_m_mean'], g['time_lost_s_mean']]
               for key, g in summary['groups'].items()]
     rows, links = [], []
+    shown = sorted({c for c, _, _ in per_run})
     for (c, ship, method), run in per_run.items():
         pen = '; '.join(f'{n}: {", ".join(sorted(v["penalties"]))}'
                         for n, v in run['targets'].items() if v['penalties'])
@@ -261,7 +264,7 @@ def html_page(path, per_run, summary, cases, plots=True):
                      round(run['min_distance_m'], 1), run['collisions'], run['near_misses'],
                      run['below_safe'], round(run['rule_score'], 3), pen,
                      round(run['path_deviation_m'], 1), round(run['time_lost_s'], 1)])
-        links.append(path.parent / f'case_{c:02d}.png' if plots else None)
+        links.append('#' + figure_id(f'case_{c:02d}.png') if plots else None)
     return batch_page(
         path, 'Imazu benchmark: collision avoidance on the MSS plants',
         ['case (plot)', 'own ship', 'method', 'targets (own view)', 'min distance m',
@@ -274,7 +277,12 @@ def html_page(path, per_run, summary, cases, plots=True):
         sections=[('Totals per own ship and method',
                    ['ship / method', 'runs', 'collisions', 'near misses', 'below r_min',
                     'min distance m', 'rule score (all)', 'rule score (cases 1-4)',
-                    'path deviation m (mean)', 'time lost s (mean)'], totals)])
+                    'path deviation m (mean)', 'time lost s (mean)'], totals)],
+        figures=[path.parent / 'summary.png'] + [path.parent / f'case_{c:02d}.png'
+                                                 for c in shown] if plots else (),
+        captions={'summary.png': 'minimum distance and rule score per case and ship/method',
+                  **{f'case_{c:02d}.png': f'case {c}: tracks (dots every 5 min, labels in '
+                     'minutes) and range to each target, per ship and method' for c in shown}})
 
 
 def _mean(xs):

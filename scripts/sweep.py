@@ -16,7 +16,8 @@ Output (default runs/sweeps/<name>/): results.csv (one row per episode), summary
 summary.json (per grid cell: mean and 95 % confidence interval of each metric), plots
 (CDF of max cross-track per controller, or of min distance per colav method in an encounter
 sweep; metric against each random parameter), run.json
-(backend, workers, chunking, wall time, throughput). Exit codes: 0 done, 1 a chunk failed,
+(backend, workers, chunking, wall time, throughput), index.html (the summary table and every
+plot embedded, one self-contained page: mission.html_report.batch_page). Exit codes: 0 done, 1 a chunk failed,
 2 a bad sweep file or arguments.
 
 Test-only: SHIPNAV_SWEEP_FAIL_ONCE=<file> kills the first worker process that starts a chunk
@@ -121,13 +122,26 @@ def main(argv=None):
          'groups': [dict(zip(group_by, k), **v) for k, v in summary.items()]}, indent=1))
     (out / 'run.json').write_text(json.dumps(run, indent=1))
     print(md)
+    plots = []
     if not args.no_plots:
         from montecarlo.plots import write_plots
-        write_plots(rows, sweep, out)
+        plots = write_plots(rows, sweep, out)
+    html_index(out / 'index.html', sweep, summary, group_by, kind, run, plots)
     print(f"{run['episodes']} episodes in {run['wall_s']:.1f} s ({run['episodes_per_s']:.1f} "
           f"episodes/s, {run['vessel_steps_per_s']:,.0f} vessel-steps/s, {run['workers']} "
           f"workers, {run['chunks']} chunks of <= {run['chunk_size']}); wrote {out}/")
     return 0
+
+
+def html_index(path, sweep, summary, group_by, kind, run, plots=()):
+    """index.html: the summary table (as summary.md) and the plots embedded."""
+    from mission.html_report import batch_page
+    header, rows = results.summary_rows(summary, group_by, kind)
+    return batch_page(
+        path, f'Sweep {sweep.name}', header, rows,
+        intro=f"{results.summary_caption(kind)} {run['episodes']} episodes in "
+              f"{run['wall_s']:.1f} s on {run['workers']} workers; one row per episode in "
+              'results.csv.', figures=plots)
 
 
 if __name__ == '__main__':

@@ -1,7 +1,9 @@
 """Open an HTML page in headless Chromium and report what a reader would see go wrong: console
-errors, uncaught exceptions, images that did not decode, requests that left the file, and a
-screenshot. Driven by Playwright (its Python package only; the browser is the system's
-Chromium, e.g. Debian's ``chromium``: no browser is downloaded).
+errors, uncaught exceptions, images that did not decode, requests that left the file, in-page
+links (a table of contents) whose anchor is missing, a page wider than the window (it scrolls
+sideways: unreadable on a phone), and a screenshot. Driven by Playwright (its Python package
+only; the browser is the system's Chromium, e.g. Debian's ``chromium``: no browser is
+downloaded).
 
 ``check_page`` runs in the calling process; scripts/check_report.py wraps it as a command whose
 process group a caller can bound in time and kill (the browser test does).
@@ -32,6 +34,9 @@ def check_page(html_path, screenshot=None, executable=None, timeout_s=30.0, widt
     - 'page_errors': uncaught exceptions; 'requests': URLs requested other than the page itself
       and data: URIs (a self-contained page has none; they are answered with an abort);
     - 'images': [{'alt', 'natural_width', 'natural_height', 'complete'}] per <img>;
+    - 'anchors': [{'href', 'found'}] per in-page link (href "#id"): whether the id exists;
+    - 'overflow_px': how much wider than the window the page is (0: no sideways scrolling);
+    - 'width': the window width (px); 'text': the page's visible text;
     - 'title', 'browser' (version), 'screenshot' (path or None).
 
     RuntimeError when no Chromium is found."""
@@ -61,6 +66,15 @@ def check_page(html_path, screenshot=None, executable=None, timeout_s=30.0, widt
             out['images'] = page.evaluate(
                 '() => Array.from(document.images).map(i => ({alt: i.alt, complete: i.complete, '
                 'natural_width: i.naturalWidth, natural_height: i.naturalHeight}))')
+            out['anchors'] = page.evaluate(
+                '() => Array.from(document.querySelectorAll(\'a[href^="#"]\')).map(a => ({href: '
+                'a.getAttribute("href"), found: document.getElementById(decodeURIComponent('
+                'a.getAttribute("href").slice(1))) !== null}))')
+            out['overflow_px'] = page.evaluate(
+                '() => Math.max(document.documentElement.scrollWidth, document.body.scrollWidth)'
+                ' - document.documentElement.clientWidth')
+            out['width'] = width
+            out['text'] = page.evaluate('() => document.body.innerText')
             out['title'] = page.title()
             out['browser'] = context.browser.version if context.browser else None
             if screenshot:
@@ -79,4 +93,9 @@ def problems(result):
     lines += [f'network request: {u}' for u in result['requests']]
     lines += [f'image not decoded: {i["alt"]}' for i in result.get('images', [])
               if not i['complete'] or i['natural_width'] <= 0]
+    lines += [f'link to a missing anchor: {a["href"]}' for a in result.get('anchors', [])
+              if not a['found']]
+    if result.get('overflow_px', 0) > 0:
+        lines.append(f'page {result["overflow_px"]} px wider than the {result.get("width")} px '
+                     'window (scrolls sideways)')
     return lines

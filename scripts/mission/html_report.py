@@ -5,7 +5,13 @@ Run report (``write_run_report``, called by ``mission.report.analyse_bag`` where
 metrics.json: the launcher after a mission, replay_bag.py, the seed batch): report.html beside
 metrics.json with the run (date, git commit, command, outcome), the scenario YAML, the metrics
 tables (vessels, platoon, encounter when a vessel ran colav_node, record completeness, topics),
-every PNG of the folder and the warnings and errors of the node logs (``log_issues``).
+every PNG of the folder and the warnings and errors of the node logs (``log_issues``), under a
+table of contents. Metric tables give each metric's unit and description from
+mission.metric_info (the one table of them); angles are shown in degrees there (metrics.json
+keeps radians).
+
+Readable at phone width: the viewport meta tag, images no wider than the page, wide tables
+scroll sideways inside their own box instead of widening the page.
 
 Batch page, for any batch script (run_seed_scenarios.py, evaluate_controllers.py, benchmarks)::
 
@@ -15,10 +21,13 @@ Batch page, for any batch script (run_seed_scenarios.py, evaluate_controllers.py
 - ``columns``: header strings; ``rows``: one sequence of cell values per case (str, number,
   bool or None; floats shown to 4 significant digits, None as '-').
 - ``links``: per row the path of that case's report.html (or None): the first cell becomes a
-  link, relative to the page's folder so a copied batch folder keeps working.
+  link, relative to the page's folder so a copied batch folder keeps working; a link that
+  starts with '#' stays an anchor on the page (e.g. '#' + figure_id(png) of an embedded plot).
 - ``intro``: a paragraph under the title; ``sections``: more tables after the main one, each
   (heading, columns, rows) or (heading, columns, rows, links), e.g. a claims table;
-- ``command``: shown in the header (default: this process's command line).
+- ``command``: shown in the header (default: this process's command line);
+- ``figures``: PNG files embedded (data URIs) under "Plots", each with its caption
+  (``{file name: caption}`` in ``captions``).
 """
 import base64
 import html
@@ -46,8 +55,15 @@ tr:nth-child(even) td{background:#fafbfc}
 pre{background:#f6f8fa;border:1px solid #ddd;padding:.6em;overflow:auto;font-size:12px}
 pre .c{color:#6a737d}pre .k{color:#005cc5}
 .plots{columns:2 480px;column-gap:.8em}figure{margin:0 0 .8em;break-inside:avoid}
-figure img{width:100%;border:1px solid #ddd}figcaption{font-size:12px;color:#555}
-.bad{color:#b00020;font-weight:bold}.ok{color:#137333}.meta td:first-child{font-weight:bold}
+figure img{width:100%;max-width:100%;height:auto;border:1px solid #ddd}
+figcaption{font-size:12px;color:#555}img{max-width:100%;height:auto}
+.scroll{overflow-x:auto;max-width:100%}.scroll table{margin:0}
+td.d{color:#555;font-size:12px;min-width:22em}td.k{font:11px monospace;color:#555}
+nav.toc{background:#f6f8fa;border:1px solid #ddd;padding:.3em 1em;display:inline-block}
+nav.toc ol{margin:.3em 0;padding-left:1.4em}
+.bad{color:#b00020;font-weight:bold}.ok{color:#137333}
+.meta td{overflow-wrap:anywhere}.meta td:first-child{font-weight:bold;white-space:nowrap}
+p{overflow-wrap:anywhere}
 """
 
 
@@ -68,9 +84,11 @@ def fmt(value):
     return str(value)
 
 
-def table(columns, rows, links=None, base=None):
-    """An HTML table; numbers right-aligned. ``links``: per row an href for the first cell."""
-    out = ['<table><tr>' + ''.join(f'<th>{esc(c)}</th>' for c in columns) + '</tr>']
+def table(columns, rows, links=None, base=None, classes=None):
+    """An HTML table in a box that scrolls sideways when the table is wider than the page;
+    numbers right-aligned. ``links``: per row an href for the first cell; ``classes``: per
+    column a CSS class for its cells (or None)."""
+    out = ['<div class="scroll"><table><tr>' + ''.join(f'<th>{esc(c)}</th>' for c in columns) + '</tr>']
     for i, row in enumerate(rows):
         cells = []
         for j, v in enumerate(row):
@@ -79,32 +97,87 @@ def table(columns, rows, links=None, base=None):
             if href:
                 text = f'<a href="{esc(_href(href, base))}">{text}</a>'
             num = isinstance(v, (int, float)) and not isinstance(v, bool)
-            cells.append(f'<td class="n">{text}</td>' if num else f'<td>{text}</td>')
+            cls = 'n' if num else (classes[j] if classes and j < len(classes) else None)
+            cells.append(f'<td class="{cls}">{text}</td>' if cls else f'<td>{text}</td>')
         out.append('<tr>' + ''.join(cells) + '</tr>')
-    return '\n'.join(out) + '</table>'
+    return '\n'.join(out) + '</table></div>'
 
 
 def _href(target, base):
-    if base is None:
+    if base is None or str(target).startswith('#'):   # an anchor on the same page
         return str(target)
     return Path(os.path.relpath(Path(target).resolve(), Path(base).resolve())).as_posix()
 
 
 def page(title, body, meta=()):
     """A whole HTML document: title, a key/value table ``meta`` and ``body`` (HTML)."""
-    head = ('<table class="meta">' + ''.join(f'<tr><td>{esc(k)}</td><td>{esc(fmt(v))}</td></tr>'
-                                            for k, v in meta) + '</table>') if meta else ''
+    head = ('<div class="scroll"><table class="meta">'
+            + ''.join(f'<tr><td>{esc(k)}</td><td>{esc(fmt(v))}</td></tr>' for k, v in meta)
+            + '</table></div>') if meta else ''
     return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
             f'<meta name="viewport" content="width=device-width, initial-scale=1">'
             f'<title>{esc(title)}</title><style>{CSS}</style></head>\n<body>\n'
             f'<h1>{esc(title)}</h1>\n{head}\n{body}\n</body></html>\n')
 
 
-def png_figure(path):
+def png_figure(path, caption=None):
+    """A <figure> with the PNG inline (data URI), captioned with its file name and ``caption``."""
     data = base64.b64encode(Path(path).read_bytes()).decode('ascii')
     name = esc(Path(path).name)
-    return (f'<figure><img src="data:image/png;base64,{data}" alt="{name}">'
-            f'<figcaption>{name}</figcaption></figure>')
+    text = f'{name}: {esc(caption)}' if caption else name
+    return (f'<figure id="{figure_id(path)}"><img src="data:image/png;base64,{data}" alt="{name}">'
+            f'<figcaption>{text}</figcaption></figure>')
+
+
+def figure_id(path):
+    """The id of a PNG's <figure> (link to it with '#' + this)."""
+    return 'fig-' + re.sub(r'[^A-Za-z0-9_-]+', '-', Path(path).stem)
+
+
+def figures_block(paths, captions=None):
+    """The PNGs as captioned figures in columns (two on a wide screen, one on a phone)."""
+    captions = captions or {}
+    return ('<div class="plots">' + '\n'.join(png_figure(p, captions.get(Path(p).name))
+                                              for p in paths) + '</div>')
+
+
+class Sections:
+    """The <h2> sections of a page, each with an id, and the table of contents linking them."""
+
+    def __init__(self):
+        self.entries = []
+
+    def h2(self, text):
+        anchor = re.sub(r'[^a-z0-9]+', '-', str(text).lower()).strip('-') or 'section'
+        n, base = 2, anchor
+        while anchor in (a for a, _ in self.entries):
+            anchor, n = f'{base}-{n}', n + 1
+        self.entries.append((anchor, text))
+        return f'<h2 id="{esc(anchor)}">{esc(text)}</h2>'
+
+    def toc(self):
+        items = ''.join(f'<li><a href="#{esc(a)}">{esc(t)}</a></li>' for a, t in self.entries)
+        return f'<nav class="toc"><strong>Contents</strong><ol>{items}</ol></nav>'
+
+
+def metric_table(section, columns):
+    """Metrics as rows (metric without its unit suffix, unit, one column per entry of ``columns``
+    {name: metrics dict}, description, the metrics.json key), with the unit and description of
+    mission.metric_info's ``section``, angles in degrees. A key without an entry there is shown
+    with a '?' unit (the tests forbid it)."""
+    from mission.metric_info import plain_name, shown
+    names = list(columns)
+    keys = []
+    for m in columns.values():
+        keys += [k for k in m if k not in keys]
+    rows = []
+    for k in keys:
+        unit, text = section.get(k, ('?', ''))
+        values = [shown(columns[n].get(k), unit) for n in names]
+        rows.append([plain_name(k, unit), values[0][1] if values else unit]
+                    + [v for v, _ in values] + [text, k])
+    return table(['metric', 'unit'] + names + ['description', 'metrics.json key'], rows,
+                 classes=[None, None] + [None] * len(names) + ['d', 'k'])
 
 
 def yaml_block(text):
@@ -157,15 +230,6 @@ def _run_summary(path):
         return {}
 
 
-def _vessels_table(vessels):
-    """Metrics per vessel: one row per metric, one column per vessel (there are many metrics)."""
-    names = list(vessels)
-    keys = []
-    for m in vessels.values():
-        keys += [k for k in m if k not in keys]
-    return table(['metric'] + names, [[k] + [vessels[n].get(k) for n in names] for k in keys])
-
-
 def _record_table(record):
     """Completeness per topic (mission.integrity) and each vessel's recording end."""
     rows, ends = [], []
@@ -214,22 +278,21 @@ def write_run_report(run_dir, metrics, source_dir=None, command=None):
         meta += [('outcome', run.get('outcome')),
                  ('sim / wall time', f"{fmt(run.get('sim_time_s'))} s / {fmt(run.get('wall_time_s'))} s "
                                      f"(x{fmt(run.get('real_time_factor'))} real time)")]
+    from mission import metric_info
+    from mission.plots import CAPTIONS
+    sec = Sections()
     body = []
     if metrics.get('recovered'):
         body.append(f'<p class="bad">{esc(metrics["recovered"])}</p>')
     listed = metrics.get('plots') or []   # the analysis's own plots first, in its order
     pngs = sorted(run_dir.glob('*.png'), key=lambda f: (listed.index(f.name) if f.name in listed
                                                         else len(listed), f.name))
-    figures = '\n'.join(png_figure(f) for f in pngs)
-    body += ['<h2>Plots</h2>', f'<div class="plots">{figures}</div>' if pngs else '<p>no plots</p>']
-    body += ['<h2>Vessels</h2>', _vessels_table(metrics.get('vessels', {}))]
+    body += [sec.h2('Plots'), figures_block(pngs, CAPTIONS) if pngs else '<p>no plots</p>']
+    body += [sec.h2('Vessels'), metric_table(metric_info.VESSEL, metrics.get('vessels', {}))]
+    if metrics.get('traffic'):
+        body += [sec.h2('Traffic'), metric_table(metric_info.TRAFFIC, metrics['traffic'])]
     if metrics.get('platoon'):
-        p = metrics['platoon']
-        keys = []
-        for row in p.values():
-            keys += [k for k in row if k not in keys]
-        body += ['<h2>Platoon</h2>', table(['vessel'] + keys, [[ns] + [r.get(k) for k in keys]
-                                                               for ns, r in p.items()])]
+        body += [sec.h2('Platoon'), metric_table(metric_info.PLATOON, metrics['platoon'])]
     if bag.is_dir():
         try:
             enc = encounter_rows(bag, metrics)
@@ -239,13 +302,13 @@ def write_run_report(run_dir, metrics, source_dir=None, command=None):
             enc = []
         if enc:
             keys = list(enc[0][2])
-            body += ['<h2>Encounter</h2>', table(['own', 'target'] + keys,
-                                                 [[o, t] + [r[k] for k in keys] for o, t, r in enc])]
+            body += [sec.h2('Encounter'), table(['own', 'target'] + keys,
+                                                [[o, t] + [r[k] for k in keys] for o, t, r in enc])]
     logs = src / 'logs'
     if logs.is_dir():
         issues = log_issues(logs)
         n_logs = len(list(logs.glob('*.log')))
-        body.append(f'<h2>Node logs: warnings and errors ({len(issues)} of {n_logs} logs)</h2>')
+        body.append(sec.h2(f'Node logs: warnings and errors ({len(issues)} of {n_logs} logs)'))
         for name, lines in issues.items():
             more = len(lines) - MAX_LOG_LINES
             body.append(f'<h3>{esc(name)} ({len(lines)} lines)</h3><pre>'
@@ -254,19 +317,21 @@ def write_run_report(run_dir, metrics, source_dir=None, command=None):
         if not issues:
             body.append(f'<p class="ok">none in {n_logs} logs ({esc(logs)})</p>')
     if scenario.is_file():
-        body += ['<h2>Scenario</h2>', yaml_block(scenario.read_text(errors='replace'))]
+        body += [sec.h2('Scenario'), yaml_block(scenario.read_text(errors='replace'))]
     if metrics.get('record'):
-        body += ['<h2>Record</h2>', _record_table(metrics['record'])]
+        body += [sec.h2('Record'), _record_table(metrics['record'])]
     if metrics.get('topics'):
-        body += ['<h2>Topics</h2>', table(['topic', 'type', 'messages'],
-                                          [[t, s.get('type'), s.get('count')]
-                                           for t, s in metrics['topics'].items()])]
+        body += [sec.h2('Topics'), table(['topic', 'type', 'messages'],
+                                         [[t, s.get('type'), s.get('count')]
+                                          for t, s in metrics['topics'].items()])]
+    body.insert(0, sec.toc())
     path = run_dir / 'report.html'
     path.write_text(page(f'Run report: {title}', '\n'.join(body), meta), encoding='utf-8')
     return path
 
 
-def batch_page(path, title, columns, rows, links=None, intro='', sections=(), command=None):
+def batch_page(path, title, columns, rows, links=None, intro='', sections=(), command=None,
+               figures=(), captions=None):
     """Write one page with a row per case (module docstring) and return its path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -275,5 +340,7 @@ def batch_page(path, title, columns, rows, links=None, intro='', sections=(), co
     body = [f'<p>{esc(intro)}</p>' if intro else '', table(columns, rows, links, path.parent)]
     for heading, cols, srows, *slinks in sections:
         body += [f'<h2>{esc(heading)}</h2>', table(cols, srows, slinks[0] if slinks else None, path.parent)]
+    if figures:
+        body += ['<h2 id="plots">Plots</h2>', figures_block(figures, captions)]
     path.write_text(page(title, '\n'.join(body), meta), encoding='utf-8')
     return path

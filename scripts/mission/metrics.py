@@ -253,6 +253,27 @@ def heading_error_stats(t_cmd, yaw_cmd, t, yaw, t_from):
             'heading_error_mean_rad': _f(np.mean(err)), 'heading_error_samples': int(err.size)}
 
 
+# -- motion over ground ------------------------------------------------------------------------------
+
+def over_ground(t, x, y, yaw, min_speed_mps=0.05):
+    """Speed over ground (m/s), course over ground (ENU yaw, rad) and drift angle (rad) at each
+    odometry sample, from the track itself (central differences of the ENU position, so a
+    current is in them). Drift = course over ground - heading, compass sense: + = the ground
+    track runs to starboard of the heading. Course and drift are NaN where the speed is below
+    ``min_speed_mps`` (no course to speak of)."""
+    t, x, y, yaw = (np.asarray(a, dtype=float) for a in (t, x, y, yaw))
+    if t.size < 2:
+        nan = np.full(t.size, np.nan)
+        return nan, nan, nan
+    vx, vy = np.gradient(x, t), np.gradient(y, t)
+    sog = np.hypot(vx, vy)
+    moving = sog >= min_speed_mps
+    cog = np.where(moving, np.arctan2(vy, vx), np.nan)
+    # ENU angles count counter-clockwise; a compass difference clockwise: hence heading - course
+    drift = np.where(moving, wrap(yaw - cog), np.nan)
+    return sog, cog, drift
+
+
 # -- everything for one vessel ------------------------------------------------------------------------
 
 def vessel_metrics(t, x, y, yaw, *, xte=None, rudder=None, rudder_cmd=None, heading_cmd=None, route=None,

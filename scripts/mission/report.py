@@ -1,10 +1,11 @@
 """Bag -> metrics.json + PNG plots + report.html: what the launcher runs after a mission and replay_bag.py runs later.
 
 Reads the bag with ``mission.bag``, computes ``mission.metrics.vessel_metrics`` per vessel and
-draws ``mission.plots``. The rudder limit for the saturation count and the plot comes from the
-argument, else from the bag's custom_data key ``mission.rudder_limit_rad/<vessel>`` (the
-launcher stores one per vessel with the recorder's ``--meta``), else ``mission.rudder_limit_rad``
-(one for all), else it is left out.
+draws ``mission.plots`` (with each vessel's settling window as the metrics computed it, and the
+route's waypoints from the route file the run's params name: ``route_waypoints``). The rudder
+limit for the saturation count and the plot comes from the argument, else from the bag's
+custom_data key ``mission.rudder_limit_rad/<vessel>`` (the launcher stores one per vessel with
+the recorder's ``--meta``), else ``mission.rudder_limit_rad`` (one for all), else it is left out.
 
 Each vessel's record ends at its own route completion (the guidance's finish flag, else the
 first odometry past the route's end, ``vessel_completion``): the launcher stops the graph only
@@ -112,10 +113,12 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
         result['platoon'] = platoon_metrics(result['vessels'], gaps, platoon, settle_s, ends)
     out.mkdir(parents=True, exist_ok=True)
     if make_pngs:
-        settle_shown = next((m.get('settle_s') for m in result['vessels'].values() if m.get('settle_s')), None)
-        result['plots'] = [p.name for p in plots.make_plots(own, out, limits, settle_shown,
-                                                            traffic={n: tr for n, (_, tr) in
-                                                                     traffic.items()})]
+        # the plots shade the settling window the metrics used: their own settle_s, per vessel
+        settle = {ns: m.get('settle_s') for ns, m in result['vessels'].items()}
+        settle_shown = next((v for v in settle.values() if v), None)
+        result['plots'] = [p.name for p in plots.make_plots(
+            own, out, limits, settle, traffic={n: tr for n, (_, tr) in traffic.items()},
+            waypoints={ns: route_waypoints(bag_dir.resolve().parent, ns) for ns in own})]
         if platoon:
             result['plots'] += [p.name for p in plot_platoon(gaps, result['platoon'], out, settle_shown)]
     result.update(extra or {})
@@ -124,6 +127,26 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
     if html:
         html_report.write_run_report(out, result, source_dir=bag_dir.resolve().parent)
     return result
+
+
+def route_waypoints(run_dir, ns):
+    """(x, y) ENU waypoints of a vessel's route as its route file gives them (before the
+    fillets: the bag's route has the arcs as chords), read through the route file that the
+    run's params/<vessel>.route_node.yaml names; None when the run folder does not say or the
+    file cannot be read (a bag copied elsewhere: the plot then marks no waypoints)."""
+    import yaml
+    from ship_planner.route_loader import RouteError, load_route
+    from ship_sim.frames import ned_to_enu_xy
+    params = Path(run_dir) / 'params' / f'{ns.strip("/").replace("/", ".")}.route_node.yaml'
+    try:
+        doc = yaml.safe_load(params.read_text())
+        route_file = doc['/**']['ros__parameters']['route_file']
+        wp = np.asarray(load_route(route_file).waypoints_ned, dtype=float)
+    except (OSError, yaml.YAMLError, KeyError, TypeError, RouteError):
+        return None
+    if wp.ndim != 2 or wp.shape[0] == 0:
+        return None
+    return ned_to_enu_xy(wp[:, 0], wp[:, 1])
 
 
 #: A vessel's topics besides odom: a namespace with none of them (odometry only) is a light

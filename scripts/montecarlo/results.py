@@ -129,14 +129,12 @@ def summarise(rows, group_by, kind=KINDS['route']):
     return out
 
 
-def summary_markdown(summary, group_by, kind=KINDS['route']):
-    """A Markdown table: one line per group, 'mean [low, high]' per metric of ``kind.shown``."""
+def summary_rows(summary, group_by, kind=KINDS['route']):
+    """(header, rows) of the summary: per group its grid values, n and 'mean [low, high]' per
+    metric of ``kind.shown`` (text cells; summary.md and index.html show the same)."""
     metrics = kind.shown
-    head = '| ' + ' | '.join(list(group_by) + ['n'] + list(metrics)) + ' |'
-    over = 'over completed episodes' if kind.gate == 'completed' else 'over every episode'
-    lines = [f'Mean [{CI_LEVEL:.0%} CI] per group: Student-t for the metrics, Wilson for '
-             f'{", ".join(kind.proportions)} (proportions); metrics {over}.', '', head,
-             '|' + '---|' * len(group_by) + '---:|' * (len(metrics) + 1)]
+    header = list(group_by) + ['n'] + list(metrics)
+    rows = []
     for key, entry in summary.items():
         cells = [_cell(k) for k in key] + [str(entry[kind.proportions[0]]['n'])]
         for m in metrics:
@@ -146,5 +144,21 @@ def summary_markdown(summary, group_by, kind=KINDS['route']):
             cells.append(f'{fmt.format(s["mean"])} [{fmt.format(s["low"])}, '
                          f'{fmt.format(s["high"])}]' if not math.isnan(s['low'])
                          else fmt.format(s['mean']))
-        lines.append('| ' + ' | '.join(cells) + ' |')
+        rows.append(cells)
+    return header, rows
+
+
+def summary_caption(kind=KINDS['route']):
+    """What the summary's cells are."""
+    over = 'over completed episodes' if kind.gate == 'completed' else 'over every episode'
+    return (f'Mean [{CI_LEVEL:.0%} CI] per group: Student-t for the metrics, Wilson for '
+            f'{", ".join(kind.proportions)} (proportions); metrics {over}.')
+
+
+def summary_markdown(summary, group_by, kind=KINDS['route']):
+    """A Markdown table: one line per group, 'mean [low, high]' per metric of ``kind.shown``."""
+    header, rows = summary_rows(summary, group_by, kind)
+    lines = [summary_caption(kind), '', '| ' + ' | '.join(header) + ' |',
+             '|' + '---|' * len(group_by) + '---:|' * (len(kind.shown) + 1)]
+    lines += ['| ' + ' | '.join(cells) + ' |' for cells in rows]
     return '\n'.join(lines) + '\n'

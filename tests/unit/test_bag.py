@@ -219,6 +219,25 @@ def test_each_vessel_gets_its_own_stored_rudder_limit(synthetic, tmp_path):
     assert result['vessels']['/vessel_1']['rudder_limit_rad'] == pytest.approx(0.35)
 
 
+def test_the_plots_get_the_settle_window_metrics_json_has(synthetic, tmp_path, monkeypatch):
+    """mission.report hands the plots (shaded settling windows) the settle_s it writes to
+    metrics.json, per vessel: one home for the window (tests/unit/test_report_plots.py checks
+    that the plots shade exactly what they are given)."""
+    from mission import plots
+    from mission.report import analyse_bag
+    seen, real = {}, plots.make_plots
+
+    def spy(vessels, out, limits, settle, **kw):
+        seen['settle'] = settle
+        return real(vessels, out, limits, settle, **kw)
+    monkeypatch.setattr(plots, 'make_plots', spy)
+    result = analyse_bag(synthetic[0], tmp_path, html=False)
+    assert seen['settle'] == {ns: v['settle_s'] for ns, v in result['vessels'].items()}
+    assert len(seen['settle']) == 2 and all(v > 0 for v in seen['settle'].values())
+    from mission.metric_info import VESSEL   # and each key the vessels get has its description
+    assert set().union(*result['vessels'].values()) <= set(VESSEL)
+
+
 def test_unstamped_topics_pair_with_odom_by_sequence_when_counts_match(tmp_path):
     # the recorder fell behind and /clock got ahead of the rudder queue: steps 3 and 4 were logged
     # at the clock of step 5 (as seen in a loaded run; log times never decrease, ties keep their

@@ -2,6 +2,7 @@
 plot's own bytes, nothing fetched from anywhere), everything shown escaped, the node logs'
 warnings and errors picked out, batch links relative so a copied batch folder keeps working."""
 import base64
+import math
 import html
 import re
 
@@ -124,7 +125,8 @@ def test_fmt_shows_numbers_to_four_significant_digits():
 def _cells(text, heading):
     """The rows (lists of cell texts) of the first table after <h2>heading</h2> (or the first
     table of the page with heading None)."""
-    start = text.index(f'<h2>{heading}</h2>') if heading else text.index('<table><tr>')
+    start = (re.search(f'<h2[^>]*>{re.escape(heading)}</h2>', text).start() if heading
+             else text.index('<table><tr>'))
     tbl = text[start:text.index('</table>', start)]
     return [[_strip_tags(c) for c in re.findall(r'<t[dh][^>]*>(.*?)</t[dh]>', row)]
             for row in re.findall(r'<tr>(.*?)</tr>', tbl, re.S)]
@@ -170,3 +172,47 @@ def test_table_one_page_puts_the_paper_and_our_rewards_in_the_same_columns(tmp_p
     every = _cells(text, 'Every case (means over the start states)')
     assert every[2][:3] == ['mariner', '0', ec.LABELS['policy']] and every[2][-1] == 'no policy file'
     assert every[1][3:] == ['1000', '5', '9', '4', '0.5', '2', '']
+
+
+def test_imazu_index_embeds_the_summary_and_every_case_plot_and_links_rows_to_them(tmp_path):
+    import imazu_benchmark as ib
+    pngs = {'summary.png': PNG_1x1, 'case_01.png': PNG_1x1 + b'\x01', 'case_05.png': PNG_1x1 + b'\x05'}
+    for name, data in pngs.items():
+        (tmp_path / name).write_bytes(data)
+    run = {'targets': {'t1': {'penalties': []}}, 'min_distance_m': 900.0, 'collisions': 0,
+           'near_misses': 0, 'below_safe': 0, 'rule_score': 1.0, 'path_deviation_m': 50.0,
+           'time_lost_s': 10.0}
+    per_run = {(c, 'mariner', m): run for c in (1, 5) for m in ('sbmpc', 'vo')}
+    group = {'runs': 2, 'collisions': 0, 'near_misses': 0, 'below_safe': 0, 'min_distance_m': 900.0,
+             'rule_score_mean': 1.0, 'rule_score_single_target_mean': 1.0,
+             'path_deviation_m_mean': 50.0, 'time_lost_s_mean': 10.0}
+    summary = {'groups': {'mariner/sbmpc': group, 'mariner/vo': group}, 'duration_s': 2000.0,
+               'decision_ms_mean': 1.0, 'load_average_1min': 1.0, 'cpus': 2}
+    cases = {c: {'targets': [{'colregs': 'head-on'}]} for c in (1, 5)}
+    text = ib.html_page(tmp_path / 'index.html', per_run, summary, cases).read_text()
+    figures = dict(re.findall(r'<figure id="([^"]+)"><img src="data:image/png;base64,([^"]+)"', text))
+    assert {k: base64.b64decode(v) for k, v in figures.items()} == \
+        {html_report.figure_id(n): d for n, d in pngs.items()}
+    assert list(figures)[0] == html_report.figure_id('summary.png')   # the overview first
+    hrefs = re.findall(r'href="([^"]*)"', text)
+    assert len(hrefs) == len(per_run)
+    assert all(h.startswith('#') and h[1:] in figures for h in hrefs)   # each row to its case plot
+    assert sorted(set(hrefs)) == ['#' + html_report.figure_id(f'case_{c:02d}.png') for c in (1, 5)]
+
+
+def test_run_report_gives_every_metric_a_unit_and_description_and_shows_angles_in_degrees(run_folder):
+    from mission import metric_info
+    run, metrics, _ = run_folder
+    metrics['vessels']['/vessel_0'] = {'xte_rms_m': 12.5, 'rudder_max_abs_rad': 0.5,
+                                       'rudder_total_variation_rad_per_s': 0.01, 'finished': True}
+    text = html_report.write_run_report(run, metrics).read_text()
+    rows = {r[-1]: r for r in _cells(text, 'Vessels')[1:]}   # by metrics.json key
+    assert rows['xte_rms_m'][:3] == ['xte_rms', 'm', '12.5']
+    assert rows['rudder_max_abs_rad'][:3] == ['rudder_max_abs', 'deg', f'{math.degrees(0.5):.4g}']
+    assert rows['rudder_total_variation_rad_per_s'][1:3] == ['deg/s', f'{math.degrees(0.01):.4g}']
+    for key, row in rows.items():
+        assert row[-2] == metric_info.VESSEL[key][1]
+    # the contents list links every section heading, and only those
+    ids = re.findall(r'<h2 id="([^"]+)">', text)
+    toc = text[text.index('<nav class="toc">'):text.index('</nav>')]
+    assert re.findall(r'href="#([^"]+)"', toc) == ids and 'vessels' in ids and 'plots' in ids

@@ -19,7 +19,10 @@
   encounter sweep's table is the same for any workers and chunks, its rows obey the metric
   definitions.
 """
+import base64
+import html
 import math
+import re
 
 import numpy as np
 import pytest
@@ -274,6 +277,16 @@ def test_cli_writes_table_summary_and_plots(tmp_path):
     assert md.count('\n| los') == 1 and md.count('\n| ilos') == 1
     assert (out / 'cdf_max_cross_track.png').stat().st_size > 0
     assert (out / 'max_abs_e_m_vs_start_cross_m.png').stat().st_size > 0
+    # index.html shows every plot of the folder inline (the bytes of the PNG) and the summary
+    page = (out / 'index.html').read_text()
+    srcs = re.findall(r'<img src="data:image/png;base64,([^"]+)" alt="([^"]+)"', page)
+    assert {alt: base64.b64decode(data) for data, alt in srcs} == \
+        {p.name: p.read_bytes() for p in out.glob('*.png')}
+    for line in md.splitlines():
+        if line.startswith(('| los', '| ilos')):
+            first = [c.strip() for c in line.strip('|').split('|')]
+            cells = re.search(r'<tr><td>' + first[0] + r'</td>(.*?)</tr>', page).group(1)
+            assert [html.unescape(c) for c in re.findall(r'<td[^>]*>(.*?)</td>', cells)] == first[1:]
 
 
 def test_where_runs_some_cells_with_the_whole_sweeps_rows(reference_table):

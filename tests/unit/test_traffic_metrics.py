@@ -61,5 +61,5 @@ def test_traffic_plots_are_written(tmp_path):
     traffic = {'ais_1': _straight(np.arange(0.0, 300.0, 1.0), 1000.0, -1200.0, 0.0, 5.0)}
     paths = plots.make_plots({'/vessel_0': vessel}, tmp_path, traffic=traffic)
     assert [p.name for p in paths] == ['track.png', 'cross_track_error.png', 'heading.png',
-                                       'rudder.png', 'range.png']
+                                       'rudder.png', 'over_ground.png', 'range.png']
     assert all(p.stat().st_size > 1000 for p in paths)

@@ -29,6 +29,14 @@ def yaw_to_psi(yaw):
     return wrap_angle(np.pi / 2.0 - yaw)
 
 
+def yaw_to_compass_deg(yaw):
+    """ENU yaw (rad) -> compass heading (deg, clockwise from north, in [0, 360)): the 000-360
+    a mariner reads, north 000, east 090, south 180, west 270."""
+    deg = np.mod(np.degrees(np.pi / 2.0 - np.asarray(yaw, dtype=float)), 360.0)
+    deg = np.where(deg >= 360.0, 0.0, deg)   # the mod of a tiny negative rounds up to 360.0
+    return float(deg) if deg.ndim == 0 else deg
+
+
 def ned_to_enu_xy(north, east):
     """NED position (north, east) -> ENU position (x east, y north)."""
     return east, north

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import yaml
 
-from mission.domain import NoFreeDomain, lease_domain_id
+from mission.domain import LeaseError, lease_domain_id
 from mission.processes import INSTALL, REPO, ProcessGroup, install_env
 from mission.scenario import ScenarioError, start_pose
 from mission.waves import wave_filter_parameters
@@ -629,7 +629,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
     if domain_id is None:
         try:
             domain_id = lease_domain_id()   # a run never shares its domain (mission.domain)
-        except NoFreeDomain as exc:
+        except LeaseError as exc:   # none free, or an unsafe lock directory: one line
             raise MissionFailed(str(exc)) from None
     env = install_env(domain_id=domain_id)
     os.environ['ROS_DOMAIN_ID'] = str(domain_id)

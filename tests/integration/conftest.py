@@ -4,7 +4,7 @@ import contextlib
 import pytest
 
 from harness import RosGraph
-from mission.domain import DomainLease
+from mission.domain import DomainLease, LeaseError
 from mission.processes import install_env
 from test_launcher import Launch
 
@@ -15,11 +15,19 @@ def pytest_collection_modifyitems(items):
             item.add_marker(pytest.mark.integration)
 
 
+def lease_or_fail():
+    """A DomainLease, or the test fails with the lease's one-line reason (no traceback)."""
+    try:
+        return DomainLease()
+    except LeaseError as exc:
+        pytest.fail(str(exc), pytrace=False)
+
+
 @contextlib.contextmanager
 def _fresh_graph(folder, monkeypatch):
     """A ROS graph on its own domain with localhost discovery, logs in ``folder``; every
     process it started is ended on exit."""
-    lease = DomainLease()
+    lease = lease_or_fail()
     try:
         for var in ('ROS_LOCALHOST_ONLY', 'ROS_STATIC_PEERS', 'FASTRTPS_DEFAULT_PROFILES_FILE'):
             monkeypatch.delenv(var, raising=False)

@@ -24,6 +24,8 @@ def main(argv=None):
     ap.add_argument('--duration', type=float, default=None, help='override duration_s')
     ap.add_argument('--stepping', choices=('lockstep', 'realtime'), default=None)
     ap.add_argument('--wall-timeout', type=float, default=None, help='fail after this many s')
+    ap.add_argument('--loopback-only', action='store_true', help='Fast DDS sockets on 127.0.0.1 '
+                    'only (by default it also binds 0.0.0.0; doc/security.md)')
     ap.add_argument('--live', action='store_true', help='serve the topics to Foxglove / '
                     'Lichtblick while the run goes (scripts/live_view.py; README Live view)')
     ap.add_argument('--live-port', type=int, default=8765, help='port of --live (127.0.0.1)')
@@ -51,7 +53,8 @@ def main(argv=None):
     try:
         run, metrics = run_scenario(scenario, domain_id=args.domain_id,
                                     record=False if args.no_record else None,
-                                    wall_timeout_s=args.wall_timeout, **kw)
+                                    wall_timeout_s=args.wall_timeout,
+                                    loopback_only=args.loopback_only, **kw)
     except MissionFailed as exc:
         print(f'run_mission: FAILED: {exc}', file=sys.stderr)
         return 1

@@ -56,7 +56,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from mission.domain import DomainLease
+from mission.domain import DomainLease, LeaseError
 from mission.launcher import MissionFailed, run_scenario
 from mission.processes import REPO
 from mission.scenario import ScenarioError, load_scenario
@@ -744,7 +744,11 @@ def main(argv=None):
     print(f'{len(files)} scenarios -> {batch}' + (' (quick)' if args.quick else ''), flush=True)
 
     results, code, t0 = [], 0, time.monotonic()
-    lease = quiet_domain_lease() if args.domain_id is None else None
+    try:
+        lease = quiet_domain_lease() if args.domain_id is None else None
+    except LeaseError as exc:
+        print(f'run_seed_scenarios: {exc}', file=sys.stderr)
+        return 1
     domain_id = args.domain_id if lease is None else lease.domain_id
     print(f'ROS_DOMAIN_ID {domain_id}' + (' (leased, quiet)' if lease else ''), flush=True)
     try:

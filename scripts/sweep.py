@@ -3,7 +3,7 @@
 
     scripts/sweep.py SWEEP.yaml [--out DIR] [--workers N] [--chunk N]
                      [--ray [ADDRESS]] [--episodes N] [--duration S]
-                     [--where AXIS=V1[,V2]] [--no-plots]
+                     [--where AXIS=V1[,V2]] [--no-plots] [--resume]
 
 SWEEP.yaml: a base environment and the parameters to vary (grid or seeded random); the format
 is documented in scripts/montecarlo/spec.py, examples in scenarios/sweeps/. Backends: local
@@ -12,7 +12,9 @@ instance of ``--workers`` CPUs; ``--ray auto``: the cluster started with ``ray s
 machine; ``--ray HOST:6379``: a cluster's head). The table is the same byte for byte for the
 same sweep file and seed whatever the backend, the worker count and the chunk size.
 
-Output (default runs/sweeps/<name>/): results.csv (one row per episode), summary.md and
+Output (default runs/sweeps/<name>/): results.partial.jsonl while it runs (each chunk's rows as
+they arrive: a sweep whose backend dies keeps them, names the missing episodes, and ``--resume``
+runs only those), then results.csv (one row per episode), summary.md and
 summary.json (per grid cell: mean and 95 % confidence interval of each metric), plots
 (CDF of max cross-track per controller, or of min distance per colav method in an encounter
 sweep; metric against each random parameter), run.json
@@ -60,6 +62,9 @@ def parse_args(argv=None):
                    help='run only the grid cells with these values (repeatable); rows keep the '
                         "whole sweep's episode indices and draws")
     p.add_argument('--no-plots', action='store_true', help='skip the PNG plots')
+    p.add_argument('--resume', action='store_true',
+                   help=f'run only the episodes missing from OUT/{results.PARTIAL_NAME} (the '
+                        'rows a failed run of the same sweep and options kept)')
     args = p.parse_args(argv)
     for name in ('workers', 'chunk', 'episodes'):
         v = getattr(args, name)
@@ -101,15 +106,21 @@ def main(argv=None):
     print(f'sweep {sweep.name}: {sweep.n_cells} grid cells x {args.episodes or sweep.episodes} '
           f'episodes = {n}, backend {backend}' + (f' ({address})' if address else ''),
           flush=True)
+    partial = out / results.PARTIAL_NAME
     try:
         rows, run = run_sweep(sweep, backend, args.workers, args.chunk, address, args.episodes,
-                              duration=args.duration, where=where)
+                              duration=args.duration, where=where, partial=partial,
+                              resume=args.resume)
     except SweepError as exc:
         print(f'error: {exc}', file=sys.stderr)
         return 2
     except SweepRunError as exc:
         print(f'error: {exc}', file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        print(f'interrupted; the finished rows are in {partial} (rerun with --resume)',
+              file=sys.stderr)
+        return 130
     kind = results.KINDS[sweep.kind]
     (out / 'results.csv').write_text(results.table_text(rows, sweep.columns(), kind.metrics))
     group_by = list(sweep.grid)
@@ -127,6 +138,7 @@ def main(argv=None):
         from montecarlo.plots import write_plots
         plots = write_plots(rows, sweep, out)
     html_index(out / 'index.html', sweep, summary, group_by, kind, run, plots)
+    partial.unlink()   # every row is in results.csv now
     print(f"{run['episodes']} episodes in {run['wall_s']:.1f} s ({run['episodes_per_s']:.1f} "
           f"episodes/s, {run['vessel_steps_per_s']:,.0f} vessel-steps/s, {run['workers']} "
           f"workers, {run['chunks']} chunks of <= {run['chunk_size']}); wrote {out}/")

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import yaml
 
-from mission.domain import NoFreeDomain, lease_domain_id
+from mission.domain import LeaseError, lease_domain_id
 from mission.processes import INSTALL, REPO, ProcessGroup, install_env
 from mission.scenario import ScenarioError, start_pose
 from mission.waves import wave_filter_parameters
@@ -622,18 +622,20 @@ def _tail(proc, n=8):
 
 
 def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None, progress=print,
-                 progress_period_s=2.0, analyse=True, wall_timeout_s=None):
-    """Run ``scenario``; returns (run_dir, metrics or None). Raises MissionFailed on failure."""
+                 progress_period_s=2.0, analyse=True, wall_timeout_s=None, loopback_only=False):
+    """Run ``scenario``; returns (run_dir, metrics or None). Raises MissionFailed on failure.
+    ``loopback_only``: Fast DDS on 127.0.0.1 only (mission.processes.install_env)."""
     record = scenario.record if record is None else record
     run = make_run_dir(scenario, runs_root)
     if domain_id is None:
         try:
             domain_id = lease_domain_id()   # a run never shares its domain (mission.domain)
-        except NoFreeDomain as exc:
+        except LeaseError as exc:   # none free, or an unsafe lock directory: one line
             raise MissionFailed(str(exc)) from None
-    env = install_env(domain_id=domain_id)
-    os.environ['ROS_DOMAIN_ID'] = str(domain_id)
-    os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    env = install_env(domain_id=domain_id, loopback_only=loopback_only)
+    for var in ('ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE', 'FASTRTPS_DEFAULT_PROFILES_FILE'):
+        if var in env:   # this process's own nodes (monitor, recorder) join the same way
+            os.environ[var] = env[var]
     namespaces = [v.namespace for v in scenario.vessels]
     (run / 'scenario.yaml').write_text(scenario.file.read_text())
     progress(f'run folder {run} (ROS_DOMAIN_ID={domain_id}, {scenario.stepping})')

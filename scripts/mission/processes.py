@@ -71,9 +71,21 @@ def _apply_dsv(env, prefix, dsv):
             env.setdefault(rest[0], rest[1] if len(rest) > 1 else '')
 
 
-def install_env(base_env=None, install=INSTALL, domain_id=None, localhost_only=True):
+# Fast DDS confined to 127.0.0.1 (doc/security.md): UDPv4 with an interface whitelist, plus
+# shared memory, builtin transports off. Fast DDS 2.14 (the Jazzy wheels) reads the file named by
+# FASTRTPS_DEFAULT_PROFILES_FILE; FASTDDS_DEFAULT_PROFILES_FILE is only read from Fast DDS 3.
+LOOPBACK_PROFILE = Path(__file__).resolve().with_name('fastdds_loopback.xml')
+
+
+def install_env(base_env=None, install=INSTALL, domain_id=None, localhost_only=True,
+                loopback_only=False):
     """The environment ``source install/setup.bash`` gives (colcon's .dsv files applied), plus
-    an optional ROS_DOMAIN_ID and localhost-only discovery."""
+    an optional ROS_DOMAIN_ID and localhost-only discovery.
+
+    ``loopback_only`` (also on when the base environment already names LOOPBACK_PROFILE, as the
+    integration tests do) selects that profile and ROS_AUTOMATIC_DISCOVERY_RANGE=SYSTEM_DEFAULT:
+    the profile's own discovery is unicast to 127.0.0.1, and the LOCALHOST range would make
+    rmw_fastrtps add a locator on every address again."""
     env = dict(os.environ if base_env is None else base_env)
     if not (install / 'setup.bash').exists():
         raise FileNotFoundError(f'no colcon install tree at {install}: run `make build`')
@@ -88,6 +100,9 @@ def install_env(base_env=None, install=INSTALL, domain_id=None, localhost_only=T
         env['ROS_DOMAIN_ID'] = str(domain_id)
     if localhost_only:
         env['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    if loopback_only or env.get('FASTRTPS_DEFAULT_PROFILES_FILE') == str(LOOPBACK_PROFILE):
+        env['FASTRTPS_DEFAULT_PROFILES_FILE'] = str(LOOPBACK_PROFILE)
+        env['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'SYSTEM_DEFAULT'
     env['PYTHONUNBUFFERED'] = '1'
     return env
 

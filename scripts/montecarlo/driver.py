@@ -2,7 +2,7 @@
 import sys
 import time
 
-from . import backends
+from . import backends, results
 from .episodes import auto_chunk_size, episode_chunks, vessel_steps, with_route_keys
 from .spec import expand
 
@@ -44,13 +44,16 @@ def _clock(seconds):
 
 
 def run_sweep(sweep, backend='local', workers=None, chunk_size=None, address=None,
-              episodes=None, progress=True, duration=None, where=None):
+              episodes=None, progress=True, duration=None, where=None, partial=None,
+              resume=False):
     """Every episode's row (sorted by episode index) and the run's figures.
 
     ``backend`` 'local' or 'ray'; ``episodes`` / ``duration`` override the file's samples per
     cell and episode length; ``chunk_size`` None = episodes.auto_chunk_size; ``where``
     {grid axis: value or list of values}: only those cells (episode indices and draws as in the
-    whole sweep)."""
+    whole sweep). ``partial``: a file that gets each chunk's rows as they arrive
+    (results.PartialRows); ``resume``: run only the episodes it lacks. A backend that fails
+    raises SweepRunError naming the episodes without a row (those in ``partial`` are kept)."""
     import os
     eps = expand(sweep, episodes)
     for axis, values in (where or {}).items():
@@ -64,33 +67,57 @@ def run_sweep(sweep, backend='local', workers=None, chunk_size=None, address=Non
         eps = [dict(e, duration_s=float(duration)) for e in eps]
     if sweep.kind == 'route':
         eps = with_route_keys(eps, sweep.source)
+    if backend not in ('local', 'ray'):
+        raise ValueError(f"backend {backend!r}; allowed: local, ray")
+    kept = None
+    if partial is not None:
+        kept = results.PartialRows(partial, results.episodes_fingerprint(eps), resume)
+    rows = dict(kept.done) if kept else {}
+    todo = [e for e in eps if e['episode'] not in rows]
     n_workers = workers or os.cpu_count() or 1
-    size = chunk_size or auto_chunk_size(len(eps), n_workers, eps[0]['duration_s'])
-    chunks = episode_chunks(eps, size)
-    rows = {}
-    bar = Progress(len(eps)) if progress else None
+    size = chunk_size or auto_chunk_size(max(len(todo), 1), n_workers, eps[0]['duration_s'])
+    chunks = episode_chunks(todo, size)
+    bar = Progress(len(todo)) if progress and todo else None
 
     def on_rows(chunk_rows):
         new = [r for r in chunk_rows if r['episode'] not in rows]
         for r in new:
             rows[r['episode']] = r
+        if kept and new:
+            kept.add(new)
         if bar:
             bar.update(len(new), vessel_steps(new))
 
     t0 = time.monotonic()
-    if backend == 'local':
-        backends.run_local(chunks, on_rows, workers=n_workers)
-    elif backend == 'ray':
-        backends.run_ray(chunks, on_rows, address=address, workers=workers)
-    else:
-        raise ValueError(f"backend {backend!r}; allowed: local, ray")
-    wall = time.monotonic() - t0
-    missing = sorted(set(e['episode'] for e in eps) - set(rows))
-    if missing:
-        raise backends.SweepRunError(f'{len(missing)} episodes without a result '
-                                     f'(first {missing[0]})')
+    try:
+        if backend == 'local' and chunks:
+            backends.run_local(chunks, on_rows, workers=n_workers)
+        elif chunks:
+            backends.run_ray(chunks, on_rows, address=address, workers=workers)
+    except Exception as exc:  # noqa: BLE001 (any backend failure: say what is kept and lost)
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        if not isinstance(exc, backends.SweepRunError):
+            reason = f'{type(exc).__name__}: {reason}'
+        raise backends.SweepRunError(_lost(reason, eps, rows, partial)) from None
+    finally:
+        if kept:
+            kept.close()
+    wall = max(time.monotonic() - t0, 1e-9)
+    if len(rows) < len(eps):
+        raise backends.SweepRunError(_lost('the backend returned early', eps, rows, partial))
     out = [rows[k] for k in sorted(rows)]
-    return out, {'episodes': len(out), 'chunks': len(chunks), 'chunk_size': size,
+    ran = [r for r in out if r['episode'] in {e['episode'] for e in todo}]
+    return out, {'episodes': len(out), 'resumed_rows': len(out) - len(ran),
+                 'chunks': len(chunks), 'chunk_size': size,
                  'workers': n_workers, 'backend': backend, 'wall_s': wall,
-                 'episodes_per_s': len(out) / wall, 'vessel_steps_per_s':
-                 vessel_steps(out) / wall}
+                 'episodes_per_s': len(ran) / wall, 'vessel_steps_per_s':
+                 vessel_steps(ran) / wall}
+
+
+def _lost(reason, eps, rows, partial):
+    """One line: why the sweep stopped, which episodes have no row, where the others are."""
+    missing = sorted(e['episode'] for e in eps if e['episode'] not in rows)
+    kept = (f'; the {len(rows)} finished rows are in {partial} (rerun with --resume)'
+            if partial is not None and rows else '')
+    return (f'{reason}; {len(missing)} of {len(eps)} episodes without a row: '
+            f'{results.episode_ranges(missing)}{kept}')

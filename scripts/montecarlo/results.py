@@ -14,8 +14,11 @@ complete are left out of the other means (n says how many remain). The columns o
 kind (spec.Sweep.kind) are in KINDS.
 """
 import csv
+import hashlib
 import io
+import json
 import math
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,6 +26,7 @@ from scipy import stats
 
 from . import encounters
 from .episodes import METRICS
+from .spec import SweepError
 
 ID_COLUMNS = ('episode', 'cell', 'sample', 'seed')
 CI_LEVEL = 0.95
@@ -162,3 +166,81 @@ def summary_markdown(summary, group_by, kind=KINDS['route']):
              '|' + '---|' * len(group_by) + '---:|' * (len(kind.shown) + 1)]
     lines += ['| ' + ' | '.join(cells) + ' |' for cells in rows]
     return '\n'.join(lines) + '\n'
+
+
+# -- rows kept while the sweep runs -------------------------------------------------------------
+
+PARTIAL_NAME = 'results.partial.jsonl'
+
+
+def episodes_fingerprint(episodes):
+    """A short hash of the episodes to run (parameters, seeds, durations): a partial file is
+    only resumed by the sweep that wrote it."""
+    text = json.dumps(episodes, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+class PartialRows:
+    """The rows of a running sweep, appended to ``path`` as each chunk finishes (JSON lines,
+    which keep every float exactly, so a resumed table equals an uninterrupted one), so a
+    backend that dies (a Ray raylet, the machine) loses only the chunks still running.
+
+    The first line names the episodes' fingerprint. ``resume``: the rows already in ``path``
+    are ``done`` (a last line cut by a crash is dropped) and new rows are appended; a missing
+    file or one of another sweep is a SweepError. Otherwise ``path`` starts empty."""
+
+    def __init__(self, path, fingerprint, resume=False):
+        self.path, self.done = path, {}
+        if resume:
+            self.done = self._read(path, fingerprint)
+            self._file = open(path, 'a')
+        else:
+            self._file = open(path, 'w')
+            self._write([{'partial_of': fingerprint}])
+
+    @staticmethod
+    def _read(path, fingerprint):
+        try:
+            lines = path.read_text().splitlines()
+        except FileNotFoundError:
+            raise SweepError(f'--resume: nothing to resume, no {path}') from None
+        try:
+            head = json.loads(lines[0]) if lines else {}
+        except ValueError:
+            head = {}
+        if head.get('partial_of') != fingerprint:
+            raise SweepError(f'--resume: {path} was written by another sweep (the file, '
+                             f'--episodes, --duration or --where differ); run without --resume')
+        done = {}
+        for i, line in enumerate(lines[1:], 2):
+            try:
+                row = json.loads(line)
+            except ValueError:
+                if i == len(lines):   # cut short by the crash that stopped the sweep
+                    break
+                raise SweepError(f'--resume: {path} line {i} is not a row') from None
+            done[row['episode']] = row
+        return done
+
+    def _write(self, records):
+        self._file.write(''.join(json.dumps(r) + '\n' for r in records))
+        self._file.flush()
+        os.fsync(self._file.fileno())
+
+    def add(self, rows):
+        self._write(rows)
+
+    def close(self):
+        self._file.close()
+
+
+def episode_ranges(indices):
+    """'3-5, 9, 12-13' for sorted episode indices."""
+    parts, start = [], None
+    for i, k in enumerate(indices):
+        if start is None:
+            start = k
+        if i + 1 == len(indices) or indices[i + 1] != k + 1:
+            parts.append(f'{start}' if start == k else f'{start}-{k}')
+            start = None
+    return ', '.join(parts)

@@ -4,8 +4,8 @@ import contextlib
 import pytest
 
 from harness import RosGraph
-from mission.domain import DomainLease
-from mission.processes import install_env
+from mission.domain import DomainLease, LeaseError
+from mission.processes import LOOPBACK_PROFILE, install_env
 from test_launcher import Launch
 
 
@@ -15,17 +15,28 @@ def pytest_collection_modifyitems(items):
             item.add_marker(pytest.mark.integration)
 
 
+def lease_or_fail():
+    """A DomainLease, or the test fails with the lease's one-line reason (no traceback)."""
+    try:
+        return DomainLease()
+    except LeaseError as exc:
+        pytest.fail(str(exc), pytrace=False)
+
+
 @contextlib.contextmanager
 def _fresh_graph(folder, monkeypatch):
-    """A ROS graph on its own domain with localhost discovery, logs in ``folder``; every
-    process it started is ended on exit."""
-    lease = DomainLease()
+    """A ROS graph on its own domain with Fast DDS on the loopback interface only, logs in
+    ``folder``; every process it started is ended on exit."""
+    lease = lease_or_fail()
     try:
-        for var in ('ROS_LOCALHOST_ONLY', 'ROS_STATIC_PEERS', 'FASTRTPS_DEFAULT_PROFILES_FILE'):
+        for var in ('ROS_LOCALHOST_ONLY', 'ROS_STATIC_PEERS', 'FASTDDS_DEFAULT_PROFILES_FILE'):
             monkeypatch.delenv(var, raising=False)
         monkeypatch.setenv('ROS_DOMAIN_ID', str(lease.domain_id))
-        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-        env = install_env()
+        # Fast DDS on 127.0.0.1 only (doc/security.md) for the tests' nodes, the test process
+        # and every launcher they start (install_env keeps a profile it finds set).
+        monkeypatch.setenv('FASTRTPS_DEFAULT_PROFILES_FILE', str(LOOPBACK_PROFILE))
+        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'SYSTEM_DEFAULT')
+        env = install_env(loopback_only=True)
         env['PYTHONUNBUFFERED'] = '1'
         env['RCUTILS_COLORIZED_OUTPUT'] = '0'
         graph = RosGraph(folder, lease.domain_id, env)

@@ -4,9 +4,10 @@ The shape of ros2/examples' launch_testing examples (start processes, wait for t
 lines with timeouts, check while they run, check exit codes after shutdown), written as plain
 pytest fixtures because there is no launch_testing wheel here:
 
-- every test gets its own ROS_DOMAIN_ID (1..101, never 0, unique on this machine through a
-  lock file per id, starting at an offset from the pid) and ROS_AUTOMATIC_DISCOVERY_RANGE=
-  LOCALHOST, so parallel tests and other graphs never see each other;
+- every test gets its own ROS_DOMAIN_ID (1..101, never 0, unique among this user's graphs
+  through a lock file per id, starting at an offset from the pid) and Fast DDS on the loopback
+  interface only (mission.processes.LOOPBACK_PROFILE, unicast discovery on 127.0.0.1), so
+  parallel tests and other graphs never see each other;
 - nodes run as ``ros2 run`` would run them: ``ros_ws/install/<pkg>/lib/<pkg>/<exe>`` with the
   environment ``install/setup.bash`` would set (AMENT_PREFIX_PATH, PYTHONPATH, ... computed
   here from colcon's .dsv hook files, not by sourcing bash), arguments
@@ -285,10 +286,12 @@ class RosGraph:
         self._counts = {}
 
     def start(self, package, name, **kw):
-        """Start ``package``'s executable ``name`` (see NodeProcess for the keywords)."""
+        """Start ``package``'s executable ``name`` (see NodeProcess for the keywords; ``env``
+        replaces the graph's environment for this process)."""
         n = self._counts[name] = self._counts.get(name, 0) + 1
         label = kw.pop('label', None) or (name if n == 1 else f'{name}_{n}')
-        proc = NodeProcess(package, name, env=self.env, log_dir=self.log_dir, label=label, **kw)
+        env = kw.pop('env', self.env)
+        proc = NodeProcess(package, name, env=env, log_dir=self.log_dir, label=label, **kw)
         self.processes.append(proc)
         return proc
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from catkin_pkg.package import parse_package
 
-from mission.domain import DomainLease
+from conftest import lease_or_fail
 
 REPO = Path(__file__).resolve().parents[2]
 SRC = REPO / 'ros_ws' / 'src'
@@ -127,7 +127,7 @@ def setup_bash_env():
 
 @pytest.mark.parametrize('pkg', PACKAGES)
 def test_executables_run_and_refuse_a_bad_parameter_in_one_line(pkg, setup_bash_env):
-    lease = DomainLease()   # the domain scheme every test shares
+    lease = lease_or_fail()   # the domain scheme every test shares
     env = dict(setup_bash_env, ROS_DOMAIN_ID=str(lease.domain_id),
                ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
     try:

@@ -21,6 +21,7 @@
 """
 import base64
 import html
+import json
 import math
 import re
 
@@ -411,3 +412,64 @@ def test_encounter_summary_gives_wilson_intervals_for_collisions(encounter_table
     assert entry['min_distance_m']['n'] == 2
     md = results.summary_markdown(summary, list(sw.grid), kind)
     assert md.count('\n| 3 | sbmpc') == 1 and 'min_distance_m' in md
+
+
+CLI_SWEEP = ('name: cli\nseed: 1\nepisodes: 3\nbase: {model: mariner, duration_s: 10, '
+             'route: "scenarios/routes/curved_path_{model}_000.yaml"}\n'
+             'vary: {controller: [los, ilos], start_cross_m: {uniform: [-50, 50]}}\n')
+
+
+def test_a_backend_that_dies_keeps_its_rows_and_resume_completes_the_table(tmp_path, capsys,
+                                                                           monkeypatch):
+    from montecarlo import backends
+    path = tmp_path / 'cli.yaml'
+    path.write_text(CLI_SWEEP)
+    opts = ['--workers', '1', '--chunk', '1', '--no-plots']
+    assert sweep_cli.main([str(path), '--out', str(tmp_path / 'whole'), *opts]) == 0
+    whole = (tmp_path / 'whole' / 'results.csv').read_text()
+    assert not (tmp_path / 'whole' / results.PARTIAL_NAME).exists()
+
+    real, ran = backends.run_local, []
+
+    def dies_after_two_chunks(chunks, on_rows, **kw):   # like a raylet killed mid-sweep
+        ran.append([e['episode'] for c in chunks for e in c])
+        if len(ran) == 1:
+            real(chunks[:2], on_rows, **kw)
+            raise RuntimeError('raylet died\nsecond line of a Ray traceback')
+        real(chunks, on_rows, **kw)
+    monkeypatch.setattr(backends, 'run_local', dies_after_two_chunks)
+    out = tmp_path / 'broken'
+    capsys.readouterr()
+    assert sweep_cli.main([str(path), '--out', str(out), *opts]) == 1
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith('error')]
+    assert len(err) == 1 and 'RuntimeError: raylet died;' in err[0]   # one line, no traceback
+    err = err[0]
+    assert '4 of 6 episodes without a row: 2-5' in err and '--resume' in err
+    assert not (out / 'results.csv').exists()
+    kept = out / results.PARTIAL_NAME
+    assert sorted(json.loads(line)['episode'] for line in kept.read_text().splitlines()[1:]) \
+        == [0, 1]
+
+    # Other options than the broken run's: its rows are not mixed in.
+    assert sweep_cli.main([str(path), '--out', str(out), *opts, '--resume',
+                           '--duration', '11']) == 2
+    assert 'another sweep' in capsys.readouterr().err
+    assert sweep_cli.main([str(path), '--out', str(out), *opts, '--resume']) == 0
+    assert ran[-1] == [2, 3, 4, 5]                       # only the missing episodes ran
+    assert (out / 'results.csv').read_text() == whole    # byte for byte
+    assert not kept.exists()
+    assert sweep_cli.main([str(path), '--out', str(out), *opts, '--resume']) == 2  # nothing left
+    assert 'nothing to resume' in capsys.readouterr().err
+
+
+def test_a_partial_file_cut_mid_line_resumes_from_its_whole_rows(tmp_path):
+    sw = tiny(episodes=1)
+    eps = spec.expand(sw, None)
+    partial = tmp_path / results.PARTIAL_NAME
+    rows, _ = run_sweep(sw, 'local', workers=1, chunk_size=1, progress=False, partial=partial)
+    text = partial.read_text()
+    partial.write_text(text[:text.rindex('\n', 0, -1) + 20])   # the last row cut by a crash
+    again, run = run_sweep(sw, 'local', workers=1, chunk_size=1, progress=False,
+                           partial=partial, resume=True)
+    assert run['resumed_rows'] == len(eps) - 1
+    assert results.table_text(again, sw.columns()) == results.table_text(rows, sw.columns())

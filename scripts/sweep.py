@@ -23,6 +23,7 @@ Test-only: SHIPNAV_SWEEP_FAIL_ONCE=<file> kills the first worker process that st
 (montecarlo.episodes), to test that a lost worker's chunk is rerun without duplicated rows.
 """
 import argparse
+import importlib.util
 import json
 import os
 import sys
@@ -69,12 +70,29 @@ def parse_args(argv=None):
     return args
 
 
+#: Optional packages a sweep needs and what installs them: `make demo`'s venv has neither.
+INSTALL_HINT = ('make venv-sweep (or: .venv/bin/python -m pip install -r requirements/learning.txt '
+                '-r requirements/sweep.txt)')
+
+
+def missing_packages(sweep, ray):
+    """Import names of the optional packages this sweep needs that are not installed: ray for
+    --ray, gymnasium for route sweeps (their episodes run ship_autopilot.learning.env)."""
+    needed = (['ray'] if ray else []) + (['gymnasium'] if sweep.kind != 'encounter' else [])
+    return [name for name in needed if importlib.util.find_spec(name) is None]
+
+
 def main(argv=None):
     args = parse_args(argv)
     try:
         sweep = load(args.sweep)
     except SweepError as exc:
         print(f'error: {exc}', file=sys.stderr)
+        return 2
+    missing = missing_packages(sweep, args.ray)
+    if missing:
+        print(f'error: this sweep needs {" and ".join(missing)}, not installed in this venv: '
+              f'{INSTALL_HINT}', file=sys.stderr)
         return 2
     out = args.out or REPO / 'runs' / 'sweeps' / sweep.name
     out.mkdir(parents=True, exist_ok=True)

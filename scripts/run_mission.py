@@ -10,6 +10,7 @@ invalid scenario or option (checked before anything starts), 130 on Ctrl-C or SI
 import argparse
 import sys
 
+from mission.console import summary_line
 from mission.launcher import MissionFailed, check_scenario, install_stop_handlers, run_scenario
 from mission.report import traffic_lines
 from mission.scenario import ScenarioError, load_scenario
@@ -64,10 +65,7 @@ def main(argv=None):
         return 130
     if metrics:
         for ns, m in metrics['vessels'].items():
-            keys = [k for k in m if k.startswith(('xte_rms', 'xte_max', 'time_to_complete',
-                                                  'reward', 'rudder_mean'))]
-            print(f'{ns}: ' + ', '.join(f'{k} = {m[k]:.4g}' if isinstance(m[k], float)
-                                       else f'{k} = {m[k]}' for k in sorted(keys)))
+            print(summary_line(ns, m))
         for line in traffic_lines(metrics):
             print(line)
     return 0

@@ -23,7 +23,7 @@ Test-only: SHIPNAV_SWEEP_FAIL_ONCE=<file> kills the first worker process that st
 (montecarlo.episodes), to test that a lost worker's chunk is rerun without duplicated rows.
 """
 import argparse
-import importlib.util
+import importlib
 import json
 import os
 import sys
@@ -75,24 +75,30 @@ INSTALL_HINT = ('make venv-sweep (or: .venv/bin/python -m pip install -r require
                 '-r requirements/sweep.txt)')
 
 
-def missing_packages(sweep, ray):
-    """Import names of the optional packages this sweep needs that are not installed: ray for
-    --ray, gymnasium for route sweeps (their episodes run ship_autopilot.learning.env)."""
-    needed = (['ray'] if ray else []) + (['gymnasium'] if sweep.kind != 'encounter' else [])
-    return [name for name in needed if importlib.util.find_spec(name) is None]
+def missing_packages(ray):
+    """Import names of the optional packages a sweep needs that are not installed: gymnasium
+    (reading a sweep file checks its controllers against evaluate_controllers, which builds on
+    ship_autopilot.learning.env) and ray for --ray."""
+    missing = []
+    for name in ['gymnasium'] + (['ray'] if ray else []):
+        try:
+            importlib.import_module(name)   # the sweep imports it anyway
+        except ImportError:
+            missing.append(name)
+    return missing
 
 
 def main(argv=None):
     args = parse_args(argv)
+    missing = missing_packages(args.ray)
+    if missing:
+        print(f'error: sweeps{" on Ray" if args.ray else ""} need {" and ".join(missing)}, '
+              f'not installed in this venv: {INSTALL_HINT}', file=sys.stderr)
+        return 2
     try:
         sweep = load(args.sweep)
     except SweepError as exc:
         print(f'error: {exc}', file=sys.stderr)
-        return 2
-    missing = missing_packages(sweep, args.ray)
-    if missing:
-        print(f'error: this sweep needs {" and ".join(missing)}, not installed in this venv: '
-              f'{INSTALL_HINT}', file=sys.stderr)
         return 2
     out = args.out or REPO / 'runs' / 'sweeps' / sweep.name
     out.mkdir(parents=True, exist_ok=True)

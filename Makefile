@@ -78,7 +78,7 @@ test: build venv-test lint
 	@$(PY) scripts/ensure_chromium.py
 	$(PY) -m pytest $(PYTEST_ARGS)
 
-bench: build
+bench: build venv-sweep
 	$(PY) scripts/bench.py
 
 clean:

@@ -78,7 +78,8 @@ test: build venv-test lint
 	@$(PY) scripts/ensure_chromium.py
 	$(PY) -m pytest $(PYTEST_ARGS)
 
-bench: build venv-sweep
+# The benchmarks use every extra: gymnasium (controllers), Ray (sweep), websockets (live view).
+bench: build venv-test
 	$(PY) scripts/bench.py
 
 clean:

@@ -1,5 +1,8 @@
 # The README's commands. Every target bootstraps what it needs:
-#   .venv (pinned wheels, only when requirements.txt changed) -> colcon build (only when sources changed).
+#   .venv (pinned wheels, only when a requirements file changed) -> colcon build (only when sources
+#   changed). `make demo` installs requirements/runtime.txt only; `make test` adds the extras
+#   (test, learning, sweep, browser), each its own stamp file in .venv, and Chromium
+#   (scripts/ensure_chromium.py).
 # The venv also gets one .pth file naming the packages' source folders and scripts/, so that
 # `.venv/bin/python scripts/X.py` and pytest import ship_* and mission without sys.path edits.
 SHELL := /bin/bash
@@ -13,16 +16,35 @@ SCENARIO ?= scenarios/flagship_mariner.yaml
 PATH_DIRS := $(abspath $(sort $(dir $(wildcard $(WS)/src/*/package.xml))) scripts)
 PYTEST_ARGS ?=
 
-.PHONY: all venv paths build demo lint test bench clean distclean
+.PHONY: all venv venv-sweep venv-test paths build demo lint test bench clean distclean
 
 all: build
 
 venv: $(VENV)/.installed paths
+# Ray and the learning environment for scripts/sweep.py --ray (its message names this target).
+venv-sweep: $(VENV)/.installed-sweep paths
+# Everything the test suite needs.
+venv-test: $(VENV)/.installed-test $(VENV)/.installed-sweep $(VENV)/.installed-browser paths
 
-$(VENV)/.installed: requirements.txt
-	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --disable-pip-version-check -q -r requirements.txt
+# pip without -q: a first install takes minutes and should show what it is doing. Each stage
+# ends with one line giving its time and the venv's size.
+define pip_stage
+	@echo "venv: installing $(1) (pip's output follows)"
+	@s=$$SECONDS; $(PY) -m pip install --disable-pip-version-check -r $(1) && \
+	  echo "venv: $(1) installed in $$((SECONDS - s)) s; .venv is now $$(du -sh $(VENV) | cut -f1)"
 	@touch $@
+endef
+
+$(VENV)/.installed: requirements/runtime.txt
+	@test -x $(PY) || { echo "venv: creating $(VENV)"; $(PYTHON) -m venv $(VENV); }
+	$(call pip_stage,$<)
+
+# The extras (requirements/<name>.txt); each stamp is remade when its file or the runtime changes.
+$(VENV)/.installed-%: requirements/%.txt $(VENV)/.installed
+	$(call pip_stage,$<)
+
+# The sweep's episodes build on the learning environment (montecarlo.episodes).
+$(VENV)/.installed-sweep: $(VENV)/.installed-learning
 
 # Runs every time (cheap) and rewrites the .pth only when PATH_DIRS changed (a package added,
 # removed or renamed, or the checkout moved). A venv serves one checkout: one shared by several
@@ -47,13 +69,17 @@ demo: build
 	$(PY) scripts/run_mission.py $(SCENARIO)
 
 # The rules are in ruff.toml.
-lint: $(VENV)/.installed
+lint: $(VENV)/.installed-test
 	$(VENV)/bin/ruff check .
 
-test: build lint
+# ensure_chromium.py installs Chromium for the browser test (root with apt-get) or says which
+# tests will skip and the command that installs it.
+test: build venv-test lint
+	@$(PY) scripts/ensure_chromium.py
 	$(PY) -m pytest $(PYTEST_ARGS)
 
-bench: build
+# The benchmarks use every extra: gymnasium (controllers), Ray (sweep), websockets (live view).
+bench: build venv-test
 	$(PY) scripts/bench.py
 
 clean:

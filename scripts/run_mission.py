@@ -10,6 +10,7 @@ invalid scenario or option (checked before anything starts), 130 on Ctrl-C or SI
 import argparse
 import sys
 
+from mission.console import summary_line
 from mission.launcher import MissionFailed, check_scenario, install_stop_handlers, run_scenario
 from mission.report import traffic_lines
 from mission.scenario import ScenarioError, load_scenario
@@ -67,23 +68,10 @@ def main(argv=None):
         return 130
     if metrics:
         for ns, m in metrics['vessels'].items():
-            keys = [k for k in m if k.startswith(('xte_rms', 'xte_max', 'time_to_complete',
-                                                  'reward', 'rudder_mean'))]
-            print(f'{ns}: ' + ', '.join(closing_item(k, m[k]) for k in sorted(keys)))
+            print(summary_line(ns, m))
         for line in traffic_lines(metrics):
             print(line)
     return 0
-
-
-def closing_item(key, value):
-    """'name = value unit' for the closing lines: the metric without its unit suffix, angles in
-    degrees (mission.metric_info; metrics.json keeps the key and radians)."""
-    from mission.metric_info import VESSEL, plain_name, shown
-    unit = VESSEL.get(key, ('', ''))[0]
-    if not isinstance(value, float):
-        return f'{key} = {value}'
-    shown_value, shown_unit = shown(value, unit)
-    return f'{plain_name(key, unit)} = {shown_value:.4g}' + (f' {shown_unit}' if shown_unit else '')
 
 
 if __name__ == '__main__':

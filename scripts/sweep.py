@@ -26,6 +26,7 @@ Test-only: SHIPNAV_SWEEP_FAIL_ONCE=<file> kills the first worker process that st
 (montecarlo.episodes), to test that a lost worker's chunk is rerun without duplicated rows.
 """
 import argparse
+import importlib
 import json
 import os
 import sys
@@ -75,8 +76,31 @@ def parse_args(argv=None):
     return args
 
 
+#: Optional packages a sweep needs and what installs them: `make demo`'s venv has neither.
+INSTALL_HINT = ('make venv-sweep (or: .venv/bin/python -m pip install -r requirements/learning.txt '
+                '-r requirements/sweep.txt)')
+
+
+def missing_packages(ray):
+    """Import names of the optional packages a sweep needs that are not installed: gymnasium
+    (reading a sweep file checks its controllers against evaluate_controllers, which builds on
+    ship_autopilot.learning.env) and ray for --ray."""
+    missing = []
+    for name in ['gymnasium'] + (['ray'] if ray else []):
+        try:
+            importlib.import_module(name)   # the sweep imports it anyway
+        except ImportError:
+            missing.append(name)
+    return missing
+
+
 def main(argv=None):
     args = parse_args(argv)
+    missing = missing_packages(args.ray)
+    if missing:
+        print(f'error: sweeps{" on Ray" if args.ray else ""} need {" and ".join(missing)}, '
+              f'not installed in this venv: {INSTALL_HINT}', file=sys.stderr)
+        return 2
     try:
         sweep = load(args.sweep)
     except SweepError as exc:

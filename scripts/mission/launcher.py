@@ -32,6 +32,7 @@ from pathlib import Path
 
 import yaml
 
+from mission.console import progress_line
 from mission.domain import LeaseError, lease_domain_id
 from mission.processes import INSTALL, REPO, ProcessGroup, install_env
 from mission.scenario import ScenarioError, start_pose
@@ -732,10 +733,9 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             if now - last_print >= progress_period_s:
                 last_print = now
                 rtf = monitor.t / max(now - t_wall0, 1e-9)
-                eta = (scenario.duration_s - monitor.t) / rtf if rtf > 0 else math.inf
-                xte = '  '.join(f'{ns} xte {monitor.xte[ns]:+8.1f} m' for ns in namespaces)
-                progress(f'  t = {monitor.t:7.1f} / {scenario.duration_s:.0f} s  {xte}  '
-                         f'x{rtf:5.1f} real time, at most {eta:4.0f} s left')
+                eta = (scenario.duration_s - monitor.t) / rtf if rtf > 0 else None
+                progress(progress_line(monitor.t, scenario.duration_s,
+                                       {ns: monitor.xte[ns] for ns in namespaces}, rtf, eta))
     except KeyboardInterrupt:
         outcome = 'interrupted'
         raise

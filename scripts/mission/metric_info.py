@@ -1,12 +1,12 @@
 """What each key of metrics.json means: its unit and a one-line description, the one table the
-report (mission.html_report) and the run's closing lines (scripts/run_mission.py) read.
+report (mission.html_report) and the run's closing lines (mission.console) read.
 
 metrics.json is data and keeps SI units and radians (the unit is the key's suffix); a person
 reads angles in degrees, so ``shown`` converts a value of unit 'rad' or 'rad/s' to degrees for
 display. Sections: ``VESSEL`` (mission.metrics.vessel_metrics and what mission.report adds per
 vessel), ``TRAFFIC`` (per target, mission.report.traffic_metrics) and ``PLATOON`` (per vessel of
 a platoon, mission.report.platoon_metrics). A key written without an entry here fails
-tests/unit/test_metric_info.py.
+tests/unit/test_report_plots.py.
 """
 import math
 

@@ -12,8 +12,8 @@ sorted by episode index whatever the completion order.
   worker process or node died), collected with ``ray.wait`` as they finish. ``address`` is
   'auto' (the cluster of ``ray start`` on this machine), ``ray://host:10001`` or
   ``host:6379``, or None for a private local instance of ``workers`` CPUs (started and shut
-  down here). Every node needs this repository at the same path and its .venv (``make venv``),
-  so that the workers import the same code.
+  down here). Every node needs this repository at the same path and its .venv (``make
+  venv-sweep``), so that the workers import the same code.
 """
 import concurrent.futures as cf
 import os

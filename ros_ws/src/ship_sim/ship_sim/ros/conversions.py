@@ -1,6 +1,6 @@
 """Message conversion, the one place where simulator numbers become ROS messages and back.
 
-Frames (DESIGN.md, REP-103/105; the arithmetic lives in ship_sim.frames):
+Frames (doc/design.md, REP-103/105; the arithmetic lives in ship_sim.frames):
 - ``nav_msgs/Odometry``: pose in ENU, ``header.frame_id = 'map'``,
   ``child_frame_id = '<ns>/base_link'``; the twist is in the body frame FLU (REP-105: the twist
   of an Odometry is expressed in the child frame), velocities over ground.

@@ -4,8 +4,12 @@
   in order to the combinations they match; strings filled in from the variables, a lone
   ``{name}`` keeping the variable's type; bad matrices refused in one line naming the key;
 - mission.scenario: load_scenarios gives every scenario of a matrix, load_scenario the one named;
-  scenario_text is the mapping of that one scenario.
+  scenario_text is the mapping of that one scenario;
+- scenarios/course_changes_004.yaml expands to exactly the 32 course-change files it replaced
+  (read from the repository's history).
 """
+import json
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -13,8 +17,12 @@ import yaml
 
 from mission.matrix import expand
 from mission.scenario import ScenarioError, load_scenario, load_scenarios, scenario_text
+from ship_planner.yaml_route_reader import Loader
 
 ROOT = Path(__file__).resolve().parents[2]
+COURSE_MATRIX = ROOT / 'scenarios' / 'course_changes_004.yaml'
+#: The commit whose scenarios/ still held the 32 course-change files the matrix replaced.
+BEFORE_MATRIX = 'fcd045f'
 
 
 def test_one_scenario_per_combination_first_axis_slowest_rules_in_order():
@@ -110,3 +118,43 @@ def test_a_bad_scenario_of_a_matrix_is_named_with_its_key(tmp_path):
         load_scenarios(path)
     assert str(exc.value) == (f"{path}: scenario 'm_ilos' of the matrix: duration_s: must be "
                               '>= 0.1, got -1.0')
+
+
+def _files_before_the_matrix():
+    """{name: parsed content} of the course-change files at BEFORE_MATRIX, via git."""
+    try:
+        listing = subprocess.run(['git', '-C', str(ROOT), 'ls-tree', '--name-only',
+                                  BEFORE_MATRIX, 'scenarios/'], capture_output=True, text=True,
+                                 timeout=30)
+    except (OSError, subprocess.TimeoutExpired):
+        listing = None
+    if listing is None or listing.returncode != 0:
+        pytest.skip(f'no git history with commit {BEFORE_MATRIX} (a shallow clone or an export)')
+    out = {}
+    for p in listing.stdout.split():
+        name = Path(p).stem
+        if name.startswith('course_') and p.endswith('.yaml'):
+            text = subprocess.run(['git', '-C', str(ROOT), 'show', f'{BEFORE_MATRIX}:{p}'],
+                                  capture_output=True, text=True, check=True, timeout=30).stdout
+            out[name] = yaml.load(text, Loader=Loader)
+    return out
+
+
+def _typed(obj):
+    """JSON with each number's type kept (400 and 400.0 differ for the nodes' parameters)."""
+    def mark(o):
+        if isinstance(o, dict):
+            return {k: mark(v) for k, v in o.items()}
+        if isinstance(o, list):
+            return [mark(v) for v in o]
+        return [type(o).__name__, o]
+    return json.dumps(mark(obj), sort_keys=True, indent=1)
+
+
+def test_the_course_matrix_is_the_32_files_it_replaced():
+    before = _files_before_the_matrix()
+    assert len(before) == 32
+    now = {s.name: s.expanded for s in load_scenarios(COURSE_MATRIX)}
+    assert sorted(now) == sorted(before)
+    for name, content in before.items():
+        assert _typed(now[name]) == _typed(content), name

@@ -307,10 +307,10 @@ def analyse_run(scenario, run, make_pngs=True):
 def reanalyse(batch):
     """Recompute the metrics of every run of an earlier batch (its results.json) from the bags."""
     old = json.loads((batch / 'results.json').read_text())
-    results = []
+    results, seeds = [], {}
     for r in old['runs']:
         if r.get('run_dir') and (Path(r['run_dir']) / 'bag').exists():
-            scenario = _rerun_scenario(r)
+            scenario = _rerun_scenario(r, seeds)
             scenario.settle_s = r['spec']['settle_s']   # as run (--quick scales it)
             scenario.duration_s = r['spec']['duration_s']
             try:
@@ -324,16 +324,18 @@ def reanalyse(batch):
     return results, old
 
 
-def _rerun_scenario(result):
-    """The scenario of an earlier batch's run: its file, or, when that file is gone (the course
-    changes now come from one matrix file), the seed scenario of that name."""
+def _rerun_scenario(result, seeds):
+    """The scenario of an earlier batch's run: its file's, or, when that file is gone (the course
+    changes now come from one matrix file), the seed scenario of that name (``seeds``: name ->
+    scenario, filled on first use)."""
     if Path(result['file']).exists():
         return load_scenario(result['file'], result['scenario'])
-    found = [s for s in find_scenarios([], []) if s.name == result['scenario']]
-    if not found:
+    if not seeds:
+        seeds.update((s.name, s) for s in find_scenarios([], []))
+    if result['scenario'] not in seeds:
         raise ScenarioError(f"{result['file']}: no such file, and no seed scenario is called "
                             f"{result['scenario']!r}")
-    return found[0]
+    return seeds[result['scenario']]
 
 
 def bag_problem(result, scenario):
@@ -737,7 +739,11 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if args.reanalyse:
         batch = Path(args.reanalyse)
-        results, old = reanalyse(batch)
+        try:
+            results, old = reanalyse(batch)
+        except ScenarioError as exc:
+            print(f'run_seed_scenarios: {exc}', file=sys.stderr)
+            return 2
         claims = claim_checks({r['scenario']: r for r in results})
         table = markdown(results, claims, f'## Seed scenarios (re-analysed): {len(results)} runs '
                          f'of {batch.name}')

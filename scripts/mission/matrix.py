@@ -94,13 +94,14 @@ class _Filler:
 
     def __init__(self, variables, path, label):
         self.raw, self.done, self.busy = variables, {}, []
-        self.path, self.label = path, label
+        self.path, self.label, self.where = path, label, 'scenario'
 
     def __getitem__(self, name):        # str.format_map looks the names up here
         if name not in self.done:
-            need(name in self.raw, self.path, self.label,
+            at = f'{self.label}: {self.where}'
+            need(name in self.raw, self.path, at,
                  f'no variable {name!r} (axes and vars give: {", ".join(sorted(self.raw))})')
-            need(name not in self.busy, self.path, self.label,
+            need(name not in self.busy, self.path, at,
                  f'variables fill each other in a loop: {" -> ".join(self.busy + [name])}')
             self.busy.append(name)
             self.done[name] = self.fill(self.raw[name], f'vars.{name}')
@@ -114,16 +115,19 @@ class _Filler:
             return [self.fill(v, f'{where}[{i}]') for i, v in enumerate(obj)]
         if not isinstance(obj, str):
             return obj
-        whole = _WHOLE.fullmatch(obj)
-        if whole:
-            return copy.deepcopy(self[whole.group(1)])
+        outer, self.where = self.where, where
         try:
+            whole = _WHOLE.fullmatch(obj)
+            if whole:
+                return copy.deepcopy(self[whole.group(1)])
             return obj.format_map(self)
         except ScenarioError:
             raise
         except (ValueError, KeyError, IndexError, AttributeError, TypeError) as exc:
             raise ScenarioError(f'{self.path}: {self.label}: {where}: cannot fill in {obj!r}: '
                                 f'{exc}') from None
+        finally:
+            self.where = outer
 
 
 def expand(data, path):

@@ -71,9 +71,10 @@ def _refusal(data):
     ({'axes': {'a': [1]}, 'rules': [{'when': {'b': 1}}]}, 'rules[0].when.b: not an axis'),
     ({'axes': {'a': [1]}, 'rules': [{'when': {'a': 2}}]}, 'is not one of its values'),
     ({'axes': {'a': [1]}, 'rules': [{'sets': {}}]}, 'rules[0].sets: unknown key'),
-    ({'axes': {'a': [1]}, 'rules': [{'set': {'name': 'x{b}'}}]}, "no variable 'b'"),
+    ({'axes': {'a': [1]}, 'rules': [{'set': {'name': 'x{b}'}}]}, "scenario.name: no variable 'b'"),
     ({'axes': {'a': [1]}, 'rules': [{'vars': {'p': '{q}', 'q': '{p}'},
-                                     'set': {'name': '{p}'}}]}, 'loop: p -> q -> p'),
+                                     'set': {'name': '{p}'}}]},
+     'vars.q: variables fill each other in a loop: p -> q -> p'),
     ({'axes': {'a': [1, 2]}, 'rules': [{'set': {'name': 'same'}}]}, 'repeated: same'),
     ({'axes': {'a': [1]}, 'rules': [{'set': {'name': 'x{a!z}'}}]}, 'cannot fill in'),
 ])

@@ -25,16 +25,14 @@ import csv
 import json
 import multiprocessing
 import os
-import sys
 import time
 from datetime import datetime, timezone
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / 'scripts'))
+from imazu.cases import SINGLE, load_cases
+from imazu.runner import DURATION_S, METHODS, SHIPS, case_scenario, write_scenario
 
-from imazu.cases import SINGLE, load_cases  # noqa: E402
-from imazu.runner import DURATION_S, METHODS, SHIPS, case_scenario, write_scenario  # noqa: E402
+ROOT = Path(__file__).resolve().parent.parent
 
 
 def _ints(text):

@@ -19,6 +19,8 @@ from mission.scenario import ScenarioError, load_scenario
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('scenario', help='scenario YAML file')
+    ap.add_argument('--name', default=None, help='the scenario of a matrix file (mission.matrix) '
+                    'to run, e.g. course_tanker_90_pd_004 of scenarios/course_changes_004.yaml')
     ap.add_argument('--runs', default=None, help='folder for run folders (default: runs/)')
     ap.add_argument('--domain-id', type=int, default=None, help='ROS_DOMAIN_ID (default: from pid)')
     ap.add_argument('--no-record', action='store_true', help='no bag, no metrics')
@@ -34,7 +36,7 @@ def main(argv=None):
                     'serving (0: it keeps up on a busy machine, at the graph\'s expense)')
     args = ap.parse_args(argv)
     try:
-        scenario = load_scenario(args.scenario)
+        scenario = load_scenario(args.scenario, args.name)
         # The options first, so that the check sees what will run.
         if args.duration is not None:
             scenario.duration_s = args.duration

@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """Run the seed scenarios one after another and tabulate their metrics against the seeds' claims.
 
-    scripts/run_seed_scenarios.py                      every scenarios/*_000|003|004.yaml
+    scripts/run_seed_scenarios.py                      every scenario of scenarios/*_000|003|004.yaml
     scripts/run_seed_scenarios.py --quick              the same with durations cut to a quarter
     scripts/run_seed_scenarios.py --only course_change --only quarter_circle
     scripts/run_seed_scenarios.py scenarios/figure_eight_003.yaml 'scenarios/curved_*.yaml'
 
+A matrix file (mission.matrix, e.g. scenarios/course_changes_004.yaml) gives all its scenarios,
+in the order of their names (as separate files sorted by name would); --only picks by name.
 Each scenario goes through mission.launcher.run_scenario (one process per node, lockstep, a
 bag), all on one ROS_DOMAIN_ID leased for the batch (quiet_domain_lease). The bag is then analysed
 with mission.report.analyse_bag (the run folder's metrics.json and plots, whole run), given the
@@ -59,7 +61,7 @@ import yaml
 from mission.domain import DomainLease, LeaseError
 from mission.launcher import MissionFailed, run_scenario
 from mission.processes import REPO
-from mission.scenario import ScenarioError, load_scenario
+from mission.scenario import ScenarioError, load_scenario, load_scenarios, scenario_text
 
 SCENARIO_DIR = REPO / 'scenarios'
 DEFAULT_GLOBS = ('*_003.yaml', '*_004.yaml', '*_000.yaml')
@@ -129,17 +131,21 @@ def _domain_is_quiet(domain_id, probe_s):
 
 
 def find_scenarios(patterns, only):
-    """Scenario files from files/globs (default: the seed scenarios), filtered by --only substrings
-    or globs on the scenario file's stem."""
+    """The scenarios (mission.scenario.Scenario, checked) of files/globs (default: the seed
+    scenarios), filtered by --only substrings or globs on the scenario's name or its file's
+    stem. A matrix file's scenarios come sorted by name. ScenarioError for a bad file."""
     files = []
     for pat in patterns or [str(SCENARIO_DIR / g) for g in DEFAULT_GLOBS]:
         hits = sorted(glob.glob(pat)) or ([pat] if Path(pat).exists() else [])
         if not hits:
             raise SystemExit(f'run_seed_scenarios: no scenario matches {pat!r}')
         files += [Path(h) for h in hits if Path(h) not in files]
+    scenarios = [s for f in files for s in sorted(load_scenarios(f), key=lambda s: s.name)]
     if only:
-        files = [f for f in files if any(o in f.stem or fnmatch.fnmatch(f.stem, o) for o in only)]
-    return files
+        scenarios = [s for s in scenarios
+                     if any(o in key or fnmatch.fnmatch(key, o)
+                            for o in only for key in (s.name, s.file.stem))]
+    return scenarios
 
 
 def rudder_limit(spec):
@@ -301,10 +307,10 @@ def analyse_run(scenario, run, make_pngs=True):
 def reanalyse(batch):
     """Recompute the metrics of every run of an earlier batch (its results.json) from the bags."""
     old = json.loads((batch / 'results.json').read_text())
-    results = []
+    results, seeds = [], {}
     for r in old['runs']:
         if r.get('run_dir') and (Path(r['run_dir']) / 'bag').exists():
-            scenario = load_scenario(r['file'])
+            scenario = _rerun_scenario(r, seeds)
             scenario.settle_s = r['spec']['settle_s']   # as run (--quick scales it)
             scenario.duration_s = r['spec']['duration_s']
             try:
@@ -316,6 +322,20 @@ def reanalyse(batch):
                 r['outcome'], r['error'] = 'bag incomplete', problem
         results.append(r)
     return results, old
+
+
+def _rerun_scenario(result, seeds):
+    """The scenario of an earlier batch's run: its file's, or, when that file is gone (the course
+    changes now come from one matrix file), the seed scenario of that name (``seeds``: name ->
+    scenario, filled on first use)."""
+    if Path(result['file']).exists():
+        return load_scenario(result['file'], result['scenario'])
+    if not seeds:
+        seeds.update((s.name, s) for s in find_scenarios([], []))
+    if result['scenario'] not in seeds:
+        raise ScenarioError(f"{result['file']}: no such file, and no seed scenario is called "
+                            f"{result['scenario']!r}")
+    return seeds[result['scenario']]
 
 
 def bag_problem(result, scenario):
@@ -336,10 +356,10 @@ def bag_problem(result, scenario):
     return None
 
 
-def run_one(path, batch_dir, quick, wall_timeout_s, verbose, domain_id, retries=1):
-    """Run + analyse one scenario; returns its result dict (never raises for a failed run).
-    A run whose bag came out incomplete is run again, up to ``retries`` times."""
-    scenario = load_scenario(path)
+def run_one(scenario, batch_dir, quick, wall_timeout_s, verbose, domain_id, retries=1):
+    """Run + analyse one scenario (mission.scenario.Scenario); returns its result dict (never
+    raises for a failed run). A run whose bag came out incomplete is run again, up to
+    ``retries`` times."""
     if quick:
         scenario.duration_s = max(QUICK_MIN_DURATION_S, scenario.duration_s * QUICK_FACTOR)
         scenario.settle_s = scenario.settle_s * QUICK_FACTOR
@@ -349,7 +369,7 @@ def run_one(path, batch_dir, quick, wall_timeout_s, verbose, domain_id, retries=
         if verbose or not line.startswith('  t ='):
             print(f'  {line}', flush=True)
     for attempt in range(retries + 1):
-        result = {'scenario': scenario.name, 'file': str(path), 'source': scenario.source,
+        result = {'scenario': scenario.name, 'file': str(scenario.file), 'source': scenario.source,
                   'spec': spec_summary(scenario), 'outcome': 'failed', 'metrics': None,
                   'attempts': attempt + 1}
         try:
@@ -357,6 +377,8 @@ def run_one(path, batch_dir, quick, wall_timeout_s, verbose, domain_id, retries=
                                   progress=progress, wall_timeout_s=wall_timeout_s,
                                   domain_id=domain_id)
             result['run_dir'] = str(run)
+            if scenario.expanded is not None:   # the launcher copied the whole matrix file
+                (run / 'scenario.yaml').write_text(scenario_text(scenario))
             summary = yaml.safe_load((run / 'run.json').read_text())  # the launcher writes YAML
             result['outcome'] = summary['outcome']
             result['run'] = summary
@@ -717,23 +739,25 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if args.reanalyse:
         batch = Path(args.reanalyse)
-        results, old = reanalyse(batch)
+        try:
+            results, old = reanalyse(batch)
+        except ScenarioError as exc:
+            print(f'run_seed_scenarios: {exc}', file=sys.stderr)
+            return 2
         claims = claim_checks({r['scenario']: r for r in results})
         table = markdown(results, claims, f'## Seed scenarios (re-analysed): {len(results)} runs '
                          f'of {batch.name}')
         write_results(batch, results, claims, table, old.get('quick'), old.get('wall_time_s'))
         return 0
 
-    files = find_scenarios(args.scenarios, args.only)
-    if args.list:
-        print('\n'.join(str(f) for f in files))
-        return 0
     try:
-        for f in files:
-            load_scenario(f)   # refuse a bad file before anything runs
+        scenarios = find_scenarios(args.scenarios, args.only)   # a bad file: before anything runs
     except ScenarioError as exc:
         print(f'run_seed_scenarios: {exc}', file=sys.stderr)
         return 2
+    if args.list:
+        print('\n'.join(f'{s.name}  ({s.file})' for s in scenarios))
+        return 0
     stamp = datetime.now().strftime('%Y%m%d-%H%M%S')
     batch = Path(args.runs) / f'seeds{"-quick" if args.quick else ""}-{stamp}'
     batch.mkdir(parents=True)
@@ -741,7 +765,7 @@ def main(argv=None):
     if latest.is_symlink() or latest.exists():
         latest.unlink()
     latest.symlink_to(batch.name)
-    print(f'{len(files)} scenarios -> {batch}' + (' (quick)' if args.quick else ''), flush=True)
+    print(f'{len(scenarios)} scenarios -> {batch}' + (' (quick)' if args.quick else ''), flush=True)
 
     results, code, t0 = [], 0, time.monotonic()
     try:
@@ -752,9 +776,9 @@ def main(argv=None):
     domain_id = args.domain_id if lease is None else lease.domain_id
     print(f'ROS_DOMAIN_ID {domain_id}' + (' (leased, quiet)' if lease else ''), flush=True)
     try:
-        for i, f in enumerate(files, 1):
-            print(f'[{i}/{len(files)}] {f.stem}', flush=True)
-            r = run_one(f, batch, args.quick, args.wall_timeout, args.verbose, domain_id,
+        for i, scenario in enumerate(scenarios, 1):
+            print(f'[{i}/{len(scenarios)}] {scenario.name}', flush=True)
+            r = run_one(scenario, batch, args.quick, args.wall_timeout, args.verbose, domain_id,
                         args.retries)
             results.append(r)
             if r['outcome'] not in ('completed', 'duration reached'):

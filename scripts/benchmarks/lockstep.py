@@ -18,7 +18,7 @@ LOCALHOST):
 - ``graph, no /clock subscribers`` (diagnostic): the graph with use_sim_time false on route,
   guidance and autopilot, so nobody follows the /clock the vessel publishes every step (those
   nodes time everything from odom stamps and have no timers; see NO_CLOCK_PARAMS): the cost of
-  the /clock fan-out that DESIGN.md's "every node runs with use_sim_time" implies.
+  the /clock fan-out that doc/design.md's "every node runs with use_sim_time" implies.
 - ``relay floor``: three relay processes (scripts/benchmarks/relay_nodes.py) with empty
   callbacks: odom (Odometry) -> heading_cmd (Float64) -> rudder_cmd (Float64) -> next odom,
   the same QoS (ship_sim.ros.qos.STREAM), executor and main loop (ship_sim.ros.run.run_node),

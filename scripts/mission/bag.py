@@ -2,7 +2,7 @@
 
 A vessel is a namespace with an ``odom`` topic of type nav_msgs/Odometry (``/vessel_0/odom`` ->
 namespace ``/vessel_0``); its other topics are found by their relative names (``DEFAULT_TOPICS``,
-overridable). Frames and units are those of the topics (DESIGN.md): ENU position (m) and yaw
+overridable). Frames and units are those of the topics (doc/design.md): ENU position (m) and yaw
 (rad, counter-clockwise from east), FLU body velocities (m/s, rad/s), rudder angles (rad,
 positive turns to port), cross-track error (m, positive = vessel to starboard of the path).
 
@@ -10,7 +10,7 @@ Times (s): Odometry and Path use their header stamps (exact sim time). Unstamped
 (std_msgs/Float64, the progress array) carry no time, so:
 
 - with ``pair_by_sequence`` (default) a topic with exactly as many messages as the vessel's
-  odom is paired with it message by message, as the graph itself pairs them (DESIGN.md: in
+  odom is paired with it message by message, as the graph itself pairs them (doc/design.md: in
   lockstep every producer publishes exactly one message per step; the simulator's ``rudder``
   goes out with each odom, the guidance answers each odom once, the autopilot each pair):
   the n-th message gets the n-th odom stamp, exactly (ship_sim.pacing.paired_record, the
@@ -41,7 +41,7 @@ from mission import bag_recovery
 
 NS_PER_S = 1e9
 
-#: relative topic names of one vessel (see DESIGN.md); 'progress' is the guidance's progress topic
+#: relative topic names of one vessel (see doc/design.md); 'progress' is the guidance's progress topic
 DEFAULT_TOPICS = {
     'odom': 'odom',
     'rudder': 'rudder',

@@ -1,6 +1,6 @@
 """Path-following metrics of one recorded run (pure numpy; no ROS).
 
-Inputs are the topic quantities (DESIGN.md): time t (s), ENU position x, y (m) and yaw (rad),
+Inputs are the topic quantities (doc/design.md): time t (s), ENU position x, y (m) and yaw (rad),
 rudder angles (rad, positive to port), heading command (ENU yaw, rad), cross-track error e (m,
 positive = vessel to starboard of the path) and the route as ENU waypoints. Every function
 returns plain floats, ints or None, so ``json.dump`` writes the result; key names carry units.

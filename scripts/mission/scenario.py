@@ -49,6 +49,9 @@
       display_rate_hz: 2.0                   #   the first route's origin, else 0/0); rate and
       trail_length_s: 600.0                  #   trail in sim time. `display: false`: no display
 
+A matrix file (the one key `matrix`, mission.matrix) holds many scenarios that differ in a few
+keys: load_scenarios gives them all, load_scenario the one named.
+
 Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
 the graph together (model, start pose, stepping mode, pairing, rates). The launcher's check
@@ -85,6 +88,7 @@ from pathlib import Path
 import yaml
 
 from mission.fields import ScenarioError, need, number, unknown
+from mission.matrix import expand, is_matrix
 from mission.platoon import parse_platoon
 from mission.vessel_spec import parse_vessel
 from mission.wind_block import check_wind, check_wind_model
@@ -136,6 +140,8 @@ class Scenario:
     #: --live: the port of the live view (mission.live_view), None without (not a YAML key)
     live_port: int = None
     live_nice: int = 10     #: --live-nice: the live view's CPU niceness once serving
+    #: the scenario's own mapping when it comes from a matrix file (mission.matrix), else None
+    expanded: dict = None
 
 
 def check_name(name, file):
@@ -146,8 +152,26 @@ def check_name(name, file):
           f"a plain name without '/', '\\' or '..' (it names the run folder), got {name!r}")
 
 
-def load_scenario(path):
-    """Read and check a scenario file; ScenarioError names the file and the offending key."""
+def load_scenario(path, name=None):
+    """Read and check a scenario file; ScenarioError names the file and the offending key.
+
+    A matrix file needs ``name``, the scenario of it to load; a plain file's name must be
+    ``name`` if given."""
+    path = Path(path)
+    scenarios = load_scenarios(path)
+    names = [s.name for s in scenarios]
+    if name is None:
+        need(len(scenarios) == 1, path, 'matrix', f'holds {len(names)} scenarios '
+             f'({names[0]} ... {names[-1]}); name the one to load (run_mission.py --name)')
+        return scenarios[0]
+    need(name in names, path, 'name', f'no scenario {name!r} here (it holds '
+         + (f'{names[0]}' if len(names) == 1 else f'{len(names)}: {names[0]} ... {names[-1]}') + ')')
+    return scenarios[names.index(name)]
+
+
+def load_scenarios(path):
+    """Every scenario of a file, checked: the one of a plain file, or a matrix file's (in its
+    order). ScenarioError names the file (and for a matrix, the combination) and the key."""
     path = Path(path)
     try:
         data = yaml.load(read_text_file(path), Loader=Loader)
@@ -156,6 +180,32 @@ def load_scenario(path):
         raise ScenarioError(f'{where}: cannot read: {exc.detail}') from None
     except yaml.YAMLError as exc:
         raise ScenarioError(f'{path}: not valid YAML: ' + ' '.join(str(exc).split())) from None
+    if not is_matrix(data):
+        return [_parse_scenario(data, path)]
+    scenarios = []
+    for entry in expand(data, path):
+        try:
+            scenario = _parse_scenario(entry, path)
+        except ScenarioError as exc:   # name the scenario: the keys are those of its mapping
+            prefix = f'{path}: '
+            text = str(exc).removeprefix(prefix)
+            raise ScenarioError(f'{prefix}scenario {entry.get("name")!r} of the matrix: {text}') from None
+        scenario.expanded = entry
+        scenarios.append(scenario)
+    return scenarios
+
+
+def scenario_text(scenario):
+    """The YAML text of one scenario: its file's, or for a matrix scenario its own mapping (the
+    file holds the whole matrix), headed by a comment naming the matrix."""
+    if scenario.expanded is None:
+        return scenario.file.read_text()
+    return (f'# {scenario.name}: one scenario of the matrix {scenario.file}\n'
+            + yaml.safe_dump(scenario.expanded, sort_keys=False, allow_unicode=True, width=100))
+
+
+def _parse_scenario(data, path):
+    """The Scenario of one scenario mapping ``data`` (relative paths from ``path``'s folder)."""
     need(isinstance(data, dict), path, '(top)', 'must be a mapping')
     unknown(data, TOP_KEYS, path, '')
     check_name(data.get('name'), path)

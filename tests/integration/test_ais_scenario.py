@@ -22,12 +22,12 @@ ais_node on sim time, in lockstep.
 """
 import json
 import shlex
-import sys
 
 import numpy as np
 import pytest
 import yaml
 
+import make_ais_replay
 from mission.bag import read_bag
 from mission.encounter import alteration, decision_rows, min_distance, target_tracks
 from ship_guidance.ais import KNOT
@@ -57,8 +57,6 @@ def _replay_command(replay):
 
 
 def test_replay_file_is_what_the_tool_makes(tmp_path, monkeypatch):
-    sys.path.insert(0, str(REPO_ROOT / 'scripts'))
-    import make_ais_replay
     scenario = yaml.safe_load(SCENARIO.read_text())
     replay = SCENARIO.parent / scenario['ais']['file']
     args = _replay_command(replay)

@@ -2,12 +2,12 @@
 encoding behind its file (ship_guidance.ais_replay) and colav_node's per-step completeness of a
 many-target topic (ship_guidance.colav_io.SyncedSource)."""
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+import make_ais_replay
 from mission.launcher import (AIS_SYNC, AIS_TARGETS, ais_parameters, check_scenario,
                               node_parameters, record_ack_args, traffic_parameters)
 from mission.scenario import ScenarioError, load_scenario
@@ -97,8 +97,6 @@ def test_replay_lines_decode_back_to_the_track_within_ais_resolution():
 
 
 def test_make_ais_replay_refuses_a_bad_target_in_one_line(tmp_path, capsys):
-    sys.path.insert(0, str(ROOT / 'scripts'))
-    import make_ais_replay
     code = make_ais_replay.main([str(tmp_path / 'x.nmea'), '--mmsi', '1', '--origin', '0', '0',
                                  '--light', '{"course_deg": 0}', '--duration', '10'])
     assert code == 2 and 'give either' in capsys.readouterr().err

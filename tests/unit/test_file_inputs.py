@@ -27,7 +27,7 @@ import yaml
 from mission.launcher import (RCLPY_PARAMETERS, MissionFailed, check_scenario, make_run_dir,
                               node_parameter_names,
                               write_run_json)
-from mission.scenario import MAX_STEPS, ScenarioError, load_scenario
+from mission.scenario import MAX_STEPS, ScenarioError, load_scenario, load_scenarios
 from ship_planner.route_loader import RouteError, load_route
 from ship_planner.route_data import (MAX_COORDINATE_M, MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES,
                                      TextFileError, read_text_file)
@@ -287,12 +287,13 @@ def test_the_valid_keys_are_the_packages_config_lists(package, node):
         assert f'{extra}: [' in cfg.read_text()
 
 
-SCENARIOS = sorted((ROOT / 'scenarios').glob('*.yaml'))
+#: every shipped scenario: a plain file's one, each of a matrix file's (mission.matrix)
+SCENARIOS = [s for f in sorted((ROOT / 'scenarios').glob('*.yaml')) for s in load_scenarios(f)]
 
 
-@pytest.mark.parametrize('path', SCENARIOS, ids=[p.stem for p in SCENARIOS])
-def test_every_shipped_scenario_passes_the_launchers_check(path):
-    check_scenario(load_scenario(path))
+@pytest.mark.parametrize('scenario', SCENARIOS, ids=[s.name for s in SCENARIOS])
+def test_every_shipped_scenario_passes_the_launchers_check(scenario):
+    check_scenario(scenario)
 
 
 def test_every_key_of_the_config_lists_passes_the_check(tmp_path):

@@ -6,11 +6,14 @@ The order of the four packages (a package may import only those listed for it):
 
 ship_autopilot and ship_planner do not import each other; scripts/ may import any package; no
 package imports scripts/. Every package.xml declares (exec_depend or depend) exactly the ship_*
-packages its modules import. Imports are read from the source (ast), at module level and inside
-functions alike: a lazy import is still a dependency.
+packages its modules import, and every other module they import that is not in the standard
+library: a ROS package under its own name, a Python library under its rosdep key (ROSDEP_KEYS).
+Imports are read from the source (ast), at module level and inside functions alike: a lazy
+import is still a dependency.
 """
 import ast
 import configparser
+import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -28,6 +31,21 @@ ALLOWED = {
     'ship_planner': {'ship_sim', 'ship_guidance'},
 }
 PACKAGES = sorted(ALLOWED)
+#: Top-level module of a Python library -> its rosdep key in package.xml (rosdistro's
+#: rosdep/python.yaml; '-pip' keys install from PyPI). Any other non-stdlib import is taken for
+#: a ROS package, whose key is its own name.
+ROSDEP_KEYS = {
+    'numpy': 'python3-numpy',
+    'scipy': 'python3-scipy',
+    'yaml': 'python3-yaml',
+    'skimage': 'python3-skimage',
+    'networkx': 'python3-networkx',
+    'PIL': 'python3-pil',
+    'fiona': 'python3-fiona',
+    'gymnasium': 'python3-gymnasium-pip',
+    'pyais': 'python3-pyais-pip',
+    'roaring_landmask': 'python3-roaring-landmask-pip',
+}
 
 
 def module_files(root):
@@ -67,11 +85,15 @@ def package_modules(pkg):
     return module_files(SRC / pkg)
 
 
+def run_depends(pkg):
+    """Every key package.xml declares as a run dependency (exec_depend or depend)."""
+    root = ET.parse(SRC / pkg / 'package.xml').getroot()
+    return {e.text.strip() for tag in ('exec_depend', 'depend') for e in root.iter(tag) if e.text}
+
+
 def declared(pkg):
     """ship_* packages package.xml declares as run dependencies."""
-    root = ET.parse(SRC / pkg / 'package.xml').getroot()
-    return {e.text.strip() for tag in ('exec_depend', 'depend') for e in root.iter(tag)
-            if e.text and e.text.strip().startswith('ship_')}
+    return {key for key in run_depends(pkg) if key.startswith('ship_')}
 
 
 def test_the_packages_are_the_four_of_the_order():
@@ -126,6 +148,27 @@ def test_package_imports_are_declared_and_go_one_way(pkg):
     for dep in sorted(declared(pkg) - ALLOWED[pkg] - {pkg}):
         problems.append(f'ros_ws/src/{pkg}/package.xml declares {dep}, against the order')
     assert not problems, '\n'.join(problems)
+
+
+@pytest.mark.parametrize('pkg', PACKAGES)
+def test_package_third_party_imports_are_declared(pkg):
+    # setup.py runs at build time (setuptools is colcon's), not when the package runs.
+    modules = {m: p for m, p in package_modules(pkg).items() if m != 'setup'}
+    own = {m.split('.')[0] for m in modules}
+    deps, missing = run_depends(pkg), {}
+    for module, path in modules.items():
+        for name, line in imports(path, module):
+            top = name.split('.')[0]
+            if top in own or top.startswith('ship_') or top in sys.stdlib_module_names:
+                continue
+            key = ROSDEP_KEYS.get(top, top)
+            if key not in deps:
+                hint = '' if top in ROSDEP_KEYS else (f' (taken for a ROS package; if {top} is a Python '
+                                                      'library, add its rosdep key to ROSDEP_KEYS here)')
+                missing.setdefault(key, f'{path.relative_to(REPO)}:{line} imports {top}, but '
+                                        f'ros_ws/src/{pkg}/package.xml has no <exec_depend>{key}'
+                                        f'</exec_depend>{hint}')
+    assert not missing, '\n'.join(sorted(missing.values()))
 
 
 def import_graph():

@@ -1,6 +1,6 @@
 """ship_sim.ros.conversions (hand-computed frames) and ship_sim.ros.params (in-process node).
 
-Frames (DESIGN.md): x_E = y_N, y_E = x_N, yaw_ENU = pi/2 - psi_NED, v_FLU = -v_FRD,
+Frames (doc/design.md): x_E = y_N, y_E = x_N, yaw_ENU = pi/2 - psi_NED, v_FLU = -v_FRD,
 r_FLU = -r_FRD; Odometry pose in 'map' (ENU), twist in the body frame FLU.
 """
 import math

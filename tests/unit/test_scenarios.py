@@ -1,17 +1,20 @@
 """The shipped scenario files and what the seed batch relies on (cheap: no ROS graph is started).
 
-- every scenarios/*.yaml loads (mission.scenario.load_scenario), its route loads, and the
-  launcher can derive the node parameters from it;
+- every scenario of scenarios/*.yaml loads (mission.scenario.load_scenarios: a plain file's one,
+  each of a matrix file's), its route loads, and the launcher can derive the node parameters
+  from it;
 - every seed scenario cites its source document by author and year (SEED_DOCUMENTS), asks
   for a look-ahead above the stability limit of its paired autopilot (Angelopoulos 2011 eq. 34
   / Simakis 1992 eq. 3.5, in metres) with the autopilot's real omega_n, and runs long enough to
   finish its route at the model's trim speed;
-- the Lee 2004 course-change files (_004) step the course by the angle their name says, from
-  the route's course; the Simakis 1992 files (_003) give the NPS AUV II's 0.4 rad limit to the
-  autopilot;
+- the Lee 2004 course changes (_004, the matrix scenarios/course_changes_004.yaml) step the
+  course by the angle their name says, from the route's course, and a PD run differs from its
+  fuzzy PID twin only in the autopilot; the Simakis 1992 files (_003) give the NPS AUV II's
+  0.4 rad limit to the autopilot;
 - guidance_node's course law: the schedule parser and lookup (hand-computed values);
 - run_seed_scenarios: scenario selection and the claim checks on hand-made rows.
 """
+import copy
 import math
 import pathlib
 import re
@@ -20,14 +23,14 @@ import pytest
 import yaml
 
 from mission.launcher import node_parameters
-from mission.scenario import load_scenario
+from mission.scenario import load_scenario, load_scenarios
 from ship_guidance.los import critical_lookahead
 from ship_planner.route_loader import load_route
 from ship_sim.simulator import VesselSimulator
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 # The project's four source documents, as identified from their title pages; a seed scenario
-# (file name ending in _000, _001, _003 or _004) must cite its document by author and year.
+# (name ending in _000, _001, _003 or _004) must cite its document by author and year.
 SEED_DOCUMENTS = {
     # Martinsen and Lekkas (NTNU), "Curved path following with deep reinforcement learning:
     # results from three vessel models", OCEANS 2018
@@ -41,18 +44,20 @@ SEED_DOCUMENTS = {
     '004': 'Lee 2004',
 }
 FILES = sorted((ROOT / 'scenarios').glob('*.yaml'))
-SEED_FILES = [f for f in FILES if re.search(r'_00[0-4]\.yaml$', f.name)]
+#: (file, scenario name) of every shipped scenario: a plain file's one, each of a matrix file's
+SCENARIOS = [(f, s.name) for f in FILES for s in load_scenarios(f)]
+SEEDS = [(f, name) for f, name in SCENARIOS if re.search(r'_00[0-4]$', name)]
 GAINS = yaml.safe_load((ROOT / 'ros_ws/src/ship_autopilot/ship_autopilot/data/'
                         'autopilot_gains.yaml').read_text())['models']
 
 
-def ids(files):
-    return [f.stem for f in files]
+def ids(entries):
+    return [name for _, name in entries]
 
 
-@pytest.mark.parametrize('path', FILES, ids=ids(FILES))
-def test_scenario_and_its_route_load(path):
-    scenario = load_scenario(path)
+@pytest.mark.parametrize('path, name', SCENARIOS, ids=ids(SCENARIOS))
+def test_scenario_and_its_route_load(path, name):
+    scenario = load_scenario(path, name)
     assert scenario.vessels
     for i, spec in enumerate(scenario.vessels):
         plan = load_route(spec.route_file)
@@ -63,7 +68,7 @@ def test_scenario_and_its_route_load(path):
 
 
 def test_the_seed_scenarios_are_there():
-    names = {f.stem for f in SEED_FILES}
+    names = {name for _, name in SEEDS}
     assert {'figure_eight_003', 'quarter_circle_arc_003', 'quarter_circle_03pts_003',
             'quarter_circle_13pts_003', 'route_following_mariner_pd_004',
             'route_following_tanker_fuzzy_004', 'curved_path_tanker_current09_ilos_000'} <= names
@@ -74,13 +79,13 @@ def test_the_seed_scenarios_are_there():
             assert f'curved_path_{ship}_current{cur}_los_000' in names
 
 
-@pytest.mark.parametrize('path', SEED_FILES, ids=ids(SEED_FILES))
-def test_seed_scenario_cites_its_source_by_author_and_year(path):
-    scenario = load_scenario(path)
-    seed = path.stem[-3:]
+@pytest.mark.parametrize('path, name', SEEDS, ids=ids(SEEDS))
+def test_seed_scenario_cites_its_source_by_author_and_year(path, name):
+    scenario = load_scenario(path, name)
+    seed = name[-3:]
     cited = [k for k, citation in SEED_DOCUMENTS.items() if citation in scenario.source]
-    assert cited, f'{path.name}: source cites none of {sorted(SEED_DOCUMENTS.values())}'
-    assert seed in cited, f'{path.name} does not cite {SEED_DOCUMENTS[seed]}'
+    assert cited, f'{name}: source cites none of {sorted(SEED_DOCUMENTS.values())}'
+    assert seed in cited, f'{name} does not cite {SEED_DOCUMENTS[seed]}'
     assert scenario.description
 
 
@@ -95,9 +100,9 @@ def _pd_design(spec):
     return GAINS[spec.model]
 
 
-@pytest.mark.parametrize('path', SEED_FILES, ids=ids(SEED_FILES))
-def test_lookahead_is_above_the_stability_limit_of_the_paired_autopilot(path):
-    spec = load_scenario(path).vessels[0]
+@pytest.mark.parametrize('path, name', SEEDS, ids=ids(SEEDS))
+def test_lookahead_is_above_the_stability_limit_of_the_paired_autopilot(path, name):
+    spec = load_scenario(path, name).vessels[0]
     g = spec.guidance_params
     # The check must be switched on (the node refuses an unstable look-ahead only then) ...
     assert all(g.get(k) for k in ('autopilot_zeta', 'autopilot_omega_n', 'speed'))
@@ -113,26 +118,26 @@ def test_lookahead_is_above_the_stability_limit_of_the_paired_autopilot(path):
 
 
 # Not the fixed-length experiments: 300 s course changes (Lee 2004), 1000 s episodes (Martinsen and Lekkas 2018).
-ROUTE_RUNS = [f for f in SEED_FILES if not f.stem.startswith(('course_change_', 'curved_path_'))]
+ROUTE_RUNS = [(f, n) for f, n in SEEDS if not n.startswith(('course_change_', 'curved_path_'))]
 
 
-@pytest.mark.parametrize('path', ROUTE_RUNS, ids=ids(ROUTE_RUNS))
-def test_route_runs_are_long_enough_to_finish(path):
-    scenario = load_scenario(path)
+@pytest.mark.parametrize('path, name', ROUTE_RUNS, ids=ids(ROUTE_RUNS))
+def test_route_runs_are_long_enough_to_finish(path, name):
+    scenario = load_scenario(path, name)
     spec = scenario.vessels[0]
     route = load_route(spec.route_file).route
     trim_speed = VesselSimulator(spec.model).speed_water()
     assert route.length / trim_speed < scenario.duration_s
 
 
-COURSE_FILES = [f for f in SEED_FILES if f.stem.startswith('course_change_')]
+COURSE_RUNS = [(f, n) for f, n in SEEDS if n.startswith('course_')]
 
 
-@pytest.mark.parametrize('path', COURSE_FILES, ids=ids(COURSE_FILES))
-def test_course_change_steps_by_the_angle_in_its_name(path):
-    scenario = load_scenario(path)
+@pytest.mark.parametrize('path, name', COURSE_RUNS, ids=ids(COURSE_RUNS))
+def test_course_change_steps_by_the_angle_in_its_name(path, name):
+    scenario = load_scenario(path, name)
     spec = scenario.vessels[0]
-    angle = float(re.match(r'course_change_(\d+)_', path.stem).group(1))
+    angle = float(re.match(r'course_(?:change|mariner|tanker)_(\d+)_', name).group(1))
     _, _, path_angle = load_route(spec.route_file).route.point_at(0.0)
     sched = spec.guidance_params['course_schedule_deg']
     assert sched[0] == 0.0 and len(sched) == 2            # the step comes at t = 0 (004 Figs.)
@@ -143,9 +148,12 @@ def test_course_change_steps_by_the_angle_in_its_name(path):
 
 
 def test_course_change_pairs_differ_only_in_the_controller():
-    for pd in [f for f in COURSE_FILES if '_pd_' in f.stem]:
-        fz = pd.with_name(pd.name.replace('_pd_', '_fuzzy_'))
-        a, b = (yaml.safe_load(f.read_text()) for f in (pd, fz))
+    # the gain table's runs (Lee 2004's own gains place another loop for each controller)
+    pairs = [(f, n) for f, n in COURSE_RUNS if n.startswith('course_change_') and '_pd_' in n]
+    assert len(pairs) == 4
+    for path, pd in pairs:
+        a, b = (copy.deepcopy(load_scenario(path, n).expanded)
+                for n in (pd, pd.replace('_pd_', '_fuzzy_')))
         assert a['vessels']['vessel_0']['autopilot'] == {'controller': 'pd'}
         assert b['vessels']['vessel_0']['autopilot'] == {'controller': 'fuzzy_pid'}
         for d in (a, b):
@@ -155,10 +163,12 @@ def test_course_change_pairs_differ_only_in_the_controller():
         assert a == b
 
 
-@pytest.mark.parametrize('path', [f for f in SEED_FILES if f.stem.endswith('_003')],
-                         ids=ids([f for f in SEED_FILES if f.stem.endswith('_003')]))
-def test_auv_scenarios_pass_the_vehicle_rudder_limits_to_the_autopilot(path):
-    spec = load_scenario(path).vessels[0]
+AUV_RUNS = [(f, n) for f, n in SEEDS if n.endswith('_003')]
+
+
+@pytest.mark.parametrize('path, name', AUV_RUNS, ids=ids(AUV_RUNS))
+def test_auv_scenarios_pass_the_vehicle_rudder_limits_to_the_autopilot(path, name):
+    spec = load_scenario(path, name).vessels[0]
     assert spec.model == 'nps_auv2'
     ap = spec.autopilot_params
     assert math.radians(ap['rudder_max_deg']) == pytest.approx(0.4)   # 003: |DR| <= 0.4 rad
@@ -202,9 +212,9 @@ def test_course_schedule_refuses_bad_values(bad):
 def test_runner_selects_the_seed_scenarios_and_filters():
     import run_seed_scenarios as rs
     chosen = rs.find_scenarios([], [])
-    assert {f.stem for f in chosen} == {f.stem for f in SEED_FILES}
+    assert sorted(s.name for s in chosen) == sorted(ids(SEEDS))
     only = rs.find_scenarios([], ['course_change_3', 'quarter_circle_*pts_003'])
-    assert {f.stem for f in only} == {'course_change_30_pd_004', 'course_change_30_fuzzy_004',
+    assert {s.name for s in only} == {'course_change_30_pd_004', 'course_change_30_fuzzy_004',
                                      'quarter_circle_03pts_003', 'quarter_circle_05pts_003',
                                      'quarter_circle_07pts_003', 'quarter_circle_13pts_003'}
     for ref in rs.REFERENCE_ROUTES.values():

@@ -52,9 +52,6 @@ class NomotoFit:
     r_squared: float    # fraction of the r_dot variance explained
     n_samples: int
 
-    def as_dict(self):
-        return {k: (int(v) if k == 'n_samples' else float(v)) for k, v in self.__dict__.items()}
-
 
 def fit_nomoto(t, r, delta, bias=True):
     """Least-squares first-order Nomoto fit of sampled yaw rate r and actual rudder delta.

@@ -105,10 +105,6 @@ class WaveFilter:
                        MIN_FREQUENCY)
         return np.where(self._freq > 0.0, self._freq, w)
 
-    def notch_frequency(self, speed, psi):
-        """The notch frequency w_e (rad/s) for speed (m/s) and heading psi (rad)."""
-        return self._out(self._notch(*self._inputs(speed, psi)))
-
     def _inputs(self, *values):
         """Floats or arrays -> arrays (B,)."""
         if not self.batch:

@@ -129,11 +129,6 @@ class TargetTracks:
             out.append(dead_reckon(states[0], (t_ns - stamps[0]) / NS_PER_S))
         return out
 
-    def forget(self, name):
-        for table in (self._stamps, self._states, self.last_heard):
-            table.pop(name, None)
-        self.lockstep.discard(name)
-
 
 class SyncedSource:
     """Completeness of a many-target topic with per-step announcements (``[stamp, count]``).

@@ -525,11 +525,3 @@ def segments_clear(chart, mask, p0, p1):
         inside = (i >= 0) & (i < ny) & (j >= 0) & (j < nx)
         out[k] = bool(inside.all() and mask[i, j].all())
     return out
-
-
-def polyline_clear(chart, mask, points):
-    """True when every leg of the polyline is clear (segments_clear)."""
-    p = np.asarray(points, dtype=float)
-    if len(p) < 2:
-        return bool(chart.lookup(mask, p).all())
-    return bool(segments_clear(chart, mask, p[:-1], p[1:]).all())

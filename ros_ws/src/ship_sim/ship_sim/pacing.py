@@ -17,7 +17,7 @@ so the rules can be tested without DDS, with a fake clock (any callable returnin
   With ``last_step``, the run ends (stop(0)) once that step's command has come and every gate
   has taken every step (window 0), so the record holds the answer to the last step too; a
   command or gate missing for ``timeout`` seconds there ends it anyway, with a warning.
-- ``SequencePairer``: lockstep pairing by sequence (DESIGN.md "Lockstep needs a deterministic
+- ``SequencePairer``: lockstep pairing by sequence (doc/design.md "Lockstep needs a deterministic
   pairing of messages"): every producer publishes exactly one message per step, so the n-th
   message of one stream belongs with the n-th of another. The simulator pairs its steps with
   rudder_cmd, the autopilot odom with heading_cmd; ``paired_record`` is the same rule applied

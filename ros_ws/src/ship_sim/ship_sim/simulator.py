@@ -5,7 +5,7 @@ an optional ocean current (ship_sim.current.OceanCurrent), an optional wind
 (ship_sim.environment.wind.WindField) and the sim time. One ``step``:
 
 1. checks the commands: non-finite values raise ValueError (the state is never touched by
-   them); the rudder command (rad, unified sign: positive turns to PORT, DESIGN.md) is
+   them); the rudder command (rad, unified sign: positive turns to PORT, doc/design.md) is
    saturated at the model's ``rudder_max`` (a per-vessel override is given to the model when
    it is built, e.g. ``make_model('mariner', rudder_max=...)``); the shaft command (rpm, models
    with a shaft) at [shaft_min, shaft_max]; it is held until the next shaft command;

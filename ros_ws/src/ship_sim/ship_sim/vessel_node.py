@@ -32,7 +32,7 @@ Stepping modes (parameter stepping_mode; the pacing rules live in ship_sim.pacin
 - realtime: wall-clock paced (x speedup; a steady-clock timer, steps that fell behind are
   caught up at once, at most MAX_CATCHUP per tick, so sim time keeps pace with wall time), the
   latest command is held. The pacing lateness of every step is measured and logged at shutdown.
-- lockstep (DESIGN.md "Lockstep needs a deterministic pairing of messages"): publish step k,
+- lockstep (doc/design.md "Lockstep needs a deterministic pairing of messages"): publish step k,
   then advance to k+1 only when the rudder_cmd for step k (the k-th rudder_cmd message since
   start, pairing by sequence, 0-based) has arrived. Deterministic: the same run repeats bit for
   bit whatever the load. Step 0 is published only when odom has lockstep_odom_subscribers

@@ -58,7 +58,7 @@ the same core. Observations are float32 (9,) normalised states (path_state.norma
 float32 in [-1, 1], scaled to the model's rudder limit, unified sign (positive turns to port).
 """
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import gymnasium
 import numpy as np
@@ -378,8 +378,3 @@ class PathFollowingEnv(gymnasium.Env):
         info = {k: (v[0] if isinstance(v, np.ndarray) else v) for k, v in info.items()}
         info['raw_state'] = self.core.raw[0].copy()
         return obs[0], float(reward[0]), bool(term[0]), bool(trunc[0]), info
-
-
-def with_mode(config, mode):
-    """A copy of ``config`` in another mode ('straight' or 'curved')."""
-    return replace(config, mode=mode)

@@ -1,7 +1,7 @@
 """The three per-odom outputs every guidance-type node publishes (guidance_node, follower_node).
 
 Exactly one message on each of these topics per odom message, so lockstep consumers pair by
-sequence (DESIGN.md); QoS ship_sim.ros.qos.STREAM, heading_cmd STREAM_KEPT (colav_node's
+sequence (doc/design.md); QoS ship_sim.ros.qos.STREAM, heading_cmd STREAM_KEPT (colav_node's
 heading_ref subscription must get step 0's command however late it matched):
   heading_cmd        std_msgs/Float64  ENU yaw command (rad)
   cross_track_error  std_msgs/Float64  m, positive when the vessel is to starboard of the path

@@ -179,10 +179,6 @@ class WaveResponse:
         z = rao[i] if self._vessel is None else rao[self._vessel, i]
         return np.ascontiguousarray(np.moveaxis(z, [-3, -2], [-1, 0]))
 
-    def encounter_frequencies(self, U, psi, beta_wave):
-        """|w - w^2 U cos(beta) / g| (N x D, rad/s) of every component (as the RAO functions)."""
-        return self._at(U, psi, beta_wave)[0]
-
     def response_amplitudes(self, U, psi, beta_wave):
         """(encounter frequencies N x D, response amplitudes |RAO| Amp 6 x N x D) of every
         component: which components dominate the response, and at which frequency."""

@@ -1,6 +1,6 @@
 """Message conversion, the one place where simulator numbers become ROS messages and back.
 
-Frames (DESIGN.md, REP-103/105; the arithmetic lives in ship_sim.frames):
+Frames (doc/design.md, REP-103/105; the arithmetic lives in ship_sim.frames):
 - ``nav_msgs/Odometry``: pose in ENU, ``header.frame_id = 'map'``,
   ``child_frame_id = '<ns>/base_link'``; the twist is in the body frame FLU (REP-105: the twist
   of an Odometry is expressed in the child frame), velocities over ground.
@@ -27,7 +27,8 @@ import numpy as np
 from builtin_interfaces.msg import Time
 from nav_msgs.msg import Odometry
 
-from ship_sim.frames import psi_to_yaw, yaw_to_psi
+from ship_sim.frames import (enu_to_ned_xy, flu_to_frd_twist, frd_to_flu_twist, ned_to_enu_xy, psi_to_yaw,
+                             yaw_to_psi)
 from ship_sim.ros import odometry_cdr as cdr
 
 #: A vessel's state read from (or written to) Odometry, in our science frames (NED / FRD).
@@ -103,13 +104,14 @@ def fill_odometry(msg, t, north, east, psi, u, v, r):
     """
     time_to_msg(t, msg.header.stamp)
     p = msg.pose.pose.position
-    p.x, p.y, p.z = float(east), float(north), 0.0
-    half = 0.5 * float(psi_to_yaw(psi))
+    p.x, p.y = ned_to_enu_xy(float(north), float(east))
+    p.z = 0.0
     o = msg.pose.pose.orientation
-    o.x, o.y, o.z, o.w = 0.0, 0.0, math.sin(half), math.cos(half)
+    o.x, o.y, o.z, o.w = yaw_to_quaternion(float(psi_to_yaw(psi)))
+    u_flu, v_flu, r_flu = frd_to_flu_twist(float(u), float(v), float(r))
     tw = msg.twist.twist
-    tw.linear.x, tw.linear.y, tw.linear.z = float(u), -float(v), 0.0
-    tw.angular.x, tw.angular.y, tw.angular.z = 0.0, 0.0, -float(r)
+    tw.linear.x, tw.linear.y, tw.linear.z = u_flu, v_flu, 0.0
+    tw.angular.x, tw.angular.y, tw.angular.z = 0.0, 0.0, r_flu
     return msg
 
 
@@ -134,14 +136,14 @@ def odometry_to_ned(msg):
             from rclpy.serialization import deserialize_message
             return odometry_to_ned(deserialize_message(msg, Odometry))
         sec, nanosec, x, y, qx, qy, qz, qw, vx, vy, wz = fields
-        return NedOdometry(sec + nanosec * 1e-9, y, x,
+        return NedOdometry(sec + nanosec * 1e-9, *enu_to_ned_xy(x, y),
                            float(yaw_to_psi(quaternion_to_yaw((qx, qy, qz, qw)))),
-                           vx, -vy, -wz)
+                           *flu_to_frd_twist(vx, vy, wz))
     p = msg.pose.pose.position
     tw = msg.twist.twist
     yaw = quaternion_to_yaw(msg.pose.pose.orientation)
-    return NedOdometry(msg_to_time(msg.header.stamp), p.y, p.x, float(yaw_to_psi(yaw)),
-                       tw.linear.x, -tw.linear.y, -tw.angular.z)
+    return NedOdometry(msg_to_time(msg.header.stamp), *enu_to_ned_xy(p.x, p.y), float(yaw_to_psi(yaw)),
+                       *flu_to_frd_twist(tw.linear.x, tw.linear.y, tw.angular.z))
 
 
 _STAMP = struct.Struct('<iI')            # builtin_interfaces/Time: int32 sec, uint32 nanosec

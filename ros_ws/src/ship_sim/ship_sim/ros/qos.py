@@ -1,4 +1,4 @@
-"""QoS profiles shared by every node (DESIGN.md), so publishers and subscribers always match.
+"""QoS profiles shared by every node (doc/design.md), so publishers and subscribers always match.
 
 - STREAM: odom, rudder, rudder_cmd, heading_cmd, cross_track_error, progress. Reliable so that
   lockstep pairing by sequence never loses a message; keep-last depth far above the one or two

@@ -61,7 +61,7 @@ import yaml
 from mission.domain import DomainLease, LeaseError
 from mission.launcher import MissionFailed, run_scenario
 from mission.processes import REPO
-from mission.scenario import ScenarioError, load_scenario, load_scenarios, scenario_text
+from mission.scenario import ScenarioError, load_scenario, load_scenarios
 
 SCENARIO_DIR = REPO / 'scenarios'
 DEFAULT_GLOBS = ('*_003.yaml', '*_004.yaml', '*_000.yaml')
@@ -377,8 +377,6 @@ def run_one(scenario, batch_dir, quick, wall_timeout_s, verbose, domain_id, retr
                                   progress=progress, wall_timeout_s=wall_timeout_s,
                                   domain_id=domain_id)
             result['run_dir'] = str(run)
-            if scenario.expanded is not None:   # the launcher copied the whole matrix file
-                (run / 'scenario.yaml').write_text(scenario_text(scenario))
             summary = yaml.safe_load((run / 'run.json').read_text())  # the launcher writes YAML
             result['outcome'] = summary['outcome']
             result['run'] = summary

@@ -265,7 +265,7 @@ def write_run_report(run_dir, metrics, source_dir=None, command=None):
     run = metrics.get('run') or _run_summary(src / 'run.json')
     bag = Path(metrics.get('bag', src / 'bag'))
     scenario = src / 'scenario.yaml'
-    title = Path(run.get('scenario') or src.name).stem
+    title = run.get('name') or Path(run.get('scenario') or src.name).stem
     stamp = max((f.stat().st_mtime for f in bag.glob('*') if f.is_file()), default=None) if bag.is_dir() else None
     meta = [('run folder', str(src.resolve())), ('recorded', _utc(stamp) if stamp else 'unknown'),
             ('report written', _utc(datetime.now().timestamp())),

@@ -35,7 +35,7 @@ import yaml
 from mission.console import progress_line
 from mission.domain import LeaseError, lease_domain_id
 from mission.processes import INSTALL, REPO, ProcessGroup, install_env
-from mission.scenario import ScenarioError, start_pose
+from mission.scenario import ScenarioError, scenario_text, start_pose
 from mission.waves import wave_filter_parameters
 from mission.wind_block import wind_meta, wind_parameters
 from ship_guidance.nav_display import DEFAULT_DISPLAY_RATE_HZ
@@ -638,7 +638,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         if var in env:   # this process's own nodes (monitor, recorder) join the same way
             os.environ[var] = env[var]
     namespaces = [v.namespace for v in scenario.vessels]
-    (run / 'scenario.yaml').write_text(scenario.file.read_text())
+    (run / 'scenario.yaml').write_text(scenario_text(scenario))   # a matrix run: its own
     progress(f'run folder {run} (ROS_DOMAIN_ID={domain_id}, {scenario.stepping})')
     if scenario.platoon is not None:
         chain = ', '.join(f'{s.namespace} <- {s.predecessor}' for s in scenario.vessels
@@ -748,7 +748,8 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         codes = group.stop(first=lambda p: p.label.endswith('/vessel_node'),
                            settle=1.0 if record else 0.0)
         wall = time.monotonic() - t_wall0
-        summary = {'scenario': str(scenario.file), 'outcome': outcome, 'sim_time_s': sim_t,
+        summary = {'scenario': str(scenario.file), 'name': scenario.name, 'outcome': outcome,
+                   'sim_time_s': sim_t,
                    'wall_time_s': wall, 'real_time_factor': sim_t / wall if wall > 0 else None,
                    'domain_id': domain_id, 'exit_codes': codes}
         in_flight = sys.exc_info()[1]   # the run's own failure, if it is on its way out

@@ -48,6 +48,9 @@
       origin: {lat_deg: 59.9, lon_deg: 10.7} #   nav_markers); origin of the NavSatFix (default:
       display_rate_hz: 2.0                   #   the first route's origin, else 0/0); rate and
       trail_length_s: 600.0                  #   trail in sim time. `display: false`: no display
+    bag_compression: zstd                    # the bag's MCAP chunks: zstd (default, as rosbag2
+                                             # writes them), lz4 or none (run_mission.py
+                                             # --bag-compression overrides it)
 
 Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
@@ -86,6 +89,7 @@ import yaml
 
 from mission.fields import ScenarioError, need, number, unknown
 from mission.platoon import parse_platoon
+from mission.recorder import COMPRESSIONS, DEFAULT_COMPRESSION
 from mission.vessel_spec import parse_vessel
 from mission.wind_block import check_wind, check_wind_model
 
@@ -95,7 +99,7 @@ from ship_sim.frames import psi_to_yaw
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais',
-            'wind', 'display'}
+            'wind', 'display', 'bag_compression'}
 #: ais_node parameters the launcher sets itself (not allowed in a scenario's `ais:`).
 AIS_LAUNCHER_KEYS = {'use_sim_time', 'publish_on_clock'}
 DISPLAY_KEYS = {'origin', 'display_rate_hz', 'trail_length_s'}
@@ -136,6 +140,7 @@ class Scenario:
     #: --live: the port of the live view (mission.live_view), None without (not a YAML key)
     live_port: int = None
     live_nice: int = 10     #: --live-nice: the live view's CPU niceness once serving
+    bag_compression: str = DEFAULT_COMPRESSION   #: the recorder's --compression
 
 
 def check_name(name, file):
@@ -188,6 +193,9 @@ def load_scenario(path):
     need(not ('traffic' in data and 'platoon' in data), path, 'traffic',
           'traffic is not supported beside a platoon')
     ais = _parse_ais(data['ais'], path) if 'ais' in data else None
+    compression = data.get('bag_compression', DEFAULT_COMPRESSION)
+    need(compression in COMPRESSIONS, path, 'bag_compression',
+         f"one of {', '.join(COMPRESSIONS)}, got {compression!r}")
     _apply_scenario_wind(data, specs, path)
     return Scenario(
         file=path, name=data['name'], source=str(data.get('source', '')),
@@ -198,7 +206,8 @@ def load_scenario(path):
         settle_s=number(data, 'settle_s', path, 0.0, lo=0.0),
         record=bool(data.get('record', True)),
         lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light,
-        ais=ais, display=_parse_display(data.get('display', {}), path))
+        ais=ais, display=_parse_display(data.get('display', {}), path),
+        bag_compression=compression)
 
 
 def _parse_ais(ais, path):

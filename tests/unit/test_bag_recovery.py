@@ -15,7 +15,7 @@ from mission.bag import read_bag, read_custom_data
 from mission.bag_check import cross_check
 from mission.bag_recovery import RecoveryError, needs_recovery, recover_bag, scan
 from mission.integrity import record_integrity, summary_line
-from mission.recorder import BagWriter
+from mission.recorder import COMPRESSIONS, BagWriter
 
 FLOAT64 = 'std_msgs/msg/Float64'
 
@@ -24,10 +24,10 @@ def float64(x):
     return b'\x00\x01\x00\x00' + struct.pack('<d', x)
 
 
-def killed_bag(tmp_path, n=5000, flush_every=1000):
+def killed_bag(tmp_path, n=5000, flush_every=1000, compression='zstd'):
     """A bag as a SIGKILLed recorder leaves it: flushed chunks, no summary, no metadata.yaml."""
     bag = tmp_path / 'bag'
-    w = BagWriter(bag, custom_data={'mission.time_source': 'wall'})
+    w = BagWriter(bag, custom_data={'mission.time_source': 'wall'}, compression=compression)
     a = w.add_topic('/a', FLOAT64)
     w.add_topic('/b', 'nav_msgs/msg/Odometry')   # declared, never written
     sizes = []
@@ -45,8 +45,9 @@ def killed_bag(tmp_path, n=5000, flush_every=1000):
     return bag, sizes
 
 
-def test_every_flushed_message_comes_back_in_order(tmp_path):
-    bag, _ = killed_bag(tmp_path, n=5000, flush_every=1000)
+@pytest.mark.parametrize('compression', COMPRESSIONS)
+def test_every_flushed_message_comes_back_in_order(tmp_path, compression):
+    bag, _ = killed_bag(tmp_path, n=5000, flush_every=1000, compression=compression)
     assert needs_recovery(bag)
     line = recover_bag(bag)
     assert 'recovered' in line and '5000 messages' in line
@@ -59,6 +60,7 @@ def test_every_flushed_message_comes_back_in_order(tmp_path):
     assert topics == {'/a': FLOAT64, '/b': 'nav_msgs/msg/Odometry'}  # types and empty topics too
     assert read_custom_data(bag)['mission.time_source'] == 'wall'
     assert any(p.name.endswith('.mcap.partial') for p in bag.iterdir())
+    assert cross_check(bag)['compressions'] == {'' if compression == 'none' else compression}
 
 
 def test_a_torn_last_chunk_is_dropped_and_the_rest_kept(tmp_path):

@@ -18,8 +18,8 @@ Two layers:
 Message time (the bag's log_time, ns): with ``time_source='sim'`` (default; our graph runs on
 sim time) a message with a header stamp (Odometry, Path, NavSatFix; MarkerArray and TFMessage
 by their first element's header: ``header_stamp_at``) is logged at that stamp, the sim time it
-describes, and a message without one (std_msgs/Float64, the progress array, /clock itself) or
-with a zero stamp at the latest ``/clock`` value the recorder has received (0 before the first
+describes, and a message without one (std_msgs/Float64, the progress array, /clock itself) at
+the latest ``/clock`` value the recorder has received (0 before the first
 ``/clock``). The display topics (``fix``, ``nav_markers``) come from a node that lags the
 lockstep graph by seconds of sim time: logged at the recorder's ``/clock`` they trailed the
 odometry on playback by hundreds of metres. Per topic the log times never decrease (a stamp
@@ -189,7 +189,8 @@ def header_stamp_at(typestore, msgtype):
 
 def stamp_ns(data, at):
     """The header stamp (ns) at byte offset ``at`` (``header_stamp_at``) of serialized ``data``;
-    None when there is none: no offset, too short, an empty sequence, or a zero stamp (unset)."""
+    None when there is none: no offset, too short, an empty sequence, a negative stamp. (Zero is
+    a stamp: the sim time of step 0.)"""
     if at is None or len(data) < at + 8:
         return None
     endian = '<' if data[1] == 1 else '>'
@@ -197,7 +198,7 @@ def stamp_ns(data, at):
         return None
     sec, nsec = struct.unpack_from(endian + 'iI', data, at)
     ns = sec * 1_000_000_000 + nsec
-    return ns if ns > 0 else None
+    return ns if ns >= 0 else None
 
 
 def odometry_to_tf(typestore, data):

@@ -108,7 +108,7 @@ def fix(ns):
     ('visualization_msgs/msg/MarkerArray', markers(7_000_000_000, 3), 7_000_000_000),
     ('visualization_msgs/msg/MarkerArray', markers(7_000_000_000, 0), None),   # nothing stamped
     ('std_msgs/msg/Float64', serialize_message(Float64(data=3.5)), None),       # no header
-    ('nav_msgs/msg/Odometry', odometry(0, 1.0, 2.0, 0.3), None),                # stamp not set
+    ('nav_msgs/msg/Odometry', odometry(0, 1.0, 2.0, 0.3), 0),                   # step 0 of sim time
 ])
 def test_header_stamps_are_found_where_the_type_has_them(msgtype, data, expected):
     assert stamp_ns(data, header_stamp_at(TS, msgtype)) == expected

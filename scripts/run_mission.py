@@ -12,6 +12,7 @@ import sys
 
 from mission.console import summary_line
 from mission.launcher import MissionFailed, check_scenario, install_stop_handlers, run_scenario
+from mission.recorder import COMPRESSIONS
 from mission.report import traffic_lines
 from mission.scenario import ScenarioError, load_scenario
 
@@ -29,6 +30,9 @@ def main(argv=None):
     ap.add_argument('--wall-timeout', type=float, default=None, help='fail after this many s')
     ap.add_argument('--loopback-only', action='store_true', help='Fast DDS sockets on 127.0.0.1 '
                     'only (by default it also binds 0.0.0.0; doc/security.md)')
+    ap.add_argument('--bag-compression', choices=COMPRESSIONS, default=None,
+                    help="the bag's MCAP chunk compression (default: the scenario's "
+                    "bag_compression, else zstd)")
     ap.add_argument('--live', action='store_true', help='serve the topics to Foxglove / '
                     'Lichtblick while the run goes (scripts/live_view.py; README Live view)')
     ap.add_argument('--live-port', type=int, default=8765, help='port of --live (127.0.0.1)')
@@ -42,6 +46,8 @@ def main(argv=None):
             scenario.duration_s = args.duration
         if args.stepping:
             scenario.stepping = args.stepping
+        if args.bag_compression:
+            scenario.bag_compression = args.bag_compression
         if args.live:
             if not 0 <= args.live_port <= 65535:
                 raise ScenarioError(f'--live-port must be in 0..65535, got {args.live_port}')

@@ -8,6 +8,9 @@
 - ``processes``: start/stop node processes from the colcon install.
 - ``recorder``: rosbag2 (MCAP) recording of a running graph (rclpy + rosbags).
 - ``bag``: read a bag back into numpy arrays per vessel namespace.
+- ``bag_recovery``: rebuild a bag whose MCAP file lost its end (mcap reader); ``bag_check``:
+  read a bag with two independent readers against its metadata.yaml; ``integrity``: is the
+  record complete.
 - ``metrics``: path-following metrics (pure numpy).
 - ``plots``: PNG plots (matplotlib Agg).
 - ``report``: bag -> metrics.json + plots + report.html (used by run_mission.py and replay_bag.py).

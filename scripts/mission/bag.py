@@ -114,6 +114,7 @@ class BagData:
     custom_data: dict = field(default_factory=dict)  # metadata.yaml custom_data (str -> str)
     clock: np.ndarray | None = None  # the /clock values (sim s) in recording order, if recorded
     recovered: str | None = None     # the recovery's report when the recording was interrupted
+    #                                  (custom_data mission.recovered of a recovered bag)
 
 
 # -- vectorised CDR decoding -------------------------------------------------------------------
@@ -295,6 +296,8 @@ def read_bag(path, topics=None, namespaces=None, pair_by_sequence=True):
             datas[topic].append(raw)
             stamps[topic].append(t_ns)
         custom = read_custom_data(path)
+        # a recovered bag says so every time it is read, not only when it is recovered
+        recovered = custom.get(bag_recovery.RECOVERED, recovered)
         source = custom.get('mission.time_source', 'sim')
         to_sim = _wall_to_sim(datas.get('/clock'), stamps.get('/clock')) if source == 'wall' else None
         clock = _clock_values(datas['/clock']) if datas.get('/clock') else None

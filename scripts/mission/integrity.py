@@ -10,9 +10,18 @@ went missing is not known: ``mission.bag`` then times it by log time, never by i
 across the gap). One answer fewer than steps is not a loss: the answer to the last step may be
 in flight when the launcher stops the graph (``in_flight``).
 
+A bag recovered from an interrupted recording (``mission.bag_recovery``) is never complete: its
+end is lost. When a metadata.yaml survived, its message counts say how much: per vessel the
+odom steps after the last one recovered (``lost_at_end``), per topic the messages; without one
+how much is not known, and the report says so.
+
 Pure numpy: ``record_integrity`` takes a ``mission.bag.BagData``.
 """
+import json
+
 import numpy as np
+
+from mission import bag_recovery
 
 #: per-step topics of a vessel (relative names) besides odom, as ``mission.bag`` reads them
 PER_STEP = ('rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_error', 'progress')
@@ -69,15 +78,54 @@ def record_integrity(data):
         period = next((v['odom']['period_s'] for v in vessels.values() if v['odom']['period_s']), None)
         out['clock'] = stamp_gaps(data.clock, period)
         total += out['clock']['missing']
+    recovered = _recovered(data)
+    if recovered is not None:
+        out['recovered'] = recovered
+        lost_steps = recovered['lost_steps'] or {}
+        for ns, v in vessels.items():
+            if ns in lost_steps:
+                v['odom']['lost_at_end'] = lost_steps[ns]
+        total += sum(n for _, n in (recovered['lost'] or {}).values())
     out['missing'] = int(total)
-    out['complete'] = total == 0
+    out['complete'] = total == 0 and recovered is None
     return out
+
+
+def _recovered(data):
+    """What a recovered bag lost at its end, from its custom data (mission.bag_recovery), or None
+    for a bag that was not recovered: {'end_s', 'lost': {topic: [received, lost]} or None
+    (not known), 'lost_steps': {namespace: odom steps lost} or None}."""
+    custom = getattr(data, 'custom_data', None) or {}
+    if bag_recovery.RECOVERED not in custom and not getattr(data, 'recovered', None):
+        return None
+    end_s = int(custom.get(bag_recovery.END_NS, 0)) / 1e9
+    expected = custom.get(bag_recovery.EXPECTED)
+    if expected is None:
+        return {'end_s': end_s, 'lost': None, 'lost_steps': None}
+    expected = json.loads(expected)
+    got = {t: count for t, (_type, count) in data.topics.items()}
+    lost = {t: [g, e - g] for t, (g, e) in bag_recovery.lost(expected, got).items()}
+    steps = {ns: lost[f'{ns.rstrip("/")}/odom'][1] for ns in data.vessels
+             if f'{ns.rstrip("/")}/odom' in lost}
+    return {'end_s': end_s, 'lost': lost, 'lost_steps': steps}
 
 
 def summary_line(integrity):
     """One line for the console: 'record complete' or what is missing where."""
     if integrity['complete']:
         return 'record complete: every step of every per-step topic is in the bag'
+    rec = integrity.get('recovered')
+    if rec is not None:
+        head = f"record INCOMPLETE: recovered from an interrupted recording that ends at {rec['end_s']:.1f} s"
+        if rec['lost'] is None:
+            tail = 'the steps after it are lost, how many is not known (no metadata.yaml survived)'
+        else:
+            steps = ', '.join(f'{ns} {n} odom steps' for ns, n in rec['lost_steps'].items())
+            n_lost = sum(n for _, n in rec['lost'].values())
+            tail = (f'lost after it: {n_lost} messages' + (f' ({steps})' if steps else '')
+                    + ' of the counts metadata.yaml gave')
+        inside = integrity['missing'] - sum(n for _, n in (rec['lost'] or {}).values())
+        return f'{head}; {tail}' + (f'; {inside} messages missing before it' if inside else '')
     parts = []
     if integrity.get('clock', {}).get('missing'):
         parts.append(f"/clock {integrity['clock']['missing']}")

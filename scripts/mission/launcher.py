@@ -685,6 +685,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             acks = record_ack_args(scenario) if scenario.stepping == 'lockstep' else []
             group.start_argv('recorder', [sys.executable, RECORDER, run / 'bag', '--time-source',
                                           source, '--exclude', r'^/(rosout|parameter_events)$',
+                                          '--compression', scenario.bag_compression,
                                           *meta, *acks])
         start_viewers(scenario, run, group, progress)
         monitor = Monitor(namespaces)

@@ -16,14 +16,34 @@ Two layers:
   A topic is subscribed only once it has a publisher, so its QoS is known.
 
 Message time (the bag's log_time, ns): with ``time_source='sim'`` (default; our graph runs on
-sim time) it is the latest ``/clock`` value the recorder has received (0 before the first
-``/clock``); with ``'wall'`` it is the wall-clock receive time, as ``ros2 bag record`` does
-without ``--use-sim-time``. Topics and ``/clock`` are separate subscriptions, so a message can
-be stamped a step early or late, and several steps late when the recorder falls behind a
-loaded graph (seen: 42 steps at x20 real time on a busy machine). Stamped messages (Odometry,
-Path) keep their exact header stamps inside, and ``mission.bag`` times the unstamped ones by
-pairing them with odom by sequence. The bag's ``custom_data`` records the choice under
+sim time) a message with a header stamp (Odometry, Path, NavSatFix; MarkerArray and TFMessage
+by their first element's header: ``header_stamp_at``) is logged at that stamp, the sim time it
+describes, and a message without one (std_msgs/Float64, the progress array, /clock itself) at
+the latest ``/clock`` value the recorder has received (0 before the first
+``/clock``). The display topics (``fix``, ``nav_markers``) come from a node that lags the
+lockstep graph by seconds of sim time: logged at the recorder's ``/clock`` they trailed the
+odometry on playback by hundreds of metres. Per topic the log times never decrease (a stamp
+older than the topic's previous log time is logged at that time), so a reader that orders by
+log time keeps each topic's messages in the order they were published. With ``'wall'`` every
+message is logged at its wall-clock receive time, as ``ros2 bag record`` does without
+``--use-sim-time`` (a platoon's followers run behind the master's /clock, so neither /clock
+nor their stamps are a time base common to all vessels; mission.report maps wall log times
+onto each vessel's own odometry). An unstamped topic and ``/clock`` are separate
+subscriptions, so such a message can be logged a step early or late, and several steps late
+when the recorder falls behind a loaded graph (seen: 42 steps at x20 real time on a busy
+machine); ``mission.bag`` times the unstamped ones by pairing them with odom by sequence, and by
+log time only when the counts differ. The bag's ``custom_data`` records the choice under
 ``mission.time_source``.
+
+``/tf``: each ``*/odom`` Odometry message is also written as a tf2_msgs/TFMessage on ``/tf``
+(header.frame_id -> child_frame_id, i.e. map -> <ns>/base_link, with the odom's pose, stamp
+and log time), so RViz and Foxglove 3D panels place the hulls from the bag alone. Nothing in
+the graph publishes tf (the ROS wheels have no tf2_msgs); rosbags' typestore knows the type.
+
+Compression (``compression``, ``--compression``): MCAP chunks compressed with zstd (default,
+as rosbag2's MCAP writer does), lz4, or none. It is the storage's own chunk compression, so
+metadata.yaml says ``compression_format: ''`` and ``compression_mode: ''``, as rosbag2 Jazzy
+writes it for MCAP chunk compression (its file and message modes are something else).
 
 Executor: rclpy's EventsExecutor (several times the callback rate of SingleThreadedExecutor;
 README Performance), driven by ``spin_once`` because its ``spin()`` in this Jazzy wheel
@@ -53,6 +73,7 @@ CLI (one process of the launcher)::
     python scripts/mission/recorder.py OUT_BAG_DIR [--topics T ...] [--exclude REGEX]
         [--time-source sim|wall] [--depth N] [--discovery-period S] [--executor events|single]
         [--meta KEY=VALUE ...] [--ack ACK_TOPIC=TOPIC,TOPIC,... ...]
+        [--compression none|lz4|zstd] [--no-tf]
 
 prints ``recording <topic> [<type>]`` once per subscribed topic (a readiness signal) and, at
 exit, one line ``recorded {json: topic -> count}``.
@@ -70,10 +91,12 @@ from io import BytesIO
 from pathlib import Path
 
 import yaml
-from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
-from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.interfaces import (Nodetype, Qos, QosDurability, QosHistory, QosLiveliness,
+                                QosReliability, QosTime)
+from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
 from rosbags.rosbag2 import storage_mcap
 from rosbags.typesys import Stores, TypesysError, get_types_from_msg, get_typestore
+from ship_sim.ros import odometry_cdr as cdr
 
 CLOCK_TOPIC = '/clock'
 DEFAULT_EXCLUDE = r'^/(rosout|parameter_events)$'
@@ -81,6 +104,13 @@ BAG_VERSION = 9  # rosbag2 metadata version written by Jazzy
 ROS_DISTRO = 'jazzy'
 RECORDING_FILE = 'recording.yaml'  # custom data, written at open (mission.bag_recovery reads it)
 FLUSH_PERIOD_S = 1.0               # a killed recorder loses at most about this much
+COMPRESSIONS = ('none', 'lz4', 'zstd')   # MCAP chunk compression
+DEFAULT_COMPRESSION = 'zstd'             # what rosbag2's MCAP writer does by default
+ODOMETRY = 'nav_msgs/msg/Odometry'
+HEADER = 'std_msgs/msg/Header'
+TF_TOPIC = '/tf'
+TF_TYPE = 'tf2_msgs/msg/TFMessage'
+TF_DEPTH = 100   # tf2_ros TransformBroadcaster's QoS: reliable, volatile, keep-last 100
 
 
 # -- the bag file (no rclpy) -------------------------------------------------------------------
@@ -132,27 +162,104 @@ def message_definition(typestore, msgtype):
         return typestore.generate_msgdef(msgtype, ros_version=2)[0]
 
 
+def header_stamp_at(typestore, msgtype):
+    """Byte offset of the header stamp in a serialized ``msgtype``, or None (no header in front).
+
+    A message whose first field is a std_msgs/Header has its stamp right after the 4-byte CDR
+    encapsulation (offset 4); one whose first field is a sequence of such messages
+    (visualization_msgs/MarkerArray, tf2_msgs/TFMessage) has its first element's stamp after
+    the sequence length (offset 8; an empty sequence has none). Headers deeper in a message are
+    not looked for: which of several would be "the" stamp is not defined.
+    """
+    def first_is_header(name):
+        fields = typestore.fielddefs[name][1]
+        return bool(fields) and fields[0][1] == (Nodetype.NAME, HEADER)
+    try:
+        if first_is_header(msgtype):
+            return 4
+        fields = typestore.fielddefs[msgtype][1]
+        if fields and fields[0][1][0] == Nodetype.SEQUENCE:
+            element = fields[0][1][1][0]
+            if element[0] == Nodetype.NAME and first_is_header(element[1]):
+                return 8
+    except KeyError:   # a type the typestore does not have: treated as unstamped
+        pass
+    return None
+
+
+def stamp_ns(data, at):
+    """The header stamp (ns) at byte offset ``at`` (``header_stamp_at``) of serialized ``data``;
+    None when there is none: no offset, too short, an empty sequence, a negative stamp. (Zero is
+    a stamp: the sim time of step 0.)"""
+    if at is None or len(data) < at + 8:
+        return None
+    endian = '<' if data[1] == 1 else '>'
+    if at == 8 and struct.unpack_from(endian + 'I', data, 4)[0] == 0:
+        return None
+    sec, nsec = struct.unpack_from(endian + 'iI', data, at)
+    ns = sec * 1_000_000_000 + nsec
+    return ns if ns >= 0 else None
+
+
+def odometry_to_tf(typestore, data):
+    """Serialized nav_msgs/Odometry -> serialized tf2_msgs/TFMessage with one transform
+    header.frame_id -> child_frame_id: the odom's stamp and pose."""
+    if bytes(data[:2]) == cdr.XCDR1_LE:   # the layout of ship_sim.ros.odometry_cdr
+        base = cdr.HEADER_BYTES
+        sec, nsec, n_frame = struct.unpack_from('<iII', data, base)
+        child = cdr.child_frame_at(n_frame)
+        (n_child,) = struct.unpack_from('<I', data, base + child)
+        x, y, z, qx, qy, qz, qw = struct.unpack_from('<7d', data, base + cdr.pose_at(child, n_child))
+        at = base + cdr.FRAME_ID_AT + 4
+        frame = bytes(data[at:at + n_frame - 1]).decode()
+        child_frame = bytes(data[base + child + 4:base + child + 3 + n_child]).decode()
+    else:
+        m = typestore.deserialize_cdr(bytes(data), ODOMETRY)
+        sec, nsec, frame, child_frame = (m.header.stamp.sec, m.header.stamp.nanosec,
+                                         m.header.frame_id, m.child_frame_id)
+        p, q = m.pose.pose.position, m.pose.pose.orientation
+        x, y, z, qx, qy, qz, qw = p.x, p.y, p.z, q.x, q.y, q.z, q.w
+    T = typestore.types
+    transform = T['geometry_msgs/msg/TransformStamped'](
+        header=T[HEADER](stamp=T['builtin_interfaces/msg/Time'](sec=sec, nanosec=nsec),
+                         frame_id=frame),
+        child_frame_id=child_frame,
+        transform=T['geometry_msgs/msg/Transform'](
+            translation=T['geometry_msgs/msg/Vector3'](x=x, y=y, z=z),
+            rotation=T['geometry_msgs/msg/Quaternion'](x=qx, y=qy, z=qz, w=qw)))
+    return bytes(typestore.serialize_cdr(T[TF_TYPE](transforms=[transform]), TF_TYPE))
+
+
 class BagWriter:
     """A rosbag2 bag being written: topics, CDR messages with ns timestamps, counts.
 
     ``path`` must not exist yet (rosbags never overwrites). Use as a context manager or call
-    ``close()``; both are idempotent and safe from a ``finally`` block.
+    ``close()``; both are idempotent and safe from a ``finally`` block. ``compression``: the
+    MCAP chunks' (one of COMPRESSIONS); sqlite3 bags are stored uncompressed.
     """
 
-    def __init__(self, path, storage='mcap', typestore=None, custom_data=None, side_file=True):
+    def __init__(self, path, storage='mcap', typestore=None, custom_data=None, side_file=True,
+                 compression=DEFAULT_COMPRESSION):
         plugin = {'mcap': StoragePlugin.MCAP, 'sqlite3': StoragePlugin.SQLITE3}[storage]
+        if compression not in COMPRESSIONS:
+            raise ValueError(f'compression must be one of {", ".join(COMPRESSIONS)}, '
+                             f'got {compression!r}')
         self.path = Path(path)
         self.typestore = typestore or get_typestore(Stores.ROS2_JAZZY)
         self._writer = Writer(self.path, version=BAG_VERSION, storage_plugin=plugin)
+        self._mcap = plugin == StoragePlugin.MCAP
+        self.compression = compression if self._mcap else 'none'
+        if self.compression == 'zstd':   # rosbags' own chunk compression (it has zstd only)
+            self._writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
         for key, value in (custom_data or {}).items():
             self._writer.set_custom_data(str(key), str(value))
         self._writer.open()
-        self._mcap = plugin == StoragePlugin.MCAP
         if self._mcap:
-            _as_rosbag2_mcap(self._writer.storage)
+            _as_rosbag2_mcap(self._writer.storage, self.compression)
         if side_file:  # metadata.yaml comes only at close: what mission.bag_recovery needs before
             (self.path / RECORDING_FILE).write_text(yaml.safe_dump(
-                {'custom_data': {str(k): str(v) for k, v in (custom_data or {}).items()}}))
+                {'custom_data': {str(k): str(v) for k, v in (custom_data or {}).items()},
+                 'compression': self.compression}))
         self._connections = {}
         self._lock = threading.Lock()
         self.closed = False
@@ -233,11 +340,17 @@ def _jazzy_distro(metadata_text):
     return metadata_text.replace('ros_distro: rosbags', f'ros_distro: {ROS_DISTRO}', 1)
 
 
-def _as_rosbag2_mcap(storage):
+def _as_rosbag2_mcap(storage, compression=DEFAULT_COMPRESSION):
     """Make rosbags' MCAP storage write what Jazzy's rosbag2 MCAP plugin writes: each channel's
     metadata holds ``topic_type_hash`` (RIHS01) beside ``offered_qos_profiles``, and the
     embedded copy of the bag's metadata names the distribution. (rosbags 0.11.9 writes only
-    the QoS; readers of either key, rosbags included, skip keys they do not know.)"""
+    the QoS; readers of either key, rosbags included, skip keys they do not know.)
+
+    Chunk compression: rosbags 0.11.9 compresses chunks with zstd only (chosen before
+    ``open``); lz4 (the LZ4 frame format, as the MCAP specification says) is set here."""
+    if compression == 'lz4':
+        import lz4.frame
+        storage.compression, storage.compressor = 'lz4', lz4.frame.compress
     def add_connection(connection, offered_qos_profiles):
         meta = BytesIO()
         for key, value in (('offered_qos_profiles', offered_qos_profiles),
@@ -294,12 +407,15 @@ class Recorder:
 
     ``topics``: explicit absolute topic names, or None for every topic not matching
     ``exclude`` (a regex). ``/clock`` is always recorded (sim-time stamps and replay need it).
+    ``tf``: also write ``/tf`` from every ``*/odom`` (module docstring); ``compression``: the
+    MCAP chunks' (COMPRESSIONS).
     The caller spins ``recorder.node`` (any executor) and calls ``close()`` at the end.
     """
 
     def __init__(self, bag_path, topics=None, exclude=DEFAULT_EXCLUDE, time_source='sim',
                  depth=1000, discovery_period_s=0.2, node_name='mission_recorder', on_subscribe=None,
-                 context=None, custom_data=None, acks=None):
+                 context=None, custom_data=None, acks=None, tf=True,
+                 compression=DEFAULT_COMPRESSION):
         import rclpy.node  # rclpy only for the node layer
         from rclpy.qos import QoSProfile
         from std_msgs.msg import UInt64
@@ -315,7 +431,9 @@ class Recorder:
         self.time_source = time_source
         self.depth = int(depth)
         self.on_subscribe = on_subscribe or (lambda topic, msgtype: None)
-        self.writer = BagWriter(bag_path, custom_data={**(custom_data or {}), 'mission.time_source': time_source})
+        self.writer = BagWriter(bag_path, custom_data={**(custom_data or {}), 'mission.time_source': time_source},
+                                compression=compression)
+        self.tf = bool(tf)
         self.node = rclpy.node.Node(node_name, context=context)
         self._subs = {}
         self._sim_ns = 0
@@ -402,16 +520,31 @@ class Recorder:
             durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
         rihs01 = _type_hash_string(pubs[0])
         conn = self.writer.add_topic(topic, msgtype, [_rclpy_qos_to_rosbags(p) for p in profiles], rihs01)
+        write = self.writer.write
+        if self.tf and msgtype == ODOMETRY and topic.endswith('/odom'):
+            tf_conn = self.writer.add_topic(TF_TOPIC, TF_TYPE, [reliable_qos(TF_DEPTH)])
+            typestore = self.writer.typestore
+
+            def write(conn, t_ns, data, tf_conn=tf_conn):
+                self.writer.write(conn, t_ns, data)
+                self.writer.write(tf_conn, t_ns, odometry_to_tf(typestore, data))
         if topic == CLOCK_TOPIC:
             def callback(data, conn=conn):
                 self._sim_ns = _clock_ns(data)
-                self.writer.write(conn, self._sim_ns if self.time_source == 'sim' else time.time_ns(), data)
+                write(conn, self._sim_ns if self.time_source == 'sim' else time.time_ns(), data)
         elif self.time_source == 'sim':
+            # The message's own stamp where it has one, else the latest /clock; never before
+            # the topic's previous log time (module docstring: Message time).
+            at = header_stamp_at(self.writer.typestore, msgtype)
+            last = [0]
+
             def callback(data, conn=conn):
-                self.writer.write(conn, self._sim_ns, data)
+                stamp = stamp_ns(data, at)
+                last[0] = max(self._sim_ns if stamp is None else stamp, last[0])
+                write(conn, last[0], data)
         else:
             def callback(data, conn=conn):
-                self.writer.write(conn, time.time_ns(), data)
+                write(conn, time.time_ns(), data)
         callback = self._counted(topic, callback)
         self._subs[topic] = self.node.create_subscription(_message_class(msgtype), topic, callback, qos, raw=True)
         self.on_subscribe(topic, msgtype)
@@ -467,6 +600,10 @@ def main(argv=None):
                         help='rclpy EventsExecutor (faster per callback) or SingleThreadedExecutor')
     parser.add_argument('--meta', action='append', default=[], metavar='KEY=VALUE',
                         help="stored in the bag's custom_data (e.g. mission.rudder_limit_rad=0.6981)")
+    parser.add_argument('--compression', choices=COMPRESSIONS, default=DEFAULT_COMPRESSION,
+                        help='MCAP chunk compression (default: %(default)s, as rosbag2 writes)')
+    parser.add_argument('--no-tf', action='store_true',
+                        help='do not write /tf (map -> <ns>/base_link) from the */odom topics')
     parser.add_argument('--ack', action='append', default=[], metavar='ACK_TOPIC=TOPIC,...',
                         help='lockstep: publish on ACK_TOPIC (std_msgs/UInt64) the number of '
                              'complete steps recorded of the listed topics (vessel_node '
@@ -486,7 +623,7 @@ def main(argv=None):
     try:
         recorder = Recorder(args.bag, topics=args.topics, exclude=args.exclude, time_source=args.time_source,
                             depth=args.depth, discovery_period_s=args.discovery_period, custom_data=meta,
-                            acks=acks,
+                            acks=acks, tf=not args.no_tf, compression=args.compression,
                             on_subscribe=lambda t, m: print(f'recording {t} [{m}]', flush=True))
         executor = _make_executor(args.executor)
         executor.add_node(recorder.node)

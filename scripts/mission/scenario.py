@@ -48,6 +48,9 @@
       origin: {lat_deg: 59.9, lon_deg: 10.7} #   nav_markers); origin of the NavSatFix (default:
       display_rate_hz: 2.0                   #   the first route's origin, else 0/0); rate and
       trail_length_s: 600.0                  #   trail in sim time. `display: false`: no display
+    bag_compression: zstd                    # the bag's MCAP chunks: zstd (default, as rosbag2
+                                             # writes them), lz4 or none (run_mission.py
+                                             # --bag-compression overrides it)
 
 A matrix file (the one key `matrix`, mission.matrix) holds many scenarios that differ in a few
 keys: load_scenarios gives them all, load_scenario the one named.
@@ -90,6 +93,7 @@ import yaml
 from mission.fields import ScenarioError, need, number, unknown
 from mission.matrix import expand, is_matrix
 from mission.platoon import parse_platoon
+from mission.recorder import COMPRESSIONS, DEFAULT_COMPRESSION
 from mission.vessel_spec import parse_vessel
 from mission.wind_block import check_wind, check_wind_model
 
@@ -99,7 +103,7 @@ from ship_sim.frames import psi_to_yaw
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais',
-            'wind', 'display'}
+            'wind', 'display', 'bag_compression'}
 #: ais_node parameters the launcher sets itself (not allowed in a scenario's `ais:`).
 AIS_LAUNCHER_KEYS = {'use_sim_time', 'publish_on_clock'}
 DISPLAY_KEYS = {'origin', 'display_rate_hz', 'trail_length_s'}
@@ -142,6 +146,7 @@ class Scenario:
     live_nice: int = 10     #: --live-nice: the live view's CPU niceness once serving
     #: the scenario's own mapping when it comes from a matrix file (mission.matrix), else None
     expanded: dict = None
+    bag_compression: str = DEFAULT_COMPRESSION   #: the recorder's --compression
 
 
 def check_name(name, file):
@@ -238,6 +243,9 @@ def _parse_scenario(data, path):
     need(not ('traffic' in data and 'platoon' in data), path, 'traffic',
           'traffic is not supported beside a platoon')
     ais = _parse_ais(data['ais'], path) if 'ais' in data else None
+    compression = data.get('bag_compression', DEFAULT_COMPRESSION)
+    need(compression in COMPRESSIONS, path, 'bag_compression',
+         f"one of {', '.join(COMPRESSIONS)}, got {compression!r}")
     _apply_scenario_wind(data, specs, path)
     return Scenario(
         file=path, name=data['name'], source=str(data.get('source', '')),
@@ -248,7 +256,8 @@ def _parse_scenario(data, path):
         settle_s=number(data, 'settle_s', path, 0.0, lo=0.0),
         record=bool(data.get('record', True)),
         lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light,
-        ais=ais, display=_parse_display(data.get('display', {}), path))
+        ais=ais, display=_parse_display(data.get('display', {}), path),
+        bag_compression=compression)
 
 
 def _parse_ais(ais, path):

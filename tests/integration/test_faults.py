@@ -4,7 +4,8 @@
    node or recorder outlives it, and the recorder finalises the bag on that SIGTERM.
 2. SIGKILL of the recorder mid-run (realtime): the launcher fails the run (exit 1) and still analyses
    what was recorded: the bag (MCAP without summary nor metadata.yaml) is recovered from its
-   flushed chunks, and metrics.json covers the steps that reached the disk.
+   flushed chunks, metrics.json covers the steps that reached the disk, and the record is
+   reported INCOMPLETE (its end is lost), never complete.
 3. Ctrl-C: the interrupted run gets its metrics and plots of what was recorded.
 """
 import json
@@ -35,7 +36,7 @@ def wait_flushed(bag, timeout, n=20):
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         for mcap in bag.glob('*.mcap'):
-            _schemas, channels, messages = scan(mcap)
+            _schemas, channels, messages, _stop = scan(mcap)
             odom = {cid for cid, ch in channels.items() if ch[0] == f'{NS}/odom'}
             if sum(1 for m in messages if m[0] in odom) >= n:
                 return True
@@ -75,6 +76,9 @@ def test_a_killed_recorder_fails_the_run_and_its_bag_is_recovered(launch):
     metrics = json.loads((run.run_dir() / 'metrics.json').read_text())
     assert metrics['run']['outcome'] == 'failed'
     assert metrics['vessels'][NS]['odom_samples'] > 10
+    # the end of the recording is lost: never reported as a complete record
+    assert not metrics['record']['complete'] and 'recovered' in metrics['record']
+    assert 'record INCOMPLETE: recovered from an interrupted recording' in out, run.report()
     assert run_processes(str(run.runs)) == []
 
 

@@ -86,14 +86,22 @@ VIEW_TOPICS = ('/fix', '/nav_markers', '/heading')
 
 
 def messages(bag):
-    """{topic: [serialized message, ...]} in recording order (view topics with zero padding)."""
+    """{topic: [serialized message, ...]} in recording order (view topics with zero padding).
+
+    ``/tf`` carries every vessel's transform in the order their odometry reached the recorder,
+    which differs between runs where the vessels step independently (a platoon): it is keyed
+    per child frame, ``/tf <child_frame_id>``, each vessel's transforms in order.
+    """
     out = {}
     with AnyReader([bag]) as reader:
         for conn, _, raw in reader.messages():
-            if conn.topic.endswith(VIEW_TOPICS):
+            topic = conn.topic
+            if topic.endswith(VIEW_TOPICS):
                 raw = reader.typestore.serialize_cdr(reader.deserialize(raw, conn.msgtype),
                                                      conn.msgtype)
-            out.setdefault(conn.topic, []).append(bytes(raw))
+            elif topic == '/tf':
+                topic = f'/tf {reader.deserialize(raw, conn.msgtype).transforms[0].child_frame_id}'
+            out.setdefault(topic, []).append(bytes(raw))
     return out
 
 

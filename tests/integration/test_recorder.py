@@ -3,7 +3,9 @@
 The test node latches a route *before* the recorder starts (a late recorder must still get it,
 through transient_local), then publishes /clock, odom and rudder for N steps. The recorder is
 stopped with SIGINT, as the launcher stops it, and must leave a complete bag: every message,
-exact Odometry stamps, rudder log times from /clock (sim time), the route's offered QoS.
+exact Odometry stamps, rudder log times from /clock (sim time), the route's offered QoS, a
+display topic that lags the graph logged at its own stamps, /tf from the odom, zstd chunks, and
+two independent readers (mcap + mcap-ros2-support, rosbags) agreeing with metadata.yaml.
 """
 import re
 import signal
@@ -17,10 +19,13 @@ import pytest
 import yaml
 from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Odometry, Path as PathMsg
+from rosbags.highlevel import AnyReader
 from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import NavSatFix
 from std_msgs.msg import Float64, UInt64
 
 from mission.bag import read_bag
+from mission.bag_check import cross_check
 from mission.processes import die_with_parent
 from ship_sim.ros.qos import LATCHED, RECORD_ACK, STREAM
 
@@ -29,6 +34,7 @@ NS = '/vessel_0'
 STEP_NS = 100_000_000
 N = 200
 ACK = '/recorder_ack'  # the recorder's acknowledgement of complete steps (--ack)
+FIX_LAG = 30          # steps the display topic's stamps trail the graph (as nav_display_node)
 
 
 def _wait_for(path, pattern, timeout, proc):
@@ -57,6 +63,7 @@ def test_recorder_process_records_a_late_latched_route_and_every_step(ros_graph,
     clock_pub = tn.publisher('/clock', Clock, STREAM)
     odom_pub = tn.publisher(f'{NS}/odom', Odometry, STREAM)
     rudder_pub = tn.publisher(f'{NS}/rudder', Float64, STREAM)
+    fix_pub = tn.publisher(f'{NS}/fix', NavSatFix, STREAM)
 
     bag = tmp_path / 'run' / 'bag'
     covered = ','.join(('/clock', f'{NS}/odom', f'{NS}/rudder'))
@@ -68,9 +75,9 @@ def test_recorder_process_records_a_late_latched_route_and_every_step(ros_graph,
                                stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL, start_new_session=True,
                                preexec_fn=die_with_parent)
     try:
-        for topic in ('/clock', f'{NS}/odom', f'{NS}/rudder', f'{NS}/route'):
+        for topic in ('/clock', f'{NS}/odom', f'{NS}/rudder', f'{NS}/route', f'{NS}/fix'):
             assert _wait_for(out, f'recording {re.escape(topic)} ', 20.0, rec), out.read_text()
-        for pub in (clock_pub, odom_pub, rudder_pub):
+        for pub in (clock_pub, odom_pub, rudder_pub, fix_pub):
             assert tn.wait_for_subscribers(pub, timeout=10.0)
         for k in range(1, N + 1):
             c = Clock()
@@ -82,6 +89,10 @@ def test_recorder_process_records_a_late_latched_route_and_every_step(ros_graph,
             o.pose.pose.position.x, o.pose.pose.orientation.w = 0.5 * k, 1.0
             odom_pub.publish(o)
             rudder_pub.publish(Float64(data=0.001 * k))
+            if k > FIX_LAG:   # the display of step k - FIX_LAG, published now
+                f = NavSatFix()
+                f.header.stamp.sec, f.header.stamp.nanosec = divmod((k - FIX_LAG) * STEP_NS, 1_000_000_000)
+                fix_pub.publish(f)
             tn.spin_once(0.0)
             time.sleep(0.002)
         # The recorder's lockstep acknowledgement: every step of the three topics is written.
@@ -118,3 +129,20 @@ def test_recorder_process_records_a_late_latched_route_and_every_step(ros_graph,
     assert topics[f'{NS}/route']['message_count'] == 1
     assert topics[f'{NS}/route']['topic_metadata']['offered_qos_profiles'][0]['durability'] == 'transient_local'
     assert '/rosout' not in topics
+    assert topics['/tf']['message_count'] == N
+    assert topics['/tf']['topic_metadata']['type'] == 'tf2_msgs/msg/TFMessage'
+
+    check = cross_check(bag)
+    assert check['problems'] == [] and check['compressions'] == {'zstd'}
+    assert check['metadata'][f'{NS}/fix'] == N - FIX_LAG
+    with AnyReader([bag]) as reader:
+        conns = [c for c in reader.connections if c.topic in (f'{NS}/fix', '/tf')]
+        logged = {'/tf': [], f'{NS}/fix': []}
+        for conn, t_ns, raw in reader.messages(connections=conns):
+            logged[conn.topic].append((t_ns, reader.deserialize(raw, conn.msgtype)))
+    # the lagging display topic is logged at its own stamps, not at the recorder's /clock
+    assert [t for t, _ in logged[f'{NS}/fix']] == [k * STEP_NS for k in range(1, N - FIX_LAG + 1)]
+    tf = [(t, m.transforms[0]) for t, m in logged['/tf']]
+    assert [t for t, _ in tf] == list(steps * STEP_NS)
+    assert all((x.header.frame_id, x.child_frame_id) == ('map', 'vessel_0/base_link') for _, x in tf)
+    np.testing.assert_array_equal([x.transform.translation.x for _, x in tf], 0.5 * steps)

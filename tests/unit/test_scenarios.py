@@ -252,3 +252,22 @@ def test_runner_claim_checks_on_hand_made_rows():
     assert verdicts['Martinsen and Lekkas 2018 Table I, LOS at 0.9 m/s'] is True
     assert verdicts['Martinsen and Lekkas 2018 Table I, LOS at 0.0 m/s'] is False
     assert not any(c.startswith('003') for c in verdicts)     # no 003 run, no 003 claim
+
+
+@pytest.mark.parametrize('value, expected', [(None, 'zstd'), ('lz4', 'lz4'), ('none', 'none'),
+                                             ('gzip', None)])
+def test_bag_compression_key(tmp_path, value, expected):
+    from mission.scenario import ScenarioError
+    src = ROOT / 'scenarios' / 'flagship_mariner.yaml'
+    data = yaml.safe_load(src.read_text())
+    for v in data['vessels'].values():
+        v['route'] = str((src.parent / v['route']).resolve())
+    if value is not None:
+        data['bag_compression'] = value
+    path = tmp_path / 'variant.yaml'
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
+    if expected is None:
+        with pytest.raises(ScenarioError, match=r"bag_compression.*one of none, lz4, zstd, got 'gzip'"):
+            load_scenario(path)
+    else:
+        assert load_scenario(path).bag_compression == expected

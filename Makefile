@@ -2,7 +2,7 @@
 #   .venv (pinned wheels, only when a requirements file changed) -> colcon build (only when sources
 #   changed). `make demo` installs requirements/runtime.txt only; `make test` adds the extras
 #   (test, learning, sweep, browser), each its own stamp file in .venv, and Chromium
-#   (scripts/ensure_chromium.py).
+#   (scripts/ensure_test_tools.py).
 # The venv also gets one .pth file naming the packages' source folders and scripts/, so that
 # `.venv/bin/python scripts/X.py` and pytest import ship_* and mission without sys.path edits.
 SHELL := /bin/bash
@@ -72,10 +72,10 @@ demo: build
 lint: $(VENV)/.installed-test
 	$(VENV)/bin/ruff check .
 
-# ensure_chromium.py installs Chromium for the browser test (root with apt-get) or says which
+# ensure_test_tools.py installs the test tools (Chromium, gpsdecode) as root with apt-get, or says which
 # tests will skip and the command that installs it.
 test: build venv-test lint
-	@$(PY) scripts/ensure_chromium.py
+	@$(PY) scripts/ensure_test_tools.py
 	$(PY) -m pytest $(PYTEST_ARGS)
 
 # The benchmarks use every extra: gymnasium (controllers), Ray (sweep), websockets (live view).

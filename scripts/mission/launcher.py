@@ -203,6 +203,9 @@ def check_scenario(scenario):
                 hint = f' (did you mean "{near[0]}"?)' if near else ''
                 raise ScenarioError(f'{scenario.file}: ais.{key}: ais_node has no parameter '
                                     f'{key!r}{hint}')
+    if scenario.aivdm_out is not None:
+        from mission.aivdm_block import aivdm_parameters
+        aivdm_parameters(scenario, Path('.'))
     if platoon is not None:
         from mission.platoon import check_lead, check_stability
         check_lead(scenario)
@@ -670,6 +673,10 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             f = write_params(run, 'ais', 'ais_node', ais_parameters(scenario, record))
             group.start('ais/ais_node', AIS_NODE[1], AIS_NODE[0],
                         ['--ros-args', '--params-file', f])
+        if scenario.aivdm_out is not None:   # AIVDM/AIVDO to chart plotters; nobody waits for it
+            from mission.aivdm_block import NODE, aivdm_parameters
+            f = write_params(run, 'aivdm', NODE[0], aivdm_parameters(scenario, run))
+            group.start(f'aivdm/{NODE[0]}', NODE[1], NODE[0], ['--ros-args', '--params-file', f])
         if record:
             from ship_sim.models import make_model
             # Each vessel's limit for mission.report (the instance's: some models set it in

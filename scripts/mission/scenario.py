@@ -44,6 +44,7 @@
       origin_lat_deg: 63.4                   #   geodetic origin of the scenario's ENU frame
       origin_lon_deg: 10.4
       stale_after_s: 360.0                   #   any other ais_node parameter (config/ais.yaml)
+    aivdm_out: {udp: 127.0.0.1:10110}        # optional: AIVDM/AIVDO out (mission.aivdm_block)
     display:                                 # optional: nav_display_node of every vessel (fix,
       origin: {lat_deg: 59.9, lon_deg: 10.7} #   nav_markers); origin of the NavSatFix (default:
       display_rate_hz: 2.0                   #   the first route's origin, else 0/0); rate and
@@ -103,7 +104,7 @@ from ship_sim.frames import psi_to_yaw
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais',
-            'wind', 'display', 'bag_compression'}
+            'wind', 'display', 'bag_compression', 'aivdm_out'}
 #: ais_node parameters the launcher sets itself (not allowed in a scenario's `ais:`).
 AIS_LAUNCHER_KEYS = {'use_sim_time', 'publish_on_clock'}
 DISPLAY_KEYS = {'origin', 'display_rate_hz', 'trail_length_s'}
@@ -147,6 +148,8 @@ class Scenario:
     #: the scenario's own mapping when it comes from a matrix file (mission.matrix), else None
     expanded: dict = None
     bag_compression: str = DEFAULT_COMPRESSION   #: the recorder's --compression
+    #: the `aivdm_out:` block as written (mission.aivdm_block checks it), None without one
+    aivdm_out: dict = None
 
 
 def check_name(name, file):
@@ -257,7 +260,7 @@ def _parse_scenario(data, path):
         record=bool(data.get('record', True)),
         lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light,
         ais=ais, display=_parse_display(data.get('display', {}), path),
-        bag_compression=compression)
+        bag_compression=compression, aivdm_out=data.get('aivdm_out'))
 
 
 def _parse_ais(ais, path):

@@ -114,6 +114,7 @@ BAD_PARAMETER = {
     'colav_node': ('method', 'no_such_method'),
     'traffic_node': ('targets', 'no_json'),
     'nav_display_node': ('display_rate_hz', '-1.0'),
+    'aivdm_out_node': ('vessels', 'no_json'),
 }
 
 

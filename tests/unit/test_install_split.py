@@ -7,11 +7,12 @@
 - Pins are exact (==) and each package is pinned in one file; requirements.txt names every
   file of requirements/.
 - Without the extras, scripts/sweep.py --ray refuses in one line naming the make target, and
-  scripts/ensure_chromium.py (non-root, no Chromium on PATH) names the skipped test and the
+  scripts/ensure_test_tools.py (non-root, no Chromium or gpsdecode on PATH) names the skipped tests and the
   install command; both without a traceback.
 """
 import os
 import re
+import shutil
 import subprocess
 import sys
 import textwrap
@@ -147,27 +148,28 @@ def test_sweep_with_ray_missing_names_the_make_target():
     assert 'Traceback' not in r.stderr
 
 
-def test_ensure_chromium_without_a_browser_names_what_is_skipped(tmp_path):
-    # Not root and no Chromium on PATH: nothing is installed, the message names the test that
-    # will skip and the install command; exit 0 (a skipped test does not fail the suite).
+def test_ensure_test_tools_without_them_names_what_is_skipped(tmp_path):
+    # Not root and nothing on PATH: nothing is installed, each message names the test that will
+    # skip and the install command; exit 0 (a skipped test does not fail the suite).
     code = '''
         import os, runpy, sys
         os.geteuid = lambda: 1000
-        sys.argv = ['ensure_chromium.py']
-        sys.path.insert(0, 'scripts')
-        runpy.run_path('scripts/ensure_chromium.py', run_name='__main__')
+        sys.argv = ['ensure_test_tools.py']
+        runpy.run_path('scripts/ensure_test_tools.py', run_name='__main__')
     '''
-    env = dict(os.environ, PATH=str(tmp_path))
+    env = dict(os.environ, PATH=str(tmp_path), PYTHONPATH=str(REPO / 'scripts'))
     r = subprocess.run([sys.executable, '-c', textwrap.dedent(code)], cwd=REPO, env=env,
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr[-2000:]
     assert 'tests/integration/test_report_browser.py' in r.stdout
     assert 'apt-get install chromium' in r.stdout
+    assert 'tests/unit/test_aivdm_out.py' in r.stdout and 'apt-get install gpsd-clients' in r.stdout
     assert r.stderr == ''
 
 
-@pytest.mark.skipif(find_chromium() is None, reason='no Chromium on PATH')
-def test_ensure_chromium_with_a_browser_says_nothing():
-    r = subprocess.run([sys.executable, 'scripts/ensure_chromium.py'], cwd=REPO,
+@pytest.mark.skipif(find_chromium() is None or shutil.which('gpsdecode') is None,
+                    reason='Chromium or gpsdecode not on PATH')
+def test_ensure_test_tools_with_them_says_nothing():
+    r = subprocess.run([sys.executable, 'scripts/ensure_test_tools.py'], cwd=REPO,
                        capture_output=True, text=True, timeout=60)
     assert (r.returncode, r.stdout, r.stderr) == (0, '', '')

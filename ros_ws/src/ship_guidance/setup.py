@@ -28,6 +28,7 @@ setup(
             'ais_node = ship_guidance.ais_node:main',
             'colav_node = ship_guidance.colav_node:main',
             'nav_display_node = ship_guidance.nav_display_node:main',
+            'aivdm_out_node = ship_guidance.aivdm_out_node:main',
         ],
     },
 )

@@ -1,0 +1,169 @@
+"""aivdm_out_node: the simulation's vessels as NMEA 0183 AIS (AIVDM/AIVDO) over UDP and to a file.
+
+Subscribes one nav_msgs/Odometry topic per vessel (`vessels`, JSON text: a list of
+``{"topic", "mmsi", "class", "own", "name", "callsign", "ship_type", "length_m", "beam_m",
+"antenna_x_m", "antenna_y_m"}``, only topic and mmsi required; ship_guidance.aivdm_out.VesselInfo)
+and runs every odometry sample through the AIS sensor model (ship_guidance.ais_sensor: report
+intervals of ITU-R M.1371-5, losses, noise, antenna offset, reception delay; its parameters
+below) on the odometry stamps (sim time: the node needs no clock). Each received message goes
+out as its sentences, in one UDP datagram to `udp` (``host:port``, e.g. OpenCPN's or gpsd's
+``udp://`` input; empty: none) and as lines appended to `file` (empty: none). Positions are
+WGS-84 in the tangent plane at (`origin_lat_deg`, `origin_lon_deg`), the scenario's origin.
+"""
+import json
+import math
+import socket
+
+from nav_msgs.msg import Odometry
+from rclpy.node import Node
+
+from ship_guidance.ais_sensor import SensorConfig, Truth
+from ship_guidance.aivdm_out import AivdmOut, VesselInfo
+from ship_sim.ros.conversions import odometry_to_ned
+from ship_sim.ros.params import NodeParameters, ParameterError
+from ship_sim.ros.qos import STREAM
+from ship_sim.ros.run import run_node
+
+DEFAULTS = SensorConfig()
+#: sensor parameters: (name, description, lo, hi, unit); defaults from SensorConfig
+SENSOR_PARAMETERS = (
+    ('loss_probability', 'share of reports lost (Gilbert-Elliott chain)', 0.0, 0.99, ''),
+    ('mean_burst_length', 'mean number of reports lost in a row', 1.0, 1e6, 'reports'),
+    ('position_sigma_m', 'GNSS position noise per axis', 0.0, 1e4, 'm'),
+    ('sog_sigma_kn', 'SOG noise', 0.0, 100.0, 'kn'),
+    ('cog_sigma_deg', 'COG noise', 0.0, 180.0, 'deg'),
+    ('heading_sigma_deg', 'heading noise', 0.0, 180.0, 'deg'),
+    ('latency_s', 'reception delay', 0.0, 3600.0, 's'),
+    ('latency_jitter_s', 'reception delay spread: + U(0, jitter)', 0.0, 3600.0, 's'),
+    ('turn_threshold_deg_min', 'rate of turn from which a vessel is "changing course"', 0.0,
+     1e4, 'deg/min'),
+)
+VESSEL_KEYS = {'topic', 'mmsi', 'class', 'own', 'name', 'callsign', 'ship_type', 'length_m',
+               'beam_m', 'antenna_x_m', 'antenna_y_m'}
+
+
+def parse_vessels(text):
+    """[(topic, VesselInfo)] from the `vessels` JSON text; ValueError says what is wrong."""
+    try:
+        items = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f'not JSON ({exc.msg} at character {exc.pos})') from None
+    if not isinstance(items, list) or not items:
+        raise ValueError('a non-empty JSON list of vessels')
+    out = []
+    for i, v in enumerate(items):
+        if not isinstance(v, dict) or 'topic' not in v or 'mmsi' not in v:
+            raise ValueError(f'vessel {i}: a mapping with at least topic and mmsi')
+        extra = set(v) - VESSEL_KEYS
+        if extra:
+            raise ValueError(f'vessel {i}: unknown key {sorted(extra)[0]!r}; allowed: '
+                             f'{", ".join(sorted(VESSEL_KEYS))}')
+        kw = {k: v[k] for k in v if k not in ('topic', 'class')}
+        try:
+            info = VesselInfo(klass=v.get('class', 'A'), **kw)
+        except TypeError as exc:
+            raise ValueError(f'vessel {i}: {exc}') from None
+        out.append((str(v['topic']), info))
+    return out
+
+
+def parse_udp(text):
+    """``host:port`` -> (host, port), '' -> None; ValueError otherwise."""
+    if not text:
+        return None
+    host, sep, port = text.rpartition(':')
+    if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise ValueError('host:port, e.g. 127.0.0.1:10110, or empty for none')
+    return host, int(port)
+
+
+class AivdmOutNode(Node):
+    def __init__(self):
+        super().__init__('aivdm_out_node')
+        p = NodeParameters(self)
+        text = p.declare('vessels', '[]', 'JSON list of vessels: topic, mmsi and optional '
+                         'class, own, name, callsign, ship_type, length_m, beam_m, antenna_x_m, '
+                         'antenna_y_m', read_only=True)
+        udp = p.declare('udp', '127.0.0.1:10110', 'host:port to send the sentences to (empty: '
+                        'none)', read_only=True)
+        path = p.declare('file', '', 'file to append the sentences to (empty: none)',
+                         read_only=True)
+        lat0 = p.declare('origin_lat_deg', 0.0, 'geodetic origin of the ENU frame', lo=-89.0,
+                         hi=89.0, unit='deg', read_only=True)
+        lon0 = p.declare('origin_lon_deg', 0.0, 'geodetic origin of the ENU frame', lo=-180.0,
+                         hi=180.0, unit='deg', read_only=True)
+        seed = p.declare('seed', DEFAULTS.seed, 'seed of the sensor model (with each MMSI)',
+                         lo=0, hi=2**62, read_only=True)
+        cfg = {name: p.declare(name, float(getattr(DEFAULTS, name)), desc, lo=lo, hi=hi,
+                               unit=unit, read_only=True)
+               for name, desc, lo, hi, unit in SENSOR_PARAMETERS}
+        try:
+            vessels = parse_vessels(text)
+        except ValueError as exc:
+            raise ParameterError('vessels', text[:60], str(exc)) from None
+        try:
+            self.dest = parse_udp(udp)
+        except ValueError as exc:
+            raise ParameterError('udp', udp, str(exc)) from None
+        try:
+            self.out = AivdmOut(lat0, lon0, SensorConfig(seed=seed, **cfg))
+            for _, info in vessels:
+                self.out.add(info)
+        except ValueError as exc:
+            raise ParameterError('vessels', text[:60], str(exc)) from None
+        self.sock = None
+        if self.dest is not None:
+            self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.file = None
+        if path:
+            try:
+                self.file = open(path, 'a', encoding='ascii', buffering=1)
+            except OSError as exc:
+                raise ParameterError('file', path, f'a writable file ({exc.strerror})') from None
+        self.sent = 0
+        for topic, info in vessels:
+            self.create_subscription(Odometry, topic,
+                                     lambda data, m=info.mmsi: self._on_odom(m, data), STREAM,
+                                     raw=True)
+        where = ([f'UDP {self.dest[0]}:{self.dest[1]}'] if self.dest else []) + \
+            ([f'file {path}'] if path else [])
+        self.get_logger().info(f'AIVDM out: {len(vessels)} vessels -> '
+                               f'{", ".join(where) or "nowhere (no udp, no file)"}')
+
+    def _on_odom(self, mmsi, data):
+        o = odometry_to_ned(data)
+        if not all(math.isfinite(x) for x in o):
+            self.get_logger().warning(f'odometry of {mmsi} not finite: skipped',
+                                      throttle_duration_sec=5.0)
+            return
+        c, s = math.cos(o.psi), math.sin(o.psi)
+        vn, ve = o.u * c - o.v * s, o.u * s + o.v * c
+        truth = Truth(o.t, o.north, o.east, o.psi, math.hypot(vn, ve), math.atan2(ve, vn), o.r)
+        for _, lines in self.out.step(mmsi, truth):
+            self._send(lines)
+
+    def _send(self, lines):
+        self.sent += 1
+        if self.sock is not None:
+            try:
+                self.sock.sendto(('\r\n'.join(lines) + '\r\n').encode('ascii'), self.dest)
+            except OSError as exc:
+                self.get_logger().warning(f'UDP send to {self.dest[0]}:{self.dest[1]} failed: '
+                                          f'{exc.strerror or exc}', throttle_duration_sec=5.0)
+        if self.file is not None:
+            self.file.write('\n'.join(lines) + '\n')
+
+    def destroy_node(self):
+        if self.sock is not None:
+            self.sock.close()
+        if self.file is not None:
+            self.file.close()
+        super().destroy_node()
+
+
+def main(args=None):
+    return run_node(AivdmOutNode, args=args)
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())

@@ -13,7 +13,7 @@ SCENARIO ?= scenarios/flagship_mariner.yaml
 PATH_DIRS := $(abspath $(sort $(dir $(wildcard $(WS)/src/*/package.xml))) scripts)
 PYTEST_ARGS ?=
 
-.PHONY: all venv paths build demo lint test bench clean distclean
+.PHONY: all venv paths build demo lint docs test bench clean distclean
 
 all: build
 
@@ -50,7 +50,17 @@ demo: build
 lint: $(VENV)/.installed
 	$(VENV)/bin/ruff check .
 
-test: build lint
+# The documentation site (mkdocs.yml): strict, so a broken link, anchor or repository path
+# fails it; offline (the theme and its assets come from the wheel).
+$(VENV)/.docs-installed: requirements-docs.txt $(VENV)/.installed
+	$(PY) -m pip install --disable-pip-version-check -q -r requirements-docs.txt
+	@touch $@
+
+docs: $(VENV)/.docs-installed
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --quiet
+	@echo "built site/ (open site/index.html)"
+
+test: build lint docs
 	$(PY) -m pytest $(PYTEST_ARGS)
 
 bench: build
@@ -60,4 +70,4 @@ clean:
 	rm -rf $(WS)/build $(WS)/install $(WS)/log
 
 distclean: clean
-	rm -rf $(VENV) runs
+	rm -rf $(VENV) runs site

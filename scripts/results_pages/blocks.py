@@ -17,7 +17,7 @@ from results_pages.provenance import provenance_line
 from results_pages.studies import render
 
 BLOCK = re.compile(r'(<!-- generated: (?P<study>[\w-]+)\.(?P<table>[\w-]+) from (?P<path>\S+) -->\n)'
-                   r'(?P<body>.*?)(<!-- end generated -->)', re.S)
+                   r'(?P<body>.*?)(?P<end><!-- end generated -->)', re.S)
 
 
 class ResultsError(ValueError):
@@ -37,7 +37,7 @@ def render_page(page: Path) -> str:
         if 'provenance' not in data:
             raise ResultsError(f'{path}: no provenance (command, commit, date, load)')
         body = render(m.group('study'), m.group('table'), data)
-        return f'{m.group(1)}{body.rstrip()}\n\n{provenance_line(data["provenance"])}\n{m.group(5)}'
+        return f'{m.group(1)}{body.rstrip()}\n\n{provenance_line(data["provenance"])}\n{m.group("end")}'
 
     return BLOCK.sub(fill, text)
 

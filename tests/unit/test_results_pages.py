@@ -39,6 +39,8 @@ def test_a_hand_edited_number_is_found(tmp_path, capsys):
     assert "| mariner | calm | 4.0 | +0.500 |" in rendered
     assert 'commit `abc`' in rendered and rendered.startswith('x\n') and rendered.endswith('y\n')
     assert main(['--root', str(tmp_path), '--check']) == 0
+    assert main(['--root', str(tmp_path)]) == 0 and page.read_text() == rendered   # idempotent
+    assert rendered.count('<!-- end generated -->') == 1
     page.write_text(rendered.replace('| 4.0 |', '| 4.5 |'))
     assert main(['--root', str(tmp_path), '--check']) == 1
     assert 'p.md' in capsys.readouterr().err

@@ -16,7 +16,7 @@ SCENARIO ?= scenarios/flagship_mariner.yaml
 PATH_DIRS := $(abspath $(sort $(dir $(wildcard $(WS)/src/*/package.xml))) scripts)
 PYTEST_ARGS ?=
 
-.PHONY: all venv venv-sweep venv-test paths build demo lint test bench clean distclean
+.PHONY: all venv venv-sweep venv-test paths build demo lint docs test bench clean distclean
 
 all: build
 
@@ -45,6 +45,8 @@ $(VENV)/.installed-%: requirements/%.txt $(VENV)/.installed
 
 # The sweep's episodes build on the learning environment (montecarlo.episodes).
 $(VENV)/.installed-sweep: $(VENV)/.installed-learning
+# Files that others include (-r): a change remakes the stamps of the files that include them.
+$(VENV)/.installed-sweep $(VENV)/.installed-docs: requirements/http.txt
 
 # Runs every time (cheap) and rewrites the .pth only when PATH_DIRS changed (a package added,
 # removed or renamed, or the checkout moved). A venv serves one checkout: one shared by several
@@ -72,9 +74,15 @@ demo: build
 lint: $(VENV)/.installed-test
 	$(VENV)/bin/ruff check .
 
+# The documentation site (mkdocs.yml) into site/: strict, so a broken link, anchor or repository
+# path fails it; offline (the theme and its assets come from the wheel).
+docs: $(VENV)/.installed-docs paths
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --quiet
+	@echo "built site/ (open site/index.html)"
+
 # ensure_test_tools.py installs the test tools (Chromium, gpsdecode) as root with apt-get, or says which
 # tests will skip and the command that installs it.
-test: build venv-test lint
+test: build venv-test lint docs
 	@$(PY) scripts/ensure_test_tools.py
 	$(PY) -m pytest $(PYTEST_ARGS)
 
@@ -86,4 +94,4 @@ clean:
 	rm -rf $(WS)/build $(WS)/install $(WS)/log
 
 distclean: clean
-	rm -rf $(VENV) runs
+	rm -rf $(VENV) runs site

@@ -12,7 +12,10 @@ directly or through ship_autopilot.wave_filter (notch following the encounter fr
 sea's peak). Heading command: 0 deg for the first half, then a 30 deg course change. Sea states:
 calm (the filter set for the 10 m/s sea), Hs 2.14 m (the fully developed sea of 10 m/s wind, MSS
 vw2hs, PM peak) and Hs 4 m (Tp 10 s), JONSWAP, waves travelling towards 150 deg (bow quartering
-from port on the first leg), seed 1. Reported per model and sea: mean |rudder rate| (deg/s) and
+from port on the first leg), wave seeds 1-5 (``--seeds``). Without the filter the rate-limited
+rudder chases the wave yaw and the run is sensitive to the last digits of its inputs: the
+sensitivity check repeats the Hs 4 m sea with Hs changed by +-1e-12 (relative), so the spread a
+single run would hide is in the results. Reported per model and sea: mean |rudder rate| (deg/s) and
 total variation of the rudder (deg per hour) of the actual rudder, RMS of the low-frequency
 heading error (the plant's own heading against the command, deg) after each command has settled
 (the first 200 s of each half excluded), and the RMS wave-frequency yaw (deg). Writes
@@ -37,6 +40,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from results_pages.provenance import provenance
 
 from ship_autopilot.gains import build_autopilot, heading_loop_design
 from ship_autopilot.steering import HeadingSteering
@@ -47,11 +51,14 @@ from ship_sim.simulator import VesselSimulator
 
 DT, SUB = 0.1, 1          # integration step and steps per control step (10 Hz, as the nodes)
 DIRECTION = math.radians(150.0)
+#: sea name -> SeaState for a wave seed and a relative change of the wave height (the
+#: sensitivity check perturbs Hs by 1e-12); None is calm water
 SEAS = {'calm': None,
-        'wind 10 m/s (Hs 2.14 m)': SeaState.from_wind(10.0, direction=DIRECTION, seed=1),
-        'Hs 4 m, Tp 10 s': SeaState(hs=4.0, tp=10.0, direction=DIRECTION, seed=1)}
-#: the filter's sea in calm water (its setting for the 10 m/s sea)
-FILTER_SEA_IN_CALM = SEAS['wind 10 m/s (Hs 2.14 m)']
+        'wind 10 m/s (Hs 2.14 m)': lambda seed, rel=0.0: SeaState.from_wind(
+            10.0 * (1.0 + rel), direction=DIRECTION, seed=seed),
+        'Hs 4 m, Tp 10 s': lambda seed, rel=0.0: SeaState(
+            hs=4.0 * (1.0 + rel), tp=10.0, direction=DIRECTION, seed=seed)}
+FILTER_SEA_IN_CALM = SEAS['wind 10 m/s (Hs 2.14 m)'](1)
 
 
 def run(model_name, sea, filtered, duration):
@@ -222,6 +229,8 @@ def main():
     ap.add_argument('--models', nargs='+', default=['mariner', 'container', 'tanker'])
     ap.add_argument('--duration', type=float, default=3600.0, help='s per run')
     ap.add_argument('--out', type=Path, default=Path('runs/wave_filter'))
+    ap.add_argument('--seeds', type=int, nargs='+', default=[1, 2, 3, 4, 5],
+                    help='wave seeds per sea (default 1-5; --quick: the first)')
     ap.add_argument('--flagship', action='store_true',
                     help="the graph flagship's filter result taken apart (module docstring)")
     args = ap.parse_args()
@@ -239,31 +248,51 @@ def main():
         (args.out / 'wave_filter_flagship.json').write_text(json.dumps(res, indent=1))
         return
     models, duration = (['mariner'], 1200.0) if args.quick else (args.models, args.duration)
+    seeds = args.seeds[:1] if args.quick else args.seeds
     args.out.mkdir(parents=True, exist_ok=True)
-    results, rows = {}, []
+    results, traces = {}, {}
     for model_name in models:
-        for sea_name, sea in SEAS.items():
+        for sea_name, make_sea in SEAS.items():
             key = f'{model_name}, {sea_name}'
-            results[key] = {}
+            results[key], traces[key] = {}, {}
             for label, filtered in (('no filter', False), ('wave filter', True)):
-                t0 = time.perf_counter()
+                per_seed = []
+                for seed in (seeds if make_sea else [None]):     # calm water has no seed
+                    t0 = time.perf_counter()
+                    res = run(model_name, make_sea and make_sea(seed), filtered, duration)
+                    traces[key].setdefault(label, res)
+                    per_seed.append({'seed': seed, **{m: v for m, v in res.items()
+                                                      if m != 'trace'}})
+                    print(f'{key}, {label}, seed {seed}: {time.perf_counter() - t0:.1f} s',
+                          file=sys.stderr)
+                results[key][label] = per_seed
+    # Why single unfiltered runs do not repeat across code versions: a change of Hs in the
+    # 12th digit (what a reordered floating-point sum does) moves them, not the filtered ones.
+    sensitivity = {}
+    for model_name in models:
+        for rel in (-1e-12, 0.0, 1e-12):
+            sea = SEAS['Hs 4 m, Tp 10 s'](seeds[0], rel)
+            for label, filtered in (('no filter', False), ('wave filter', True)):
                 res = run(model_name, sea, filtered, duration)
-                results[key][label] = res
-                rows.append((model_name, sea_name, label, res))
-                print(f'{key}, {label}: {time.perf_counter() - t0:.1f} s', file=sys.stderr)
-    print('| model | sea | autopilot input | mean abs rudder rate (deg/s) | rudder total '
-          'variation (deg/h) | heading error RMS (deg) | wave yaw RMS (deg) |')
-    print('|---|---|---|---|---|---|---|')
-    for model_name, sea_name, label, r in rows:
-        print(f'| {model_name} | {sea_name} | {label} | {r["mean_abs_rudder_rate_deg_s"]:.3f} | '
-              f'{r["rudder_total_variation_deg_per_h"]:.0f} | {r["heading_error_rms_deg"]:.3f} | '
-              f'{r["wave_yaw_rms_deg"]:.3f} |')
-    (args.out / 'wave_filter.json').write_text(json.dumps(
-        {k: {lab: {m: v for m, v in r.items() if m != 'trace'} for lab, r in res.items()}
-         for k, res in results.items()}, indent=1))
-    plot(results, args.out)
+                sensitivity.setdefault(model_name, []).append(
+                    {'hs_relative_change': rel, 'input': label,
+                     **{m: v for m, v in res.items() if m != 'trace'}})
+    print(f'seeds {seeds}: mean [min, max]')
+    for key, by_label in results.items():
+        for label, per_seed in by_label.items():
+            cells = []
+            for m in ('mean_abs_rudder_rate_deg_s', 'heading_error_rms_deg'):
+                v = [r[m] for r in per_seed]
+                cells.append(f'{m} {np.mean(v):.3f} [{min(v):.3f}, {max(v):.3f}]')
+            print(f'{key}, {label}: ' + ', '.join(cells))
+    # provenance: the results page (doc/results/wind_waves.md) renders from this file
+    (args.out / 'wave_filter.json').write_text(json.dumps({
+        'provenance': provenance(),
+        'settings': {'duration_s': duration, 'dt_s': DT, 'wave_direction_deg': 150.0,
+                     'seeds': seeds, 'sensitivity_seed': seeds[0]},
+        'runs': results, 'sensitivity': sensitivity}, indent=1))
+    plot(traces, args.out)
     print(f'wrote {args.out}/wave_filter.json, wave_filter_rudder.png', file=sys.stderr)
-
 
 if __name__ == '__main__':
     main()

@@ -127,11 +127,14 @@ class SubprotocolFront:
 
 def _select(connection, offered):
     """The client's first offered name that the front speaks (the new names before the old one
-    when a client offers both)."""
+    when a client offers both); a client offering none is refused (HTTP 400), as by the sdk."""
+    from websockets.exceptions import NegotiationError
     for name in offered:
         if name in SDK_SUBPROTOCOLS:
             return name
-    return OLD_SUBPROTOCOL if OLD_SUBPROTOCOL in offered else None
+    if OLD_SUBPROTOCOL in offered:
+        return OLD_SUBPROTOCOL
+    raise NegotiationError(f'no Foxglove WebSocket subprotocol offered: {", ".join(offered)}')
 
 
 class _Subscriptions:

@@ -46,8 +46,9 @@
       stale_after_s: 360.0                   #   any other ais_node parameter (config/ais.yaml)
     display:                                 # optional: nav_display_node of every vessel (fix,
       origin: {lat_deg: 59.9, lon_deg: 10.7} #   nav_markers); origin of the NavSatFix (default:
-      display_rate_hz: 2.0                   #   the first route's origin, else 0/0); rate and
-      trail_length_s: 600.0                  #   trail in sim time. `display: false`: no display
+      display_rate_hz: 2.0                   #   the first route's origin, else the ais origin,
+      trail_length_s: 600.0                  #   else 66 N 2 E, open sea); rate and trail in sim
+                                             #   time. `display: false`: no display
 
 Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie

@@ -6,6 +6,7 @@ import json
 import socket
 import struct
 import threading
+import time
 
 import pytest
 
@@ -124,3 +125,55 @@ def test_a_port_in_use_is_refused_with_the_reason():
         taken.listen()
         with pytest.raises(FrontError, match='address already in use'):
             SubprotocolFront('127.0.0.1', taken.getsockname()[1], 'ws://127.0.0.1:1')
+
+
+@pytest.mark.timeout(120)
+def test_with_the_real_sdk_every_channel_created_while_a_client_listens_is_subscribed():
+    """The sdk itself behind the front: channels created one after another while a client that
+    subscribes each at its advertisement is connected (directly, a few percent of them are
+    refused on a busy machine); through the front every one ends up subscribed and no refusal
+    reaches the client."""
+    import foxglove
+    from websockets.asyncio.client import connect
+    n = 150
+    ctx = foxglove.Context()
+    server = foxglove.start_server(name='race', host='127.0.0.1', port=0, context=ctx)
+    f = SubprotocolFront('127.0.0.1', 0, f'ws://127.0.0.1:{server.port}')
+    seen = {'advertised': 0, 'errors': []}
+    connected, done = threading.Event(), threading.Event()
+
+    async def client():
+        async with connect(f'ws://127.0.0.1:{f.port}', subprotocols=[OLD_SUBPROTOCOL]) as ws:
+            connected.set()
+            while not done.is_set():
+                try:
+                    text = await asyncio.wait_for(ws.recv(), 0.2)
+                except asyncio.TimeoutError:
+                    continue
+                msg = json.loads(text) if isinstance(text, str) else {}
+                if msg.get('op') == 'advertise':
+                    subs = [{'id': seen['advertised'] + i, 'channelId': c['id']}
+                            for i, c in enumerate(msg['channels'])]
+                    seen['advertised'] += len(subs)
+                    await ws.send(json.dumps({'op': 'subscribe', 'subscriptions': subs}))
+                elif msg.get('op') == 'status':
+                    seen['errors'].append(msg)
+    thread = threading.Thread(target=lambda: asyncio.run(client()), daemon=True)
+    thread.start()
+    try:
+        assert connected.wait(10)
+        channels = []
+        for i in range(n):
+            channels.append(foxglove.Channel(f'/t{i}', schema={'type': 'object'}, context=ctx))
+            time.sleep(0.005)
+        deadline = time.monotonic() + 30.0
+        while not all(c.has_sinks() for c in channels) and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert seen['advertised'] == n
+        assert sum(c.has_sinks() for c in channels) == n, f'{f.retried} re-sent'
+        assert seen['errors'] == []
+    finally:
+        done.set()
+        thread.join(10)
+        f.close()
+        server.stop()

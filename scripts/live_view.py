@@ -3,7 +3,10 @@
 
 A Foxglove WebSocket server (foxglove-sdk) on 127.0.0.1 (``--host`` to change) that advertises
 every topic of the graph in this ROS_DOMAIN_ID (or the ``--topics`` given) with its ROS 2
-schema and forwards the CDR messages untouched (mission.live_bridge). Open it in Foxglove or
+schema and forwards the CDR messages untouched (mission.live_bridge), plus ``/tf`` from every
+vessel's odom. Clients reach it through mission.live_front, which also accepts the protocol's
+old subprotocol name ``foxglove.websocket.v1`` (older Foxglove and Lichtblick releases, the
+``@foxglove/ws-protocol`` client). Open it in Foxglove or
 Lichtblick with "Open connection" -> "Foxglove WebSocket" -> ws://127.0.0.1:8765, then import
 the layout scripts/live_view_layout.json. `scripts/run_mission.py --live` starts it with the
 run. Once serving it runs at a low CPU priority (``--nice``): on a busy machine the graph goes
@@ -18,6 +21,7 @@ import sys
 import time
 
 from mission.live_bridge import LiveBridge
+from mission.live_front import SubprotocolFront
 from mission.recorder import DEFAULT_EXCLUDE
 
 
@@ -48,6 +52,10 @@ def main(argv=None):
     ap.add_argument('--wait-ready', nargs='*', default=[], metavar='TOPIC',
                     help='latched std_msgs/Bool topics that must all be true before anything '
                          'is subscribed (the launcher: every vessel\'s ready)')
+    ap.add_argument('--early', nargs='*', default=[], metavar='TOPIC',
+                    help='topics subscribed before --wait-ready is true: once a client listens, '
+                         'else 1 s after they appear (the launcher, in lockstep: every vessel\'s '
+                         'odom, whose simulator waits for the view too)')
     ap.add_argument('--status-period', type=float, default=10.0, help='s between status lines')
     ap.add_argument('--nice', type=int, default=10, help='CPU niceness added once serving '
                     '(default 10: the graph first; a starved bridge loses messages, counted)')
@@ -62,21 +70,24 @@ def main(argv=None):
     from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 
     context = foxglove.Context()
+    # The sdk's server on a free loopback port, behind the front that clients reach
+    # (mission.live_front: the protocol's old name, subscriptions right after an advertisement).
     try:
-        server = foxglove.start_server(name='shipnav', host=args.host, port=args.port,
+        server = foxglove.start_server(name='shipnav', host='127.0.0.1', port=0,
                                        capabilities=[foxglove.Capability.Time],
                                        supported_encodings=['cdr'], context=context,
                                        message_backlog_size=args.backlog)
+        front = SubprotocolFront(args.host, args.port, f'ws://127.0.0.1:{server.port}')
     except Exception as exc:  # noqa: BLE001 - the sdk raises its own error types
         print(f'live_view: cannot serve on {args.host}:{args.port}: {exc}', file=sys.stderr)
         return 1
     rclpy.init(args=[sys.argv[0], *ros_argv])
     node = rclpy.create_node('live_view')
     bridge = LiveBridge(node, context, topics=args.topics, exclude=args.exclude,
-                        depth=args.depth, wait_ready=args.wait_ready)
+                        depth=args.depth, wait_ready=args.wait_ready, early=args.early)
     bridge.server = server
     lower_priority(max(0, args.nice))   # after the start-up, which would crawl at a low priority
-    print(f'live view: ws://{args.host}:{server.port}', flush=True)
+    print(f'live view: ws://{args.host}:{front.port}', flush=True)
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     last_status, last_line = time.monotonic(), None
@@ -94,6 +105,7 @@ def main(argv=None):
         pass
     finally:
         print(f'live view: {bridge.summary()}', flush=True)
+        front.close()
         server.stop()
         node.destroy_node()
         rclpy.try_shutdown()

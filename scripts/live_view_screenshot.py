@@ -13,9 +13,9 @@ starts a lockstep run of SCENARIO with ``--live``, and opens the page in headles
 (Playwright with the system's Chromium, as mission.browser_check) connected to the run.
 
 Studio 1.48 predates the protocol's new name: it offers only the subprotocol
-``foxglove.websocket.v1``, which foxglove-sdk servers refuse (HTTP 400). The messages are the
-same, so a relay here accepts the old name and forwards every frame both ways to the server
-under the new one.
+``foxglove.websocket.v1``, which foxglove-sdk servers refuse (HTTP 400; the live view's own
+front, mission.live_front, now accepts it too). A relay here accepts the old name and forwards
+every frame both ways under the new one; it also lets the page connect before the run serves.
 
 Prints the console errors of the page; exit code 0 when the screenshot was saved and the app
 received messages from the run, 1 otherwise, 2 when npm or Chromium is missing.
@@ -36,12 +36,13 @@ import time
 from pathlib import Path
 
 from mission.browser_check import CHROMIUM_ARGS, find_chromium
+from mission.live_front import OLD_SUBPROTOCOL, SDK_SUBPROTOCOLS
 
 REPO = Path(__file__).resolve().parents[1]
 LAYOUT = REPO / 'scripts' / 'live_view_layout.json'
 PACKAGES = {'studio-base': '@foxglove/studio-base@1.48.0', 'react': 'react@17.0.2',
             'react-dom': 'react-dom@17.0.2'}
-OLD_SUBPROTOCOL, NEW_SUBPROTOCOL = 'foxglove.websocket.v1', 'foxglove.sdk.v1'
+NEW_SUBPROTOCOL = SDK_SUBPROTOCOLS[0]
 
 # The page: React and ReactDOM under the names the UMD bundle asks of `window`, then App with an
 # in-memory app configuration and a layout store whose one layout the URL's layoutId selects.

@@ -294,8 +294,9 @@ def node_parameters(scenario, spec, index, record):
         # ahead of it for a publisher's queue to overwrite an unrecorded message.
         'lockstep_record_topic': RECORD_ACK if lockstep and record else '',
         # guidance + autopilot (+ the recorder) (+ the followers) must all hear step 0.
-        'lockstep_odom_subscribers': odom_subscribers(scenario, spec, record)
-        if scenario.platoon is None else scenario.platoon.odom_subscribers(spec.namespace, record),
+        'lockstep_odom_subscribers': (odom_subscribers(scenario, spec, record)
+        if scenario.platoon is None else scenario.platoon.odom_subscribers(spec.namespace, record))
+        + int(lockstep and scenario.live_port is not None),   # the live view's (start_viewers)
     }
     if spec.traffic and lockstep:
         # A target never runs so far ahead that its odom queue overwrites a sample a colav_node
@@ -373,18 +374,29 @@ def display_every(scenario):
     return max(1, int(round(1.0 / (scenario.dt_s * rate))))
 
 
+def display_origin(scenario):
+    """(lat, lon) of the NavSatFix origin: the scenario's `display: origin`, else the first
+    route file's origin, else the `ais:` block's; None when none gives one (nav_display_node
+    then uses its default sea area, ship_guidance.nav_display.DEFAULT_ORIGIN_DEG)."""
+    if 'origin_lat_deg' in (scenario.display or {}):
+        return scenario.display['origin_lat_deg'], scenario.display['origin_lon_deg']
+    for s in scenario.vessels:
+        plan = route_plan(scenario, s)
+        if plan.origin_lat_deg is not None:
+            return plan.origin_lat_deg, plan.origin_lon_deg
+    if scenario.ais is not None:
+        return scenario.ais['origin_lat_deg'], scenario.ais['origin_lon_deg']
+    return None
+
+
 def display_parameters(scenario, spec):
     """nav_display_node's parameters of one vessel: its model, the scenario's `display:` keys,
-    and the NavSatFix origin from there, else from the first route file that has one."""
+    and the NavSatFix origin (display_origin) if the scenario has one."""
     # Stamped from odom only: no /clock subscription (a callback per step) is needed.
     params = {'use_sim_time': False, 'model': spec.model, **scenario.display}
-    if 'origin_lat_deg' not in params:
-        for s in scenario.vessels:
-            plan = route_plan(scenario, s)
-            if plan.origin_lat_deg is not None:
-                params['origin_lat_deg'] = plan.origin_lat_deg
-                params['origin_lon_deg'] = plan.origin_lon_deg
-                break
+    origin = display_origin(scenario)
+    if origin is not None:
+        params['origin_lat_deg'], params['origin_lon_deg'] = origin
     return params
 
 
@@ -392,6 +404,11 @@ def start_viewers(scenario, run, group, progress):
     """Start every vessel's nav_display_node (unless `display: false`) and, with --live, the
     live view (scripts/live_view.py, mission.live_bridge) serving the graph on 127.0.0.1."""
     if scenario.display is not None:
+        if display_origin(scenario) is None:
+            from ship_guidance.nav_display import DEFAULT_ORIGIN_DEG
+            progress(f'display: no geodetic origin in the scenario or its routes; the fix uses '
+                     f'the default sea area {DEFAULT_ORIGIN_DEG[0]:g} N {DEFAULT_ORIGIN_DEG[1]:g} E '
+                     f'(Norwegian Sea; `display: origin` sets one)')
         exe, pkg = DISPLAY_NODE
         for spec in scenario.vessels:
             f = write_params(run, spec.namespace, exe, display_parameters(scenario, spec))
@@ -399,9 +416,14 @@ def start_viewers(scenario, run, group, progress):
                         ['--ros-args', '-r', f'__ns:=/{spec.namespace}', '--params-file', f])
     if scenario.live_port is not None:
         ready = [f'/{spec.namespace}/ready' for spec in scenario.vessels]
+        # Lockstep: each simulator also waits for the view on its odom (node_parameters), so a
+        # viewer connected before the run gets it from step 0.
+        early = [f'/{spec.namespace}/odom' for spec in scenario.vessels
+                 if scenario.stepping == 'lockstep']
         view = group.start_argv('live_view', [sys.executable, LIVE_VIEW, '--port',
                                               str(scenario.live_port), '--nice',
-                                              str(scenario.live_nice), '--wait-ready', *ready])
+                                              str(scenario.live_nice), '--wait-ready', *ready,
+                                              '--early', *early])
         end = time.monotonic() + 30.0   # serving before step 0: a viewer sees the whole run
         while 'live view: ws://' not in view.output():
             if view.returncode is not None or time.monotonic() > end:

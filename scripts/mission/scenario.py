@@ -47,8 +47,9 @@
     aivdm_out: {udp: 127.0.0.1:10110}        # optional: AIVDM/AIVDO out (mission.aivdm_block)
     display:                                 # optional: nav_display_node of every vessel (fix,
       origin: {lat_deg: 59.9, lon_deg: 10.7} #   nav_markers); origin of the NavSatFix (default:
-      display_rate_hz: 2.0                   #   the first route's origin, else 0/0); rate and
-      trail_length_s: 600.0                  #   trail in sim time. `display: false`: no display
+      display_rate_hz: 2.0                   #   the first route's origin, else the ais origin,
+      trail_length_s: 600.0                  #   else 66 N 2 E, open sea); rate and trail in sim
+                                             #   time. `display: false`: no display
     bag_compression: zstd                    # the bag's MCAP chunks: zstd (default, as rosbag2
                                              # writes them), lz4 or none (run_mission.py
                                              # --bag-compression overrides it)

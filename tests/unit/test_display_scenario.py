@@ -60,3 +60,20 @@ def test_the_fix_origin_is_the_route_origin_unless_the_scenario_gives_one(tmp_pa
 def test_a_bad_display_key_is_refused_naming_it(tmp_path, display, key):
     with pytest.raises(ScenarioError, match=f': {key}: '):
         _variant(tmp_path, FLAGSHIP, display)
+
+
+def test_without_any_origin_the_display_uses_the_default_sea_area_not_0_0(tmp_path):
+    """The flagship gives no origin (display, routes, ais): the launcher passes none and the
+    node's default (its config file says the same) is the documented sea area; a scenario whose
+    only origin is its `ais:` block's gets that one."""
+    from ship_guidance.nav_display import DEFAULT_ORIGIN_DEG
+    from mission.launcher import display_origin
+    sc = _variant(tmp_path, FLAGSHIP, None)
+    assert display_origin(sc) is None and 'origin_lat_deg' not in display_parameters(sc, sc.vessels[0])
+    config = yaml.safe_load((REPO / 'ros_ws' / 'src' / 'ship_guidance' / 'config' /
+                             'nav_display.yaml').read_text())['/**']['ros__parameters']
+    assert (config['origin_lat_deg'], config['origin_lon_deg']) == DEFAULT_ORIGIN_DEG
+    assert abs(DEFAULT_ORIGIN_DEG[0]) > 1.0 and abs(DEFAULT_ORIGIN_DEG[1]) > 1.0
+    ais = load_scenario(REPO / 'scenarios' / 'head_on_ais_mariner.yaml')
+    assert all(load_route(s.route_file).origin_lat_deg is None for s in ais.vessels)
+    assert display_origin(ais) == (ais.ais['origin_lat_deg'], ais.ais['origin_lon_deg'])

@@ -25,6 +25,12 @@ from ship_sim.geodetic import ned_to_geodetic
 #: sets the simulator's odom_display to it).
 DEFAULT_DISPLAY_RATE_HZ = 2.0
 
+#: Geodetic origin (latitude, longitude in deg) of the ENU frame when a scenario, its routes and
+#: its AIS block give none: open deep water in the Norwegian Sea, about 450 km west of the
+#: Norwegian coast, so that a ship is at sea on any map (never silently at 0 N 0 E, the Gulf of
+#: Guinea).
+DEFAULT_ORIGIN_DEG = (66.0, 2.0)
+
 #: Beam as a fraction of length when a model gives none (merchant ships: L/B about 6 to 7.5).
 DEFAULT_BEAM_RATIO = 1.0 / 7.0
 

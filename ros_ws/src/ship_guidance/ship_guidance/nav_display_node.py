@@ -13,7 +13,8 @@ Subscribes `route` (nav_msgs/Path, reliable + transient_local) and, once the rou
 Publishes, at most `display_rate_hz` times per second of sim time (the first odom at or after
 each display period, on the odom stamps):
   fix           sensor_msgs/NavSatFix  WGS-84 position of the ship in the tangent plane at
-                (`origin_lat_deg`, `origin_lon_deg`), the scenario's origin (Map panels)
+                (`origin_lat_deg`, `origin_lon_deg`), the scenario's origin (Map panels;
+                default nav_display.DEFAULT_ORIGIN_DEG, open water, never 0/0)
   nav_markers   visualization_msgs/MarkerArray  hull outline and fill at the true length and
                 heading and the vessel's name in every frame; the wake trail of the last
                 `trail_length_s` (a point every `trail_period_s`) in the frames that add a
@@ -35,7 +36,7 @@ from sensor_msgs.msg import NavSatFix
 from std_msgs.msg import Float64
 from visualization_msgs.msg import MarkerArray
 
-from ship_guidance.nav_display import DEFAULT_DISPLAY_RATE_HZ, Throttle, Trail
+from ship_guidance.nav_display import DEFAULT_DISPLAY_RATE_HZ, DEFAULT_ORIGIN_DEG, Throttle, Trail
 from ship_guidance.ros.nav_display_msgs import display_markers, navsat_fix, route_marker
 from ship_sim.frames import psi_to_yaw
 from ship_sim.models import MODEL_NAMES, make_model
@@ -66,10 +67,10 @@ class NavDisplayNode(Node):
         route_dt = p.declare('route_period_s', 10.0, 'sim time between two frames that carry '
                              'the route (a viewer that connects late gets it within that)',
                              lo=0.01, hi=3600.0, unit='s', read_only=True)
-        self.lat0 = p.declare('origin_lat_deg', 0.0, 'geodetic origin of the ENU frame: latitude',
-                              lo=-89.0, hi=89.0, unit='deg', read_only=True)
-        self.lon0 = p.declare('origin_lon_deg', 0.0, 'geodetic origin of the ENU frame: '
-                              'longitude', lo=-180.0, hi=360.0, unit='deg', read_only=True)
+        self.lat0 = p.declare('origin_lat_deg', DEFAULT_ORIGIN_DEG[0], 'geodetic origin of the '
+                              'ENU frame: latitude', lo=-89.0, hi=89.0, unit='deg', read_only=True)
+        self.lon0 = p.declare('origin_lon_deg', DEFAULT_ORIGIN_DEG[1], 'geodetic origin of the '
+                              'ENU frame: longitude', lo=-180.0, hi=360.0, unit='deg', read_only=True)
         self.odom_topic = p.declare('odom_topic', 'odom_display', 'odometry input: '
                                     'odom_display (vessel_node display_every, qos DISPLAY) or '
                                     'a per-step stream (qos STREAM)', read_only=True)

@@ -88,7 +88,8 @@ def test_start_values_are_checked(make_node):
     ('dt', 0.1, math.nan, dict(lo=1e-3, hi=1.0), ("'dt'", 'nan')),
     ('gain', 0.1, math.inf, dict(), ("'gain'", 'inf', 'finite')),
     ('mode', 'a', 'c', dict(choices=('a', 'b')), ("'mode'", "'c'", "'a', 'b'")),
-    ('steps', 5, -1, dict(lo=0), ("'steps'", '-1', '>= 0')),
+    ('steps', 5, -1, dict(lo=0), ("'steps'", '= -1 is', '>= 0')),     # an integer, not -1.0
+    ('udp_port', 0, 70000, dict(lo=0, hi=65535), ("= 70000 is", '[0, 65535]')),
     ('rate', 10.0, 3.0, dict(check=lambda r: None if 10 % r == 0 else 'a divisor of 10'),
      ("'rate'", '3.0', 'a divisor of 10')),
     ('dt', 0.1, 1, dict(), ("'dt'", '1', 'DOUBLE')),          # static typing: write 1.0

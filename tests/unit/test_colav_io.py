@@ -78,24 +78,43 @@ def test_stale_targets_are_forgotten_and_the_table_stays_small():
 
 
 def test_the_table_is_bounded_keeping_the_targets_nearest_the_own_ship():
-    n = 50
+    n = 60
+    k = int(n * colav_io.EVICT_FRACTION)          # left out at once when full
+    assert k >= 2
     tracks = colav_io.TargetTracks(stale_after_s=30.0, max_targets=n)
     tracks.reference = (1000.0, 0.0)
     tracks.add('/v1/odom', 0, colav_io.target_state('/v1/odom', 9e6, 0, 0, 1, 0), lockstep=True)
     # Targets at distances 1 .. 500 m from the own ship, nearest last: each newcomer is nearer
-    # than every kept one, so the farthest is left out each time.
+    # than every kept one, so the farthest are left out each time the table is full.
     for d in range(500, 0, -1):
         assert tracks.add(f'ais_{d}', 0, colav_io.target_state(f'ais_{d}', 1000.0 + d, 0, 0, 1,
                                                                0)) is None
         assert len(tracks) <= n
     kept = set(tracks.names())
-    # The lockstep vessel is never left out, however far; the rest are the n - 1 nearest.
-    assert kept == {'/v1/odom'} | {f'ais_{d}' for d in range(1, n)}
-    assert tracks.n_evicted == 500 - (n - 1)
-    # A newcomer farther than every kept (non-lockstep) target gets no place.
-    assert tracks.add('far', 0, colav_io.target_state('far', 1000.0 + n, 0, 0, 1, 0)) == 'evicted'
-    assert 'far' not in tracks.names() and len(tracks) == n
-    assert len(tracks.at(0)) == n
+    m = len(kept) - 1
+    # The lockstep vessel is never left out, however far; the rest are the m nearest.
+    assert n - k <= m <= n - 1
+    assert kept == {'/v1/odom'} | {f'ais_{d}' for d in range(1, m + 1)}
+    assert tracks.n_evicted == 500 - m
+    # Full again, a newcomer farther than every kept (non-lockstep) target gets no place, and
+    # the k - 1 farthest kept ones leave with it.
+    for i in range(n - len(tracks)):
+        tracks.add(f'near_{i}', 0, colav_io.target_state(f'near_{i}', 1000.0, 0, 0, 1, 0))
+    assert len(tracks) == n
+    assert tracks.add('far', 0, colav_io.target_state('far', 2000.0, 0, 0, 1, 0)) == 'evicted'
+    assert 'far' not in tracks.names() and len(tracks) == n - (k - 1)
+    assert '/v1/odom' in tracks.names() and f'ais_{m}' not in tracks.names()
+    assert len(tracks.at(0)) == len(tracks)
+
+
+def test_a_target_keeps_at_most_max_samples_the_oldest_going_first():
+    tracks = colav_io.TargetTracks(stale_after_s=1e5)
+    n = colav_io.MAX_SAMPLES_PER_TARGET
+    for k in range(n + 500):                      # stamps 1 ns apart, all in the future of t=0
+        tracks.add('x', 1000 + k, colav_io.target_state('x', float(k), 0, 0, 1, 0))
+    assert len(tracks._stamps['x']) == n and tracks._stamps['x'][0] == 1000 + 500
+    (tg,) = tracks.at(1000 + 600)                 # the newest state at or before the stamp
+    assert tg.north == pytest.approx(600.0)
 
 
 @pytest.mark.parametrize('north, east, speed, reason', [

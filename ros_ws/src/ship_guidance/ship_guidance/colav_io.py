@@ -8,10 +8,12 @@
   a decision never sees a sample from the future, whatever order the messages arrived in.
   Lockstep targets (full vessels stepping with the own ship) must have a sample at or after t
   before a decision at t is taken (``waiting_for``). The table forgets a target once its newest
-  state is stale at a decision, and holds at most ``max_targets`` (DEFAULT_MAX_TARGETS): beyond
-  that the target farthest from the own ship (``reference``) is left out, the newcomer if it is
-  the farthest (counted in ``n_evicted``), so the decision's cost depends on the targets around
-  now, never on how many names were ever heard. A state that no ship can have is refused and
+  state is stale at a decision, and holds at most ``max_targets`` (DEFAULT_MAX_TARGETS): a
+  newcomer to a full table makes the farthest twentieth of it (EVICT_FRACTION, at least one;
+  lockstep targets never) from the own ship (``reference``) leave at once, the newcomer among
+  them if it is that far (counted in ``n_evicted``; one pass over the table per twentieth, not
+  per newcomer, keeps a flood of names cheap), so the decision's cost depends on the targets
+  around now, never on how many names were ever heard. A state that no ship can have is refused and
   counted by reason (``refused``): a non-finite number, a position beyond MAX_COORDINATE_M or a
   speed above MAX_SPEED_MPS (ship_sim.bounds).
 - ``SyncedSource``: a many-target topic whose publisher announces after each step how many
@@ -27,6 +29,7 @@
   one is held in its place, the way autopilot_node holds its last heading_cmd.
 """
 import bisect
+import heapq
 import math
 from dataclasses import replace
 
@@ -56,6 +59,12 @@ DECISION_COLUMNS = ('t_s', 'mode', 'course_offset_rad', 'speed_multiplier', 'thr
 #: with each target, and a decision must fit well within its period; far more than a crowded
 #: port shows within the few nautical miles that matter.
 DEFAULT_MAX_TARGETS = 200
+#: States kept per target at most (the oldest go first): a lockstep target may run this many
+#: steps ahead of the own ship (colav_node's queue depth for it), and a sender of ever newer
+#: stamps for one name cannot grow the table beyond it.
+MAX_SAMPLES_PER_TARGET = 20000
+#: Share of a full target table left out at once (the farthest; see the module docstring).
+EVICT_FRACTION = 0.05
 #: Reasons a target state is refused (TargetTracks.refused).
 REFUSED_REASONS = ('non_finite', 'out_of_range')
 
@@ -127,22 +136,21 @@ class TargetTracks:
         return math.hypot(state.north - self.reference[0], state.east - self.reference[1])
 
     def _make_room(self, state):
-        """Whether a new target at ``state`` gets a place: when the table is full, the target
-        farthest from the reference (lockstep ones excepted) leaves, unless the newcomer is
-        farther; either way one is counted in n_evicted."""
+        """Whether a new target at ``state`` gets a place: when the table is full, the farthest
+        EVICT_FRACTION of it and the newcomer (lockstep targets excepted) leave, at least one,
+        each counted in n_evicted; the newcomer stays if it is not among them."""
         if len(self._stamps) < self.max_targets:
             return True
-        self.n_evicted += 1
-        far_name, far_d = None, self._distance(state)
-        for name, states in self._states.items():
-            if name not in self.lockstep:
-                d = self._distance(states[-1])
-                if d > far_d:
-                    far_name, far_d = name, d
-        if far_name is None:
-            return False
-        self.forget(far_name)
-        return True
+        k = max(1, int(self.max_targets * EVICT_FRACTION))
+        candidates = [(self._distance(states[-1]), name) for name, states in self._states.items()
+                      if name not in self.lockstep]
+        candidates.append((self._distance(state), None))
+        far = heapq.nlargest(k, candidates, key=lambda c: c[0])
+        self.n_evicted += len(far)
+        for _, name in far:
+            if name is not None:
+                self.forget(name)
+        return all(name is not None for _, name in far)
 
     def add(self, name, t_ns, state, wall=0.0, lockstep=False):
         """Keep ``state`` (a Target) stamped ``t_ns``; a repeated stamp replaces the earlier.
@@ -163,6 +171,8 @@ class TargetTracks:
         else:
             stamps.insert(i, t_ns)
             states.insert(i, state)
+            if len(stamps) > MAX_SAMPLES_PER_TARGET:
+                del stamps[0], states[0]
         self.last_heard[name] = wall
         if lockstep:
             self.lockstep.add(name)

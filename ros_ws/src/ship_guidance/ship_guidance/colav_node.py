@@ -36,7 +36,7 @@ older than `target_stale_s` of sim time is left out, and forgotten.
 Bad input (counted, warned about with the count, throttled; the node keeps its state):
 - a target state no ship can have (non-finite, beyond 1e7 m from the origin, faster than
   50 m/s: colav_io.target_problem, ship_sim.bounds) is refused; beyond `max_targets` live
-  targets the one farthest from the own ship is left out (colav_io.TargetTracks);
+  targets the farthest from the own ship are left out (colav_io.TargetTracks);
 - a non-finite heading_ref: the last finite one is held in its place (before any, the own
   heading) and decisions go on, as autopilot_node holds its last heading_cmd
   (colav_io.RefHold); a non-finite own odom is answered with the held command, no decision;
@@ -70,7 +70,7 @@ SHIP = OwnShipModel()
 # A lockstep target's queue: the target may publish many steps before the own ship starts or
 # once its gate has stopped waiting for the own ship (vessel_node's lockstep_follower_window),
 # and a decision may use any of them (the depth takes no part in QoS matching).
-LOCKSTEP_TARGET = stream_with_depth(20000)
+LOCKSTEP_TARGET = stream_with_depth(colav_io.MAX_SAMPLES_PER_TARGET)
 # (name, default, description, lo, hi, unit) of the scalar ColavParams / OwnShipModel keys.
 SCALARS = (
     ('d_safe_m', DEFAULTS.d_safe_m, 'safe passing distance r_min', 1.0, 1e5, 'm'),

@@ -370,3 +370,20 @@ def test_replay_file_format():
                    (103.0, '!AIVDM,1,1,,A,w,0*00'), (112.5, '!AIVDM,1,1,,A,x,0*00')]
     with pytest.raises(ValueError):
         parse_replay(lines, rate_hz=0.0)
+
+
+def test_replay_feeds_the_parts_of_a_message_together_at_any_rate():
+    """Untimed lines at 0.01 Hz (100 s apart): the second part of a message 5 keeps the time of
+    its first, so it is assembled instead of expiring, and the next line gets the next slot."""
+    from ship_guidance.ais import parse_replay
+    five = pyais.encode_dict(dict(type=5, mmsi=257000005, shipname='SLOW'), seq_id=1,
+                             talker_id='AI', sentence_type='VDM')
+    position = pyais.encode_dict(dict(type=1, mmsi=257000001, lat=34.9, lon=128.8, speed=1.0,
+                                      course=0.0), talker_id='AI', sentence_type='VDM')[0]
+    got = parse_replay([*five, position], rate_hz=0.01)
+    assert [t for t, _ in got] == [0.0, 0.0, 100.0]
+    tr = AisTracker(*ORIGIN)
+    for t, line in got:
+        tr.feed(line, t)
+    assert tr.decoded == {5: 1, 1: 1} and tr.tracks[257000005].name == 'SLOW'
+    assert tr.bad['fragment'] == 0

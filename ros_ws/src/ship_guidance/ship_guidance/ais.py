@@ -131,8 +131,11 @@ def parse_replay(lines, rate_hz, offset_s=0.0):
     """Lines of an AIS replay file -> [(t, sentence)], in time order (stable).
 
     Format, one sentence a line: ``<t_s> <sentence>`` (t_s: seconds, a number) or the sentence
-    alone, timed at ``offset_s + i / rate_hz`` for the i-th such line (0, 1, ...). ``offset_s``
-    is added to the given times too. Blank lines and lines starting with ``#`` are skipped.
+    alone, timed at ``offset_s + i / rate_hz`` for the i-th such line (0, 1, ...), except that
+    a later part of a multi-sentence message (part number > 1) takes the time of the line
+    before it: the parts are one transmission, and a slow rate must not let them expire
+    (FRAGMENT_TIMEOUT_S). ``offset_s`` is added to the given times too. Blank lines and lines
+    starting with ``#`` are skipped.
     """
     if not rate_hz > 0.0:
         raise ValueError(f'rate_hz must be > 0, got {rate_hz}')
@@ -149,11 +152,19 @@ def parse_replay(lines, rate_hz, offset_s=0.0):
             t = None
         if t is not None and rest.strip() and math.isfinite(t):
             out.append((offset_s + t, rest.strip()))
+        elif plain and _later_part(line):
+            out.append((offset_s + (plain - 1) / rate_hz, line))
         else:
             out.append((offset_s + plain / rate_hz, line))
             plain += 1
     out.sort(key=lambda item: item[0])
     return out
+
+
+def _later_part(line):
+    """Whether an NMEA line is part 2 or later of a multi-sentence message (by its fields)."""
+    fields = line.split(',', 3)
+    return len(fields) == 4 and fields[2].isdigit() and int(fields[2]) > 1
 
 
 def _payload_type(payload):

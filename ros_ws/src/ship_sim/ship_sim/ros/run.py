@@ -69,6 +69,12 @@ def finish(node, code=0):
     node.context.try_shutdown()
 
 
+def stop_requested(node):
+    """Whether the node should end: a stop signal came (noted, see the module docstring) or its
+    context is shut down. A long callback (planner_node's planning) polls it to end early."""
+    return bool(_stop_signals) or not node.context.ok()
+
+
 def wait_for_acks(node, publishers, timeout_s=2.0):
     """Give reliable subscribers of ``publishers`` up to ``timeout_s`` each to acknowledge what
     was published, unless the context is shutting down (a signal that lands while we wait makes

@@ -201,7 +201,8 @@ class RunResult:
 
 
 COLAV_NODE_KEYS = {'method', 'decision_period_s', 'targets_topic', 'target_stale_s',
-                   'lockstep_target_timeout_s', 'pairing', 'target_topics', 'has_shaft'}
+                   'lockstep_target_timeout_s', 'pairing', 'target_topics', 'has_shaft',
+                   'max_targets'}
 
 
 def build_colav(colav_params, has_shaft):

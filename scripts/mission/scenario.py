@@ -99,9 +99,9 @@ from mission.recorder import COMPRESSIONS, DEFAULT_COMPRESSION
 from mission.vessel_spec import parse_vessel
 from mission.wind_block import check_wind, check_wind_model
 
-from ship_planner.route_data import TextFileError, read_text_file
 from ship_planner.yaml_route_reader import Loader
 from ship_sim.frames import psi_to_yaw
+from ship_sim.text_files import TextFileError, read_text_file
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais',

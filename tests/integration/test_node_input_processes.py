@@ -12,7 +12,9 @@ node staying up, answering, with its state intact.
    holding the node (odom answered throughout, well within the lockstep timeout);
 4. follower_node: the same odom outliers, answered one for one, no NaN command;
 5. autopilot_node (sequence pairing): a NaN heading_cmd is refused, counted, the previous
-   command held, and its odom still answered.
+   command held, and its odom still answered;
+6. traffic_node refuses a light target at 1e300 m/s or 1e300 m, ais_node an integer out of
+   range (shown as an integer), each in one line with exit code 2.
 """
 import math
 import time
@@ -97,6 +99,27 @@ def test_guidance_refuses_arc_los_point_with_ilos_naming_it(ros_graph):
     proc = ros_graph.start('ship_guidance', 'guidance_node', namespace=NS,
                            params={'law': 'ilos', 'arc_los_point': True})
     _assert_one_line_exit_2(proc, 'guidance_node: ', 'arc_los_point')
+
+
+@pytest.mark.parametrize('target, needle', [
+    ({'name': 't1', 'course_deg': 0.0, 'speed_mps': 1e300}, 'speed must be in [0, 50] m/s'),
+    ({'name': 't1', 'x_m': 1e300, 'course_deg': 0.0, 'speed_mps': 1.0}, 'at most 1e+07 m'),
+])
+def test_traffic_node_refuses_a_target_no_ship_can_be_in_one_line(ros_graph, tmp_path, target,
+                                                                  needle):
+    import json
+
+    import yaml
+    params = tmp_path / 'traffic.yaml'       # JSON text in a parameter: a file, as the launcher
+    params.write_text(yaml.safe_dump({'/**': {'ros__parameters': {'targets': json.dumps(
+        [target])}}}))
+    proc = ros_graph.start('ship_sim', 'traffic_node', params_file=params)
+    _assert_one_line_exit_2(proc, 'traffic_node: ', "'targets'", 'light target t1', needle)
+
+
+def test_ais_node_refuses_an_integer_out_of_range_naming_it_as_an_integer(ros_graph):
+    proc = ros_graph.start('ship_guidance', 'ais_node', params={'udp_port': -1})
+    _assert_one_line_exit_2(proc, 'ais_node: ', "'udp_port' = -1 is", '[0, 65535]')
 
 
 def test_autopilot_refuses_a_partial_fuzzy_scaling_in_one_line(ros_graph):

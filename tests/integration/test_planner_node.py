@@ -155,3 +155,20 @@ def test_refuses_an_impossible_plan_in_one_line_with_exit_2(ros_graph, chart_png
     others = [line for line in node.output().splitlines()
               if line.strip() and not line.startswith(('planner_node:', '[INFO]'))]
     assert not others, others
+
+
+@pytest.mark.timeout(60)
+def test_sigint_while_planning_ends_the_node_at_once_without_a_traceback(ros_graph, chart_png):
+    """Planning runs in a callback; a stop signal is only noted there (ship_sim.ros.run), and
+    the planner's progress calls poll it (stop_requested), so a long search ends at once."""
+    import signal
+    import time
+    long_search = dict(SEARCH, population=200, generations=100000)
+    node = ros_graph.start('ship_planner', 'planner_node', namespace=NS,
+                           params=params(chart_png, **long_search))
+    assert node.wait_for_output(r'planning: clearance', timeout=30.0), node.report()
+    node.popen.send_signal(signal.SIGINT)
+    t0 = time.monotonic()
+    assert node.wait(timeout=10.0) == 0, node.report()
+    print(f'planner_node ended {time.monotonic() - t0:.2f} s after SIGINT')
+    assert 'Traceback' not in node.output() and 'FATAL' not in node.output()

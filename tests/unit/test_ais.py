@@ -13,8 +13,8 @@ import numpy as np
 import pyais
 import pytest
 
-from ship_guidance.ais import (BAD_REASONS, KNOT, STALE_AFTER_S, AisTracker, TargetState,
-                               dead_reckon)
+from ship_guidance.ais import (BAD_REASONS, FRAGMENT_TIMEOUT_S, KNOT, MAX_PENDING_FRAGMENTS,
+                               STALE_AFTER_S, AisTracker, TargetState, dead_reckon)
 from ship_sim.geodetic import geodetic_to_ned, ned_to_geodetic
 from ship_sim.simulator import VesselSimulator
 
@@ -112,9 +112,14 @@ def test_real_capture_is_counted_and_never_raises():
     empty = sum(1 for s in lines if s.split(',')[5] == '')
     first_parts = sum(1 for s in lines if s.split(',')[1:3] == ['2', '1'])
     assert tr.bad['truncated'] == empty > 0
-    assert tr.pending_fragments == first_parts == 3     # their second parts come later
+    # Their second parts come after the excerpt: those begun more than FRAGMENT_TIMEOUT_S
+    # before the last line (fed 1 s apart) are dropped as 'fragment', the others still wait.
+    last_first = max(i for i, s in enumerate(lines) if s.split(',')[1:3] == ['2', '1'])
+    assert first_parts == 3 and len(lines) - 1 - last_first <= FRAGMENT_TIMEOUT_S
+    assert 1 <= tr.pending_fragments < first_parts
+    assert tr.bad['fragment'] == first_parts - tr.pending_fragments
     total = sum(tr.decoded.values()) + sum(tr.bad.values()) + sum(tr.ignored.values())
-    assert total - tr.bad['velocity_not_available'] + first_parts == len(lines)
+    assert total - tr.bad['velocity_not_available'] + tr.pending_fragments == len(lines)
     assert tr.decoded.keys() <= {1, 3, 18, 24}
     assert len(tr.targets(len(lines))) > 10
 
@@ -234,6 +239,55 @@ def test_fragments_out_of_order_and_interleaved():
     assert tr.bad['fragment'] == 2
 
 
+def test_unfinished_fragments_expire_by_age():
+    five = pyais.encode_dict(dict(type=5, mmsi=257000005, shipname='LATE'), seq_id=3,
+                             talker_id='AI', sentence_type='VDM')
+    tr = AisTracker(*ORIGIN)
+    tr.feed(five[0], 10.0)
+    tr.prune(10.0 + FRAGMENT_TIMEOUT_S)                  # still within the timeout: waits
+    assert tr.pending_fragments == 1 and tr.bad['fragment'] == 0
+    tr.feed(five[1], 10.0 + FRAGMENT_TIMEOUT_S)          # and completes
+    assert tr.decoded == {5: 1} and tr.pending_fragments == 0
+    tr.feed(five[0], 20.0)
+    tr.prune(20.0 + 1.01 * FRAGMENT_TIMEOUT_S)           # expired, with no further input
+    assert tr.pending_fragments == 0 and tr.bad['fragment'] == 1
+    tr.feed(five[1], 20.0 + 1.01 * FRAGMENT_TIMEOUT_S)   # its late second part is an orphan
+    assert tr.bad['fragment'] == 2 and tr.decoded == {5: 1}
+
+
+def test_a_flood_of_first_parts_is_bounded_and_counted():
+    """First parts with every key a sender can make (talker, channel, id) never complete: the
+    store stays at MAX_PENDING_FRAGMENTS and every first part beyond it is counted; the newest
+    ones are kept, so a message that does complete still assembles."""
+    tr = AisTracker(*ORIGIN)
+    talkers = ('AIVDM', 'ABVDM', 'ADVDM', 'ANVDM', 'ARVDM', 'ASVDM', 'ATVDM', 'AXVDM', 'BSVDM',
+               'SAVDM')
+    n = 0
+    for talker in talkers:
+        for channel in 'AB12':
+            for seq in range(10):
+                tr.feed(sentence('5' + '0' * 59, n=2, k=1, seq=str(seq), talker=talker,
+                                 channel=channel), 0.0)
+                n += 1
+    assert n > MAX_PENDING_FRAGMENTS
+    assert tr.pending_fragments == MAX_PENDING_FRAGMENTS
+    assert tr.bad['fragment'] == n - MAX_PENDING_FRAGMENTS
+    assert sum(tr.bad.values()) == tr.bad['fragment']
+    five = pyais.encode_dict(dict(type=5, mmsi=257000007, shipname='THROUGH'), seq_id=7,
+                             talker_id='AI', sentence_type='VDM')
+    for part in five:
+        tr.feed(part, 0.0)
+    assert tr.tracks[257000007].name == 'THROUGH'
+    assert tr.pending_fragments <= MAX_PENDING_FRAGMENTS
+
+
+@pytest.mark.parametrize('seq', ['10', '12345', '-1'])
+def test_a_sequence_id_outside_0_to_9_is_malformed(seq):
+    tr = AisTracker(*ORIGIN)
+    tr.feed(sentence('5' + '0' * 59, n=2, k=1, seq=seq), 0.0)
+    assert tr.pending_fragments == 0 and tr.bad['malformed'] == 1
+
+
 def test_random_damage_never_raises():
     rng = np.random.default_rng(13)
     lines = (DATA / 'pyais_samples.nmea').read_text().splitlines()
@@ -316,3 +370,20 @@ def test_replay_file_format():
                    (103.0, '!AIVDM,1,1,,A,w,0*00'), (112.5, '!AIVDM,1,1,,A,x,0*00')]
     with pytest.raises(ValueError):
         parse_replay(lines, rate_hz=0.0)
+
+
+def test_replay_feeds_the_parts_of_a_message_together_at_any_rate():
+    """Untimed lines at 0.01 Hz (100 s apart): the second part of a message 5 keeps the time of
+    its first, so it is assembled instead of expiring, and the next line gets the next slot."""
+    from ship_guidance.ais import parse_replay
+    five = pyais.encode_dict(dict(type=5, mmsi=257000005, shipname='SLOW'), seq_id=1,
+                             talker_id='AI', sentence_type='VDM')
+    position = pyais.encode_dict(dict(type=1, mmsi=257000001, lat=34.9, lon=128.8, speed=1.0,
+                                      course=0.0), talker_id='AI', sentence_type='VDM')[0]
+    got = parse_replay([*five, position], rate_hz=0.01)
+    assert [t for t, _ in got] == [0.0, 0.0, 100.0]
+    tr = AisTracker(*ORIGIN)
+    for t, line in got:
+        tr.feed(line, t)
+    assert tr.decoded == {5: 1, 1: 1} and tr.tracks[257000005].name == 'SLOW'
+    assert tr.bad['fragment'] == 0

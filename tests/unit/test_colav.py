@@ -586,6 +586,18 @@ def test_land_mask_clearance_and_occupancy_grid_layout():
         LandMask.from_occupancy(data.ravel().tolist(), 6, 5, 10.0, 0.0, 0.0)
 
 
+@pytest.mark.parametrize('origin_x, origin_y, resolution', [
+    (math.nan, 0.0, 10.0), (0.0, math.inf, 10.0), (1e300, 0.0, 10.0),
+    (0.0, 9.99999e6, 10.0),          # the origin is inside the bound, the far edge is not
+])
+def test_a_chart_beyond_the_coordinate_bound_or_not_finite_is_refused(origin_x, origin_y,
+                                                                       resolution):
+    data = [100] * 6
+    with pytest.raises(ValueError, match='beyond 1e\\+07 m'):
+        LandMask.from_occupancy(data, 3, 2, resolution, origin_x, origin_y)
+    LandMask.from_occupancy(data, 3, 2, resolution, 0.0, 1e7 - 30.0)   # exactly at the bound
+
+
 def test_sbmpc_head_on_with_a_coast_to_starboard_keeps_off_the_land():
     """Head-on, the rules say starboard; with a coast 500 m to starboard (every starboard
     alteration held over the horizon runs into its clearance) the chosen scenario stays clear of

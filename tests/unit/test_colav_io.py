@@ -65,6 +65,87 @@ def test_tracks_leave_out_future_only_and_stale_targets():
     assert [t.name for t in tracks.at(5 * S + 1)] == ['ok']   # 'old' beyond 5 s: out
 
 
+def test_stale_targets_are_forgotten_and_the_table_stays_small():
+    """100,000 names heard once each, then silence: a decision past the staleness limit forgets
+    them all (the table does not keep every name ever heard), a live one stays."""
+    tracks = colav_io.TargetTracks(stale_after_s=30.0, max_targets=10**6)
+    for i in range(100_000):
+        tracks.add(f'ais_{i}', 0, colav_io.target_state(f'ais_{i}', i, 0, 0, 1, 0))
+    tracks.add('live', 31 * S, colav_io.target_state('live', 0, 0, 0, 1, 0))
+    assert len(tracks) == 100_001
+    assert [t.name for t in tracks.at(31 * S)] == ['live']
+    assert len(tracks) == 1 and tracks.names() == ['live'] and len(tracks.last_heard) == 1
+
+
+def test_the_table_is_bounded_keeping_the_targets_nearest_the_own_ship():
+    n = 60
+    k = int(n * colav_io.EVICT_FRACTION)          # left out at once when full
+    assert k >= 2
+    tracks = colav_io.TargetTracks(stale_after_s=30.0, max_targets=n)
+    tracks.reference = (1000.0, 0.0)
+    tracks.add('/v1/odom', 0, colav_io.target_state('/v1/odom', 9e6, 0, 0, 1, 0), lockstep=True)
+    # Targets at distances 1 .. 500 m from the own ship, nearest last: each newcomer is nearer
+    # than every kept one, so the farthest are left out each time the table is full.
+    for d in range(500, 0, -1):
+        assert tracks.add(f'ais_{d}', 0, colav_io.target_state(f'ais_{d}', 1000.0 + d, 0, 0, 1,
+                                                               0)) is None
+        assert len(tracks) <= n
+    kept = set(tracks.names())
+    m = len(kept) - 1
+    # The lockstep vessel is never left out, however far; the rest are the m nearest.
+    assert n - k <= m <= n - 1
+    assert kept == {'/v1/odom'} | {f'ais_{d}' for d in range(1, m + 1)}
+    assert tracks.n_evicted == 500 - m
+    # Full again, a newcomer farther than every kept (non-lockstep) target gets no place, and
+    # the k - 1 farthest kept ones leave with it.
+    for i in range(n - len(tracks)):
+        tracks.add(f'near_{i}', 0, colav_io.target_state(f'near_{i}', 1000.0, 0, 0, 1, 0))
+    assert len(tracks) == n
+    assert tracks.add('far', 0, colav_io.target_state('far', 2000.0, 0, 0, 1, 0)) == 'evicted'
+    assert 'far' not in tracks.names() and len(tracks) == n - (k - 1)
+    assert '/v1/odom' in tracks.names() and f'ais_{m}' not in tracks.names()
+    assert len(tracks.at(0)) == len(tracks)
+
+
+def test_a_target_keeps_at_most_max_samples_the_oldest_going_first():
+    tracks = colav_io.TargetTracks(stale_after_s=1e5)
+    n = colav_io.MAX_SAMPLES_PER_TARGET
+    for k in range(n + 500):                      # stamps 1 ns apart, all in the future of t=0
+        tracks.add('x', 1000 + k, colav_io.target_state('x', float(k), 0, 0, 1, 0))
+    assert len(tracks._stamps['x']) == n and tracks._stamps['x'][0] == 1000 + 500
+    (tg,) = tracks.at(1000 + 600)                 # the newest state at or before the stamp
+    assert tg.north == pytest.approx(600.0)
+
+
+@pytest.mark.parametrize('north, east, speed, reason', [
+    (math.nan, 0.0, 1.0, 'non_finite'),
+    (0.0, math.inf, 1.0, 'non_finite'),
+    (0.0, 0.0, math.nan, 'non_finite'),
+    (1e300, 0.0, 1.0, 'out_of_range'),
+    (0.0, -1.0001e7, 1.0, 'out_of_range'),
+    (0.0, 0.0, 1e300, 'out_of_range'),
+    (0.0, 0.0, 50.01, 'out_of_range'),
+])
+def test_states_no_ship_can_have_are_refused_and_counted(north, east, speed, reason):
+    tracks = colav_io.TargetTracks(stale_after_s=30.0)
+    state = colav_io.target_state('x', north, east, 0.0, speed, 0.0)
+    assert tracks.add('x', 0, state) == reason
+    assert tracks.refused[reason] == 1 and sum(tracks.refused.values()) == 1
+    assert tracks.names() == [] and tracks.last_refused[0] == 'x'
+    at_bounds = colav_io.target_state('ok', 1e7, -1e7, 0.0, 50.0, 0.0)
+    assert tracks.add('ok', 0, at_bounds) is None and tracks.names() == ['ok']
+
+
+def test_a_non_finite_heading_ref_is_refused_counted_and_the_last_good_held():
+    hold = colav_io.RefHold()
+    assert hold.update(math.nan) is None and hold.n_refused == 1     # nothing to hold yet
+    assert hold.update(0.5) == 0.5
+    for bad in (math.nan, math.inf, -math.inf):
+        assert hold.update(bad) == 0.5
+    assert hold.n_refused == 4
+    assert hold.update(-1.0) == -1.0 and hold.update(math.nan) == -1.0 and hold.n_refused == 5
+
+
 def test_lockstep_targets_are_waited_for_until_a_sample_at_or_after_the_stamp():
     tracks = colav_io.TargetTracks(30.0)
     assert tracks.waiting_for(0, expected=['/v1/odom']) == ['/v1/odom']   # never heard
@@ -153,7 +234,8 @@ def test_colav_yaml_lists_exactly_the_node_parameters():
     declared.update({name: default for name, default, _ in colav_node.LISTS})
     declared.update(method='sbmpc', decision_period_s=1.0, pairing='sequence', targets_topic='targets',
                     target_stale_s=30.0, lockstep_target_timeout_s=10.0, has_shaft=True,
-                    targets_sync_topic='', chart_topic='')
+                    targets_sync_topic='', chart_topic='',
+                    max_targets=colav_io.DEFAULT_MAX_TARGETS)
     assert set(listed) == set(declared)
     for key, value in listed.items():
         numeric = not isinstance(value, (str, bool)) and key != 'target_topics'

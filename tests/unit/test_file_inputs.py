@@ -29,9 +29,9 @@ from mission.launcher import (RCLPY_PARAMETERS, MissionFailed, check_scenario, m
                               write_run_json)
 from mission.scenario import MAX_STEPS, ScenarioError, load_scenario, load_scenarios
 from ship_planner.route_loader import RouteError, load_route
-from ship_planner.route_data import (MAX_COORDINATE_M, MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES,
-                                     TextFileError, read_text_file)
+from ship_planner.route_data import MAX_COORDINATE_M, MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES
 from ship_planner.yaml_route_reader import Loader, parse_route_yaml
+from ship_sim.text_files import TextFileError, read_text_file
 
 ROOT = Path(__file__).resolve().parents[2]
 ROUTE = ROOT / 'scenarios' / 'routes' / 'flagship_mariner.yaml'

@@ -62,7 +62,14 @@ def test_several_targets_of_both_kinds_at_once():
     ([{'name': 'a', 'waypoints': [[0, 0], [1, 1]]}], '[t_s, x_m, y_m]'),
     ([{'name': 'a', 'waypoints': [[0, 0, 0], [1, float('nan'), 1]]}], 'finite'),
     ([{'name': 'a', 'course_deg': float('inf'), 'speed_mps': 1.0}], 'finite'),
-    ([{'name': 'a', 'course_deg': 0.0, 'speed_mps': -1.0}], '>= 0'),
+    ([{'name': 'a', 'course_deg': 0.0, 'speed_mps': -1.0}], 'in [0, 50]'),
+    ([{'name': 'a', 'course_deg': 0.0, 'speed_mps': 1e300}], 'in [0, 50]'),
+    ([{'name': 'a', 'course_deg': 0.0, 'speed_mps': 50.001}], 'in [0, 50]'),
+    ([{'name': 'a', 'x_m': 1e300, 'course_deg': 0.0, 'speed_mps': 1.0}], 'at most 1e.07 m'),
+    ([{'name': 'a', 'y_m': -1.0001e7, 'course_deg': 0.0, 'speed_mps': 1.0}], 'at most 1e.07 m'),
+    ([{'name': 'a', 'waypoints': [[0, 0, 0], [10, 0, 1e300]]}], 'at most 1e.07 m'),
+    # 1000 m in 10 s is 100 m/s: a leg no ship sails.
+    ([{'name': 'a', 'waypoints': [[0, 0, 0], [10, 0, 1000]]}], 'leg 1 .* at most 50 m/s'),
     ([{'name': 'a', 'course_deg': 0.0, 'speed_mps': True}], 'a number'),
     ([{'name': 'a', 'course_deg': 0.0}], 'give either'),
     ([{'name': 'a', 'course_deg': 0.0, 'speed_mps': 1.0, 'waypoints': []}], 'give either'),
@@ -73,6 +80,14 @@ def test_several_targets_of_both_kinds_at_once():
 def test_bad_targets_are_refused_with_the_reason(targets, needle):
     with pytest.raises(ValueError, match='.*' + needle.replace('[', r'\[').replace(']', r'\]')):
         make_traffic(targets)
+
+
+def test_targets_at_the_bounds_are_accepted():
+    t = make_traffic([{'name': 'fast', 'x_m': -1e7, 'y_m': 1e7, 'course_deg': 0.0,
+                       'speed_mps': 50.0},
+                      {'name': 'legs', 'waypoints': [[0, 0, 0], [20, 0, 1000], [30, 0, 1000]]}])
+    _, _, _, speed = t.state(5.0)
+    assert speed == pytest.approx([50.0, 50.0])        # 1000 m in 20 s: exactly the bound
 
 
 def test_parameter_text_is_json_and_nan_is_refused():

@@ -88,7 +88,8 @@ def test_start_values_are_checked(make_node):
     ('dt', 0.1, math.nan, dict(lo=1e-3, hi=1.0), ("'dt'", 'nan')),
     ('gain', 0.1, math.inf, dict(), ("'gain'", 'inf', 'finite')),
     ('mode', 'a', 'c', dict(choices=('a', 'b')), ("'mode'", "'c'", "'a', 'b'")),
-    ('steps', 5, -1, dict(lo=0), ("'steps'", '-1', '>= 0')),
+    ('steps', 5, -1, dict(lo=0), ("'steps'", '= -1 is', '>= 0')),     # an integer, not -1.0
+    ('udp_port', 0, 70000, dict(lo=0, hi=65535), ("= 70000 is", '[0, 65535]')),
     ('rate', 10.0, 3.0, dict(check=lambda r: None if 10 % r == 0 else 'a divisor of 10'),
      ("'rate'", '3.0', 'a divisor of 10')),
     ('dt', 0.1, 1, dict(), ("'dt'", '1', 'DOUBLE')),          # static typing: write 1.0
@@ -166,6 +167,39 @@ def test_wait_for_acks_is_quiet_when_a_signal_has_shut_the_context_down(make_nod
     with pytest.raises(RCLError, match='context is invalid'):
         pub.wait_for_all_acked(Duration(seconds=0.1))    # what rcl does without the guard
     wait_for_acks(node, (pub, None), timeout_s=0.1)
+
+
+def test_a_stop_signal_ends_the_spin_between_callbacks_and_before_it_the_start(make_node):
+    # rclpy's own handlers shut the context down at any moment, also inside a busy callback,
+    # whose next publish then failed (a FATAL traceback on Ctrl-C under load). run_node's only
+    # take note while spinning: the running callback finishes and publishes, then spin ends.
+    import signal
+
+    from std_msgs.msg import Float64
+
+    from ship_sim.ros import run
+    node, _ = make_node()
+    pub = node.create_publisher(Float64, 'stop_test', 10)
+    published = []
+
+    def busy():
+        if not published:
+            run._on_stop_signal(signal.SIGINT, None)     # the signal lands inside the callback
+        pub.publish(Float64(data=1.0))                   # ... which still publishes
+        published.append(True)
+
+    node.create_timer(0.01, busy)
+    t0 = time.monotonic()
+    try:
+        run.spin(node, 'single')
+        assert published == [True]          # ended right after that callback, none after it
+        assert node.context.ok()            # the context is shut down by run_node's finally
+        assert time.monotonic() - t0 < 5.0
+    finally:
+        run._stop_signals.clear()
+    with pytest.raises(KeyboardInterrupt):  # not spinning (rclpy starting, node being built)
+        run._on_stop_signal(signal.SIGTERM, None)
+    run._stop_signals.clear()
 
 
 def test_a_per_step_clock_subscriber_matched_after_step_0_still_hears_it(make_node):

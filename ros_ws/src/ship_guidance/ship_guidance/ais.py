@@ -29,13 +29,23 @@ Bad input is counted per reason in ``AisTracker.bad`` and skipped, never raised:
   malformed                 not an AIVDM/AIVDO sentence (fields, talker, characters, pyais error)
   checksum                  the '*hh' checksum does not match
   truncated                 no payload, or fewer bits than the message type carries
-  fragment                  a part of a multi-sentence message out of order or without its first
+  fragment                  a part of a multi-sentence message out of order or without its
+                            first, or a message never completed (see below)
   unknown_type              message type 0 or above 27 (not defined by ITU-R M.1371)
   bad_mmsi                  MMSI 0
   position_not_available    latitude 91 / longitude 181 or out of range: the report is skipped
   velocity_not_available    SOG 102.3 kn or COG 360 deg: position used, target held (see above)
 Time is the caller's (receive time, sim or wall clock, seconds); AIS's own UTC second is unused.
+
+Multi-sentence messages (at most 9 parts, sequential message id 0-9 or empty, IEC 61162-1) are
+sent in consecutive slots of one transmission, so their parts arrive together: a message begun
+and not complete within FRAGMENT_TIMEOUT_S of its first part is dropped, and at most
+MAX_PENDING_FRAGMENTS are kept (the oldest dropped first); both count as 'fragment'. One
+receiver has at most 20 in flight (ids 0-9 on channels A and B), so the bound leaves room for
+several sources on one UDP port, while a sender of endless first parts cannot grow the store.
+A sequential message id outside 0-9 is 'malformed'.
 """
+from collections import OrderedDict
 import math
 from dataclasses import dataclass, field
 
@@ -57,6 +67,9 @@ BAD_REASONS = ('malformed', 'checksum', 'truncated', 'fragment', 'unknown_type',
 SOG_NOT_AVAILABLE = 102.3              # kn
 COG_NOT_AVAILABLE = 360.0              # deg
 HEADING_NOT_AVAILABLE = 511
+FRAGMENT_TIMEOUT_S = 5.0               # a multi-sentence message not complete by then is dropped
+MAX_PENDING_FRAGMENTS = 100            # multi-sentence messages in assembly at once
+SEQUENCE_IDS = range(10)               # IEC 61162-1 sequential message identifier
 
 
 @dataclass
@@ -118,8 +131,11 @@ def parse_replay(lines, rate_hz, offset_s=0.0):
     """Lines of an AIS replay file -> [(t, sentence)], in time order (stable).
 
     Format, one sentence a line: ``<t_s> <sentence>`` (t_s: seconds, a number) or the sentence
-    alone, timed at ``offset_s + i / rate_hz`` for the i-th such line (0, 1, ...). ``offset_s``
-    is added to the given times too. Blank lines and lines starting with ``#`` are skipped.
+    alone, timed at ``offset_s + i / rate_hz`` for the i-th such line (0, 1, ...), except that
+    a later part of a multi-sentence message (part number > 1) takes the time of the line
+    before it: the parts are one transmission, and a slow rate must not let them expire
+    (FRAGMENT_TIMEOUT_S). ``offset_s`` is added to the given times too. Blank lines and lines
+    starting with ``#`` are skipped.
     """
     if not rate_hz > 0.0:
         raise ValueError(f'rate_hz must be > 0, got {rate_hz}')
@@ -136,11 +152,19 @@ def parse_replay(lines, rate_hz, offset_s=0.0):
             t = None
         if t is not None and rest.strip() and math.isfinite(t):
             out.append((offset_s + t, rest.strip()))
+        elif plain and _later_part(line):
+            out.append((offset_s + (plain - 1) / rate_hz, line))
         else:
             out.append((offset_s + plain / rate_hz, line))
             plain += 1
     out.sort(key=lambda item: item[0])
     return out
+
+
+def _later_part(line):
+    """Whether an NMEA line is part 2 or later of a multi-sentence message (by its fields)."""
+    fields = line.split(',', 3)
+    return len(fields) == 4 and fields[2].isdigit() and int(fields[2]) > 1
 
 
 def _payload_type(payload):
@@ -170,7 +194,9 @@ class AisTracker:
         self.ignored = {}
         self.decoded = {}
         self.last_bad = None            # (reason, line) of the latest bad input, for warnings
-        self._parts = {}                # (talker, channel, seq id) -> [sentences so far]
+        # (talker, channel, seq id) -> (receive time of the first part, [sentences so far]),
+        # oldest first
+        self._parts = OrderedDict()
 
     # -- input -------------------------------------------------------------------------------
 
@@ -193,7 +219,7 @@ class AisTracker:
         if not sentence.payload:
             return self._reject('truncated', line)
         if sentence.frag_cnt > 1:
-            parts = self._collect(sentence, line)
+            parts = self._collect(sentence, line, float(t))
             if parts is None:
                 return None
             try:
@@ -202,23 +228,43 @@ class AisTracker:
                 return self._reject('malformed', line)
         return self._decode(sentence, line, float(t))
 
-    def _collect(self, sentence, line):
+    def _collect(self, sentence, line, t):
         """Buffer the parts of a multi-sentence message; the full list once the last arrives."""
+        if sentence.seq_id is not None and sentence.seq_id not in SEQUENCE_IDS:
+            return self._reject('malformed', line)
+        self.expire_fragments(t)
         key = (sentence.talker, sentence.channel, sentence.seq_id)
         n, k = sentence.frag_cnt, sentence.frag_num
         if k == 1:
-            if key in self._parts:                    # the previous message never finished
+            if self._parts.pop(key, None) is not None:   # the previous message never finished
                 self._reject('fragment', line)
-            self._parts[key] = [sentence]
+            while len(self._parts) >= MAX_PENDING_FRAGMENTS:
+                self._parts.popitem(last=False)
+                self.bad['fragment'] += 1
+            self._parts[key] = (t, [sentence])
         else:
             got = self._parts.get(key)
-            if got is None or len(got) != k - 1 or got[0].frag_cnt != n:
+            if got is None or len(got[1]) != k - 1 or got[1][0].frag_cnt != n:
                 self._parts.pop(key, None)
                 return self._reject('fragment', line)
-            got.append(sentence)
+            got[1].append(sentence)
         if k == n:
-            return self._parts.pop(key)
+            return self._parts.pop(key)[1]
         return None
+
+    def expire_fragments(self, t):
+        """Drop the multi-sentence messages begun more than FRAGMENT_TIMEOUT_S before ``t``
+        (each counted as 'fragment'); return how many."""
+        parts = self._parts
+        n = 0
+        while parts:
+            t0 = next(iter(parts.values()))[0]
+            if not t - t0 > FRAGMENT_TIMEOUT_S:
+                break
+            parts.popitem(last=False)
+            n += 1
+        self.bad['fragment'] += n
+        return n
 
     def _decode(self, sentence, line, t):
         payload = sentence.payload.decode('ascii', 'replace') if isinstance(
@@ -295,7 +341,9 @@ class AisTracker:
     # -- output ------------------------------------------------------------------------------
 
     def prune(self, t):
-        """Drop tracks without any report for more than stale_after_s; return their MMSIs."""
+        """Drop tracks without any report for more than stale_after_s (and expired fragments);
+        return the MMSIs dropped."""
+        self.expire_fragments(t)
         limit = self.stale_after_s
         gone = []
         for mmsi, tr in self.tracks.items():

@@ -5,8 +5,13 @@ Inputs (either or both):
   sentence alone at `file_rate_hz`), fed on the node's clock: with use_sim_time, a line is fed
   once sim time reaches `file_time_offset_s` + t_s (a scenario's sim time starts at 0); on the
   wall clock, times count from the node's start. Each sentence is fed with its own time.
+  The file must be a regular file of at most MAX_REPLAY_BYTES (ship_sim.text_files: a FIFO, a
+  device or a directory is refused in one line, exit code 2, before anything is read).
 - `udp_port` > 0: NMEA lines (one or more per datagram) on UDP `udp_address`:`udp_port`, the way
-  OpenCPN, AIS-catcher and gpsd relay live AIS; stamped with the node's clock on arrival.
+  OpenCPN, AIS-catcher and gpsd relay live AIS; stamped with the node's clock on arrival. One
+  poll reads at most UDP_MAX_DATAGRAMS and works at most UDP_POLL_BUDGET_S (wall time), so a
+  flood cannot starve the node's own publications: what a poll leaves waits in the socket's
+  buffer, and the kernel drops what overflows it.
 
 Every `publish_period_s` of the node's clock (or, with `publish_on_clock`, at every /clock
 message, stamped exactly with it) it publishes each live target (ship_guidance.ais:
@@ -15,7 +20,8 @@ dead-reckoned to now, dropped after `stale_after_s` without a report) as nav_msg
 child_frame_id `ais_<mmsi>`, orientation the true heading (else the COG), twist FLU from SOG
 and COG; with `per_target_topics` also on `targets/ais_<mmsi>/odom`. `ais_counts`
 (std_msgs/UInt64MultiArray, names in the layout's label) carries the counters. Bad input is
-counted by reason and warned about (throttled); it never stops the node.
+counted by reason and warned about (throttled); it never stops the node. Targets tracked and
+dropped are logged in one summary line each at most every LOG_PERIOD_S (wall time).
 
 Lockstep (`publish_on_clock`, as the launcher runs it): the targets of a step are followed by one
 `targets_sync` (std_msgs/UInt64MultiArray ``[stamp_ns, targets]``, labels in the layout): every
@@ -28,6 +34,7 @@ simulators only then, so neither the recorder nor a colav_node misses step 0.
 """
 import math
 import socket
+import time
 
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
@@ -41,10 +48,17 @@ from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import CLOCK_STEPS, STREAM
 from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
+from ship_sim.text_files import TextFileError, read_text_file
 
 COUNT_NAMES = ('decoded', 'ignored', 'pending_fragments', 'targets') + BAD_REASONS
 SYNC_NAMES = ('stamp_ns', 'targets')
 UDP_POLL_S = 0.02          # wall-clock period of the UDP poll
+UDP_MAX_DATAGRAMS = 500    # datagrams one poll reads at most ...
+UDP_POLL_BUDGET_S = 0.01   # ... and wall time it works at most (half the poll period)
+LOG_PERIOD_S = 5.0         # wall time between two summaries of targets tracked / dropped
+LOG_LISTED = 5             # MMSIs named in a summary line
+#: Largest replay file: about 1.3 million sentences, a day of a busy port's receiver.
+MAX_REPLAY_BYTES = 100_000_000
 NS_PER_S = 1_000_000_000
 
 
@@ -90,10 +104,10 @@ class AisNode(Node):
         self.replay = []
         if path:
             try:
-                with open(path, encoding='ascii', errors='replace') as f:
-                    self.replay = parse_replay(f, rate, offset)
-            except OSError as exc:
-                raise ParameterError('file', path, f'a readable file ({exc.strerror})') from None
+                text = read_text_file(path, MAX_REPLAY_BYTES, encoding='ascii', errors='replace')
+            except TextFileError as exc:
+                raise ParameterError('file', path, f'a readable regular file ({exc})') from None
+            self.replay = parse_replay(text.splitlines(), rate, offset)
         self.sock = None
         if port:
             try:
@@ -110,6 +124,8 @@ class AisNode(Node):
         self.next_line = 0
         self.n_bad = 0
         self.live = set()
+        self.news = {'tracked': [], 'dropped': []}   # MMSIs not logged yet
+        self.logged_at = None                        # monotonic time of the last summary
         self.pub = self.create_publisher(Odometry, 'targets', STREAM)
         self.pubs = {}
         self.pub_counts = self.create_publisher(UInt64MultiArray, 'ais_counts', STREAM)
@@ -125,9 +141,11 @@ class AisNode(Node):
             self.ready = ReadyWhenMatched(self, lambda: (self.pub, self.pub_sync), wait)
         else:
             self.create_timer(period, self._tick)
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
         if self.sock is not None:
-            self.create_timer(UDP_POLL_S, self._poll_udp,
-                              clock=Clock(clock_type=ClockType.STEADY_TIME))
+            self.create_timer(UDP_POLL_S, self._poll_udp, clock=steady)
+        # Summaries held back by the throttle come out even when the node's clock stops.
+        self.create_timer(1.0, self._log_news, clock=steady)
         self.get_logger().info(
             f'AIS: {len(self.replay)} replay lines'
             + (f', UDP {address}:{port}' if port else '')
@@ -147,7 +165,10 @@ class AisNode(Node):
 
     def _poll_udp(self):
         t = self._now() - self.t_base
-        while True:
+        deadline = time.monotonic() + UDP_POLL_BUDGET_S
+        for _ in range(UDP_MAX_DATAGRAMS):
+            if time.monotonic() > deadline:
+                return
             try:
                 data = self.sock.recv(65536)
             except (BlockingIOError, InterruptedError):
@@ -179,12 +200,10 @@ class AisNode(Node):
             self.next_line += 1
         targets = self.tracker.targets(t)
         live = {s.mmsi for s in targets}
-        for mmsi in sorted(self.live - live):
-            self.get_logger().info(f'AIS target {mmsi} dropped (no report for more than '
-                                   f'{self.tracker.stale_after_s:.0f} s)')
-        for mmsi in sorted(live - self.live):
-            self.get_logger().info(f'AIS target {mmsi} tracked')
+        self.news['dropped'] += sorted(self.live - live)
+        self.news['tracked'] += sorted(live - self.live)
         self.live = live
+        self._log_news()
         for s in targets:
             d = s.cog - s.psi
             msg = make_odometry(now, s.north, s.east, s.psi, s.sog * math.cos(d),
@@ -204,10 +223,39 @@ class AisNode(Node):
         self.pub_counts.publish(self.m_counts)
         return len(targets)
 
+    def _log_news(self):
+        """One line each for the targets tracked and dropped since the last, at most every
+        LOG_PERIOD_S: a flood of new targets must not flood the log."""
+        news = self.news
+        if not (news['tracked'] or news['dropped']):
+            return
+        now = time.monotonic()
+        if self.logged_at is not None and now - self.logged_at < LOG_PERIOD_S:
+            return
+        self.logged_at = now
+        if news['tracked']:
+            self.get_logger().info(f"{_listed(news['tracked'])} tracked")
+        if news['dropped']:
+            self.get_logger().info(f"{_listed(news['dropped'])} dropped (no report for more "
+                                   f'than {self.tracker.stale_after_s:.0f} s)')
+        self.news = {'tracked': [], 'dropped': []}
+
     def destroy_node(self):
         if self.sock is not None:
             self.sock.close()
         super().destroy_node()
+
+
+def _listed(mmsis):
+    """'AIS target 1' / 'AIS targets 1, 2 and 3' / 'AIS targets 1, ..., 5 and 995 more'."""
+    if len(mmsis) == 1:
+        return f'AIS target {mmsis[0]}'
+    head = ', '.join(str(m) for m in mmsis[:LOG_LISTED])
+    rest = len(mmsis) - LOG_LISTED
+    if rest <= 0:
+        head, _, last = head.rpartition(', ')
+        return f'AIS targets {head} and {last}'
+    return f'AIS targets {head} and {rest} more'
 
 
 def main(args=None):

@@ -7,7 +7,15 @@
   latest state with a stamp <= t, dead-reckoned in a straight line to t (``dead_reckon``), so
   a decision never sees a sample from the future, whatever order the messages arrived in.
   Lockstep targets (full vessels stepping with the own ship) must have a sample at or after t
-  before a decision at t is taken (``waiting_for``).
+  before a decision at t is taken (``waiting_for``). The table forgets a target once its newest
+  state is stale at a decision, and holds at most ``max_targets`` (DEFAULT_MAX_TARGETS): a
+  newcomer to a full table makes the farthest twentieth of it (EVICT_FRACTION, at least one;
+  lockstep targets never) from the own ship (``reference``) leave at once, the newcomer among
+  them if it is that far (counted in ``n_evicted``; one pass over the table per twentieth, not
+  per newcomer, keeps a flood of names cheap), so the decision's cost depends on the targets
+  around now, never on how many names were ever heard. A state that no ship can have is refused and
+  counted by reason (``refused``): a non-finite number, a position beyond MAX_COORDINATE_M or a
+  speed above MAX_SPEED_MPS (ship_sim.bounds).
 - ``SyncedSource``: a many-target topic whose publisher announces after each step how many
   targets it published at that stamp (ais_node's ``targets_sync``): complete up to a stamp once
   every announced message up to it has come, so a lockstep decision can wait for it.
@@ -17,8 +25,11 @@
   value itself (bit for bit) when the decision keeps the nominal course, else the nominal
   course plus the decided offset.
 - ``target_rows``: the documented per-target array of the ``colav_targets`` topic.
+- ``RefHold``: a non-finite nominal heading (heading_ref) is refused and counted; the last good
+  one is held in its place, the way autopilot_node holds its last heading_cmd.
 """
 import bisect
+import heapq
 import math
 from dataclasses import replace
 
@@ -27,6 +38,7 @@ import numpy as np
 from ship_guidance import colregs
 from ship_guidance.colav import ShipState, Target
 from ship_guidance.cpa import range_and_bearing
+from ship_sim.bounds import MAX_COORDINATE_M, MAX_SPEED_MPS
 from ship_sim.frames import psi_to_yaw, wrap_angle, yaw_to_psi
 
 NS_PER_S = 1_000_000_000
@@ -40,9 +52,21 @@ MODE_CODES = {'nominal': 0, 'stand-on': 1, 'avoid': 2, 'last-resort': 3}
 #: colav_node's own parameters (config/colav.yaml lists them beside the decision's).
 NODE_KEYS = frozenset({'method', 'decision_period_s', 'pairing', 'targets_topic', 'target_topics',
                        'target_stale_s', 'lockstep_target_timeout_s', 'targets_sync_topic',
-                       'chart_topic'})
+                       'chart_topic', 'max_targets'})
 DECISION_COLUMNS = ('t_s', 'mode', 'course_offset_rad', 'speed_multiplier', 'threat',
                     'n_targets')
+#: Targets a decision considers at most (colav_node's ``max_targets``): SB-MPC's cost grows
+#: with each target, and a decision must fit well within its period; far more than a crowded
+#: port shows within the few nautical miles that matter.
+DEFAULT_MAX_TARGETS = 200
+#: States kept per target at most (the oldest go first): a lockstep target may run this many
+#: steps ahead of the own ship (colav_node's queue depth for it), and a sender of ever newer
+#: stamps for one name cannot grow the table beyond it.
+MAX_SAMPLES_PER_TARGET = 20000
+#: Share of a full target table left out at once (the farthest; see the module docstring).
+EVICT_FRACTION = 0.05
+#: Reasons a target state is refused (TargetTracks.refused).
+REFUSED_REASONS = ('non_finite', 'out_of_range')
 
 
 def to_ns(t_s):
@@ -74,18 +98,71 @@ def dead_reckon(state, dt):
                    east=state.east + state.speed * math.sin(state.course) * dt)
 
 
-class TargetTracks:
-    """Targets by name: stamped states, the lockstep ones, silence and staleness."""
+def target_problem(state):
+    """None if a Target's numbers are those of a ship, else (reason, text): REFUSED_REASONS."""
+    values = (state.north, state.east, state.course, state.speed, state.heading)
+    if not all(v is None or math.isfinite(v) for v in values):
+        return 'non_finite', f'non-finite state (north, east, course, speed) = {values[:4]}'
+    if max(abs(state.north), abs(state.east)) > MAX_COORDINATE_M:
+        return 'out_of_range', (f'position ({state.north:.3g}, {state.east:.3g}) m beyond '
+                                f'{MAX_COORDINATE_M:.0e} m from the origin')
+    if state.speed > MAX_SPEED_MPS:
+        return 'out_of_range', f'speed {state.speed:.3g} m/s above {MAX_SPEED_MPS:g} m/s'
+    return None
 
-    def __init__(self, stale_after_s):
+
+class TargetTracks:
+    """Targets by name: stamped states, the lockstep ones, silence and staleness (bounded: see
+    the module docstring)."""
+
+    def __init__(self, stale_after_s, max_targets=DEFAULT_MAX_TARGETS):
+        if not (isinstance(max_targets, int) and max_targets >= 1):
+            raise ValueError(f'max_targets must be an integer >= 1, got {max_targets!r}')
         self.stale_ns = to_ns(stale_after_s)
+        self.max_targets = max_targets
         self._stamps = {}      # name -> sorted stamps (ns)
         self._states = {}      # name -> states in the same order
         self.lockstep = set()  # names that must be heard up to a decision's stamp
         self.last_heard = {}   # name -> monotonic wall time of the last message (node's clock)
+        self.reference = (0.0, 0.0)   # own ship (north, east): the farthest target goes first
+        self.refused = dict.fromkeys(REFUSED_REASONS, 0)
+        self.last_refused = None      # (name, text) of the latest refusal, for warnings
+        self.n_evicted = 0
+
+    def __len__(self):
+        return len(self._stamps)
+
+    def _distance(self, state):
+        return math.hypot(state.north - self.reference[0], state.east - self.reference[1])
+
+    def _make_room(self, state):
+        """Whether a new target at ``state`` gets a place: when the table is full, the farthest
+        EVICT_FRACTION of it and the newcomer (lockstep targets excepted) leave, at least one,
+        each counted in n_evicted; the newcomer stays if it is not among them."""
+        if len(self._stamps) < self.max_targets:
+            return True
+        k = max(1, int(self.max_targets * EVICT_FRACTION))
+        candidates = [(self._distance(states[-1]), name) for name, states in self._states.items()
+                      if name not in self.lockstep]
+        candidates.append((self._distance(state), None))
+        far = heapq.nlargest(k, candidates, key=lambda c: c[0])
+        self.n_evicted += len(far)
+        for _, name in far:
+            if name is not None:
+                self.forget(name)
+        return all(name is not None for _, name in far)
 
     def add(self, name, t_ns, state, wall=0.0, lockstep=False):
-        """Keep ``state`` (a Target) stamped ``t_ns``; a repeated stamp replaces the earlier."""
+        """Keep ``state`` (a Target) stamped ``t_ns``; a repeated stamp replaces the earlier.
+        Returns None if kept, else the reason (REFUSED_REASONS, counted in ``refused``, or
+        'evicted': no place for a new target farther than every kept one)."""
+        problem = target_problem(state)
+        if problem is not None:
+            self.refused[problem[0]] += 1
+            self.last_refused = (name, problem[1])
+            return problem[0]
+        if name not in self._stamps and not lockstep and not self._make_room(state):
+            return 'evicted'
         stamps = self._stamps.setdefault(name, [])
         states = self._states.setdefault(name, [])
         i = bisect.bisect_left(stamps, t_ns)
@@ -94,9 +171,12 @@ class TargetTracks:
         else:
             stamps.insert(i, t_ns)
             states.insert(i, state)
+            if len(stamps) > MAX_SAMPLES_PER_TARGET:
+                del stamps[0], states[0]
         self.last_heard[name] = wall
         if lockstep:
             self.lockstep.add(name)
+        return None
 
     def names(self):
         return sorted(self._stamps)
@@ -115,10 +195,14 @@ class TargetTracks:
     def at(self, t_ns):
         """Targets (sorted by name) at ``t_ns``: each one's latest state stamped <= t_ns,
         dead-reckoned to t_ns; a target whose latest such state is older than the staleness
-        limit, or that has none, is left out. Older states than the one used are forgotten."""
+        limit, or that has none, is left out. Older states than the one used are forgotten, and
+        so is a target whose newest state is stale (decisions go forward in time)."""
         out = []
         for name in self.names():
             stamps, states = self._stamps[name], self._states[name]
+            if t_ns - stamps[-1] > self.stale_ns:
+                self.forget(name)
+                continue
             i = bisect.bisect_right(stamps, t_ns) - 1
             if i < 0:
                 continue
@@ -217,6 +301,23 @@ def target_rows(own, targets, decision):
         rows += [a.tcpa_s, a.dcpa_m, float(colregs.SITUATIONS.index(a.situation)),
                  float(ROLE_CODES[a.role]), float(rng[i]), float(beta[i])]
     return rows
+
+
+class RefHold:
+    """The nominal heading to use: a finite ``heading_ref`` itself, else the last finite one
+    (None before any), the refusal counted in ``n_refused``."""
+
+    def __init__(self):
+        self.last = None
+        self.n_refused = 0
+
+    def update(self, ref):
+        """``ref`` if finite (and kept), else the last finite one (None if none yet)."""
+        if math.isfinite(ref):
+            self.last = ref
+            return ref
+        self.n_refused += 1
+        return self.last
 
 
 def decision_row(t_s, decision, n_targets):

@@ -31,7 +31,17 @@ dead-reckoned to t, and waits (the own odom is queued, lockstep holds the own si
 every `target_topics` target has a sample stamped >= t, so it does not depend on message
 timing. A lockstep target silent for `lockstep_target_timeout_s` of wall time is no longer
 waited for (warned; waited for again once it speaks); any target whose newest usable state is
-older than `target_stale_s` of sim time is left out.
+older than `target_stale_s` of sim time is left out, and forgotten.
+
+Bad input (counted, warned about with the count, throttled; the node keeps its state):
+- a target state no ship can have (non-finite, beyond 1e7 m from the origin, faster than
+  50 m/s: colav_io.target_problem, ship_sim.bounds) is refused; beyond `max_targets` live
+  targets the farthest from the own ship are left out (colav_io.TargetTracks);
+- a non-finite heading_ref: the last finite one is held in its place (before any, the own
+  heading) and decisions go on, as autopilot_node holds its last heading_cmd
+  (colav_io.RefHold); a non-finite own odom is answered with the held command, no decision;
+- a chart whose grid reaches beyond 1e7 m from the origin, or is not finite, is refused
+  (ship_guidance.land_mask) and the previous one kept.
 """
 import time
 
@@ -48,7 +58,7 @@ from ship_guidance.colav_params import ColavParams
 from ship_guidance.land_mask import LandMask
 from ship_guidance.own_ship_prediction import OwnShipModel
 from ship_guidance.ros.colav_markers import colav_markers
-from ship_sim.frames import yaw_to_psi
+from ship_sim.frames import psi_to_yaw, yaw_to_psi
 from ship_sim.pacing import SequencePairer
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
@@ -60,7 +70,7 @@ SHIP = OwnShipModel()
 # A lockstep target's queue: the target may publish many steps before the own ship starts or
 # once its gate has stopped waiting for the own ship (vessel_node's lockstep_follower_window),
 # and a decision may use any of them (the depth takes no part in QoS matching).
-LOCKSTEP_TARGET = stream_with_depth(20000)
+LOCKSTEP_TARGET = stream_with_depth(colav_io.MAX_SAMPLES_PER_TARGET)
 # (name, default, description, lo, hi, unit) of the scalar ColavParams / OwnShipModel keys.
 SCALARS = (
     ('d_safe_m', DEFAULTS.d_safe_m, 'safe passing distance r_min', 1.0, 1e5, 'm'),
@@ -139,6 +149,10 @@ class ColavRosNode(Node):
                                     read_only=True)
         stale = p.declare('target_stale_s', 30.0, 'a target state older than this (sim time) is '
                           'not used', lo=0.0, hi=1e5, unit='s', read_only=True)
+        max_targets = p.declare('max_targets', colav_io.DEFAULT_MAX_TARGETS, 'live targets '
+                                'considered at most; beyond, the farthest from the own ship are '
+                                'left out (bounds the cost of a decision)', lo=1, hi=100000,
+                                read_only=True)
         self.wait_timeout = p.declare('lockstep_target_timeout_s', 10.0, 'wall time a decision '
                                       'waits for a silent lockstep target before going on '
                                       'without it', lo=0.01, hi=1e4, unit='s', read_only=True)
@@ -165,7 +179,9 @@ class ColavRosNode(Node):
         self.colav = make_colav(method, params, ship)
         self.params = params
         self.schedule = colav_io.DecisionSchedule(period)
-        self.tracks = colav_io.TargetTracks(stale)
+        self.tracks = colav_io.TargetTracks(stale, max_targets)
+        self.ref_hold = colav_io.RefHold()
+        self.n_bad_charts = 0
         self.sync = colav_io.SyncedSource() if self.sync_topic and self.targets_topic else None
         self.lockstep_topics = topics
         self.pairer = SequencePairer()
@@ -217,16 +233,18 @@ class ColavRosNode(Node):
 
     def _on_chart(self, msg):
         info, q = msg.info, msg.info.origin.orientation
-        if (q.x, q.y, q.z) != (0.0, 0.0, 0.0):
-            self.get_logger().error('chart refused: a rotated grid origin is not supported')
-            return
         try:
-            self.colav.land = LandMask.from_occupancy(
+            if (q.x, q.y, q.z) != (0.0, 0.0, 0.0):
+                raise ValueError('a rotated grid origin is not supported')
+            land = LandMask.from_occupancy(
                 msg.data, info.width, info.height, info.resolution, info.origin.position.x,
                 info.origin.position.y, clearance_m=self.params.grounding_clearance_m)
         except ValueError as exc:
-            self.get_logger().error(f'chart refused: {exc}')
+            self.n_bad_charts += 1
+            self.get_logger().error(f'chart refused: {exc}; keeping the previous one '
+                                    f'({self.n_bad_charts} refused so far)')
             return
+        self.colav.land = land
         blocked = self.colav.land.blocked
         self.get_logger().info(
             f'chart {info.width} x {info.height} cells of {info.resolution:g} m: '
@@ -247,11 +265,19 @@ class ColavRosNode(Node):
 
     def _add_target(self, name, msg, lockstep):
         o = odometry_to_ned(msg)
-        if not all(map(_finite, o)):
-            return
         state = colav_io.target_state(name, o.north, o.east, o.psi, o.u, o.v)
-        self.tracks.add(name, _stamp_ns(msg), state, time.monotonic(), lockstep)
-        self.warned.discard(name)
+        tracks = self.tracks
+        why = tracks.add(name, _stamp_ns(msg), state, time.monotonic(), lockstep)
+        if why is None:
+            self.warned.discard(name)
+        elif why == 'evicted':
+            self.get_logger().warning(f'more than {tracks.max_targets} live targets: the '
+                                      f'farthest left out ({tracks.n_evicted} so far)',
+                                      throttle_duration_sec=5.0)
+        else:
+            refused = ', '.join(f'{k} {v}' for k, v in tracks.refused.items())
+            self.get_logger().warning(f'target {name} refused: {tracks.last_refused[1]} '
+                                      f'(refused so far: {refused})', throttle_duration_sec=5.0)
 
     def _on_odom(self, data):
         if self.pairing == 'latest':
@@ -287,10 +313,19 @@ class ColavRosNode(Node):
             self._answer(t_ns, o, ref)
 
     def _answer(self, t_ns, o, ref):
+        held = self.ref_hold.update(ref)
+        if not _finite(ref):
+            self.get_logger().warning(f'heading_ref {ref} refused (not finite): holding the '
+                                      f'previous one ({self.ref_hold.n_refused} so far)',
+                                      throttle_duration_sec=5.0)
+            if held is None:      # no finite heading_ref yet: hold the own heading
+                held = float(psi_to_yaw(o.psi)) if _finite(o.psi) else ref
+            ref = held
         if not (all(map(_finite, o)) and _finite(ref)):
-            # Refused input: answer with the nominal (pairing holds), no decision.
-            self._publish(ref if _finite(ref) else 0.0, None)
+            # Refused odometry: answer with the held command (pairing holds), no decision.
+            self._publish(ref, self.decision)
             return
+        self.tracks.reference = (o.north, o.east)
         if self.schedule.due(t_ns):
             self.schedule.decided(t_ns)
             own = colav_io.ship_state(o.north, o.east, o.psi, o.u, o.v, o.r)

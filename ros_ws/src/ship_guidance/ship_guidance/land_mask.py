@@ -6,10 +6,14 @@ nav_msgs/OccupancyGrid with an unrotated origin, whose rows run along the ENU y 
 A cell is blocked when it is land or its centre lies within ``clearance_m`` of a land cell's
 centre (scipy's exact Euclidean distance transform). ``hits`` looks points up, vectorised; a
 point off the grid is not blocked (the chart says nothing there). SB-MPC's grounding cost
-(ship_guidance.sbmpc) scores the predicted tracks with it.
+(ship_guidance.sbmpc) scores the predicted tracks with it. A grid whose origin is not finite
+or that reaches beyond MAX_COORDINATE_M from the map origin (ship_sim.bounds) is refused: such a
+chart is a fault, and a NaN origin would put every point off the grid (never blocked).
 """
 import numpy as np
 from scipy.ndimage import distance_transform_edt
+
+from ship_sim.bounds import MAX_COORDINATE_M
 
 
 class LandMask:
@@ -22,6 +26,12 @@ class LandMask:
         if not (np.isfinite(clearance_m) and clearance_m >= 0.0):
             raise ValueError(f'clearance_m must be >= 0 m, got {clearance_m}')
         self.origin = np.array([origin_north, origin_east], dtype=float)
+        far = np.abs(self.origin) + np.array(land.shape) * float(resolution)
+        if not far.max() <= MAX_COORDINATE_M:      # also NaN
+            raise ValueError(f'the grid (origin north, east {origin_north:.3g}, '
+                             f'{origin_east:.3g} m, {land.shape[0]} x {land.shape[1]} cells of '
+                             f'{resolution:.3g} m) reaches beyond {MAX_COORDINATE_M:.0e} m from '
+                             'the origin')
         self.resolution, self.clearance_m = float(resolution), float(clearance_m)
         if clearance_m > 0.0 and land.any():
             land = distance_transform_edt(~land, sampling=self.resolution) <= clearance_m

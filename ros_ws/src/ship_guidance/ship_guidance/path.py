@@ -37,16 +37,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ship_sim import bounds
 from ship_sim.frames import wrap_angle
 
 TWO_PI = 2.0 * math.pi
 HALF_PI = 0.5 * math.pi
 
 #: Largest coordinate (m, |north| and |east| from the map origin) a route or a vessel position
-#: may have: 1e7 m is the scale of the Earth (a UTM-sized map), beyond it a number is not a
-#: place but a fault (e.g. 1e308, whose differences overflow to inf and NaN). The nodes refuse
-#: routes and odometry beyond it (ship_guidance.ros.path_msgs, ship_guidance.ros.odom_gate).
-MAX_COORDINATE_M = 1e7
+#: may have (ship_sim.bounds, with the reason). The nodes refuse routes and odometry beyond it
+#: (ship_guidance.ros.path_msgs, ship_guidance.ros.odom_gate).
+MAX_COORDINATE_M = bounds.MAX_COORDINATE_M
 #: Longest route (m) a route file may describe or a curve generate (ship_guidance.curves).
 MAX_ROUTE_LENGTH_M = 1e6
 #: Most legs a route may have (= samples of a generated curve).

@@ -69,7 +69,7 @@ from ship_planner.yaml_route_reader import load_route_yaml
 from ship_sim.frames import enu_to_ned_xy
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED
-from ship_sim.ros.run import finish, run_node
+from ship_sim.ros.run import finish, run_node, stop_requested
 
 NAN = float('nan')
 POINTS_FRAMES = ('wgs84', 'enu')
@@ -215,8 +215,8 @@ class PlannerNode(Node):
 
     # ---- planning --------------------------------------------------------------------------------
     def _say(self, text):
-        # Called by the pure modules between steps: a Ctrl-C (the context shut down) ends here.
-        if not self.context.ok():
+        # Called by the pure modules between steps: a Ctrl-C or SIGTERM ends the planning here.
+        if stop_requested(self):
             raise ExternalShutdownException()
         self.get_logger().info(f'[{time.perf_counter() - self._t0:6.1f} s] {text}')
 

@@ -66,9 +66,9 @@ from ship_guidance import curves
 from ship_planner.fillets import (ArcSpec, FilletError, LineSpec, fillet_segments, rudder_turn_radius,
                                   segments_to_route)
 from ship_sim.geodetic import geodetic_to_ned
-from ship_planner.route_data import (RouteError, RoutePlan, TextFileError, check_point,
-                                     check_route_size, read_text_file)
+from ship_planner.route_data import RouteError, RoutePlan, check_point, check_route_size
 from ship_sim.frames import enu_to_ned_xy
+from ship_sim.text_files import TextFileError, read_text_file
 
 FRAMES = ('enu', 'wgs84')
 TOP_KEYS = ('name', 'source', 'description', 'frame', 'origin', 'fillet_radius_m', 'turn_rudder_deg',

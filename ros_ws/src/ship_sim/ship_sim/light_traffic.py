@@ -10,11 +10,16 @@ velocity, after the last one on its last leg's velocity (it keeps going, as a sh
 Frames: NED (north, east, course clockwise from north) like every pure module (ship_sim.frames);
 ``parse_targets`` reads the scenario / node parameter form, which is ENU (x east, y north)
 like the rest of a scenario, course clockwise from north like ``current.direction_deg``.
+
+Bounds (ship_sim.bounds): positions within MAX_COORDINATE_M of the origin and speeds (given, or
+of each leg between waypoints) at most MAX_SPEED_MPS; a target beyond them is refused.
 """
 import json
 import math
 
 import numpy as np
+
+from ship_sim.bounds import MAX_COORDINATE_M, MAX_SPEED_MPS
 
 
 class LightTraffic:
@@ -89,8 +94,9 @@ def constant_legs(north, east, course, speed, t0=0.0):
     course is kept as given, also at speed 0."""
     north, east, course, speed, t0 = _finite([north, east, course, speed, t0],
                                              'start, course, speed and time')
-    if speed < 0.0:
-        raise ValueError(f'speed must be >= 0, got {speed}')
+    if not 0.0 <= speed <= MAX_SPEED_MPS:
+        raise ValueError(f'speed must be in [0, {MAX_SPEED_MPS:g}] m/s, got {speed:g}')
+    _check_positions([[north, east]])
     v = speed * np.array([[math.cos(course), math.sin(course)]])
     wrapped = (course + math.pi) % (2.0 * math.pi) - math.pi
     return np.array([t0]), np.array([[north, east]]), v, np.array([wrapped])
@@ -107,9 +113,23 @@ def waypoint_legs(times, north, east):
         j = int(np.argmax(dt <= 0.0))
         raise ValueError(f'waypoint times must increase strictly: t[{j + 1}] = {t[j + 1]} '
                          f'after t[{j}] = {t[j]}')
+    _check_positions(p)
     v = np.diff(p, axis=0) / dt[:, None]
+    speed = np.hypot(v[:, 0], v[:, 1])
+    if not np.all(speed <= MAX_SPEED_MPS):
+        j = int(np.argmax(~(speed <= MAX_SPEED_MPS)))
+        raise ValueError(f'leg {j + 1} (waypoints {j} to {j + 1}) runs at {speed[j]:.3g} m/s; '
+                         f'at most {MAX_SPEED_MPS:g} m/s is physical')
     v = np.vstack([v, v[-1:]])   # after the last waypoint: the last leg's velocity
     return t, p, v
+
+
+def _check_positions(p):
+    far = np.max(np.abs(np.asarray(p, dtype=float)), axis=1)
+    if not np.all(far <= MAX_COORDINATE_M):
+        j = int(np.argmax(~(far <= MAX_COORDINATE_M)))
+        raise ValueError(f'position {j} is {far[j]:.6g} m from the origin; at most '
+                         f'{MAX_COORDINATE_M:.0e} m is physical')
 
 
 def make_traffic(targets):

@@ -222,7 +222,9 @@ def _value_from(exc):
     start = text.find('(')
     end = text.find(')')
     value = text[start + 1:end] if 0 <= start < end else text
-    try:
-        return float(value)  # rclpy refuses only numbers by range
-    except ValueError:
-        return value
+    for kind in (int, float):   # rclpy refuses only numbers by range: integers stay integers
+        try:
+            return kind(value)
+        except ValueError:
+            pass
+    return value

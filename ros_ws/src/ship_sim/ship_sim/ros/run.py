@@ -3,9 +3,14 @@
     def main(args=None):
         return run_node(MyNode, args=args)
 
-run_node initialises rclpy, builds the node, spins it, treats Ctrl-C / SIGTERM (rclpy's signal
-handler shuts the context down; KeyboardInterrupt, ExternalShutdownException) as a normal end,
-and always destroys the node and shuts rclpy down. Exit codes:
+run_node initialises rclpy, builds the node, spins it, treats Ctrl-C / SIGTERM as a normal end,
+and always destroys the node and shuts rclpy down. Signals: rclpy's own handlers are not
+installed (their shutdown of the context lands at any moment, also inside a callback under load,
+whose next publish then fails and the EventsExecutor logs a FATAL traceback). run_node's
+handlers only take note while the node spins, and the spin loop ends between two callbacks
+(at most SPIN_TIMEOUT_S later when idle); before that, while rclpy starts or the node is built,
+a signal ends the start at once (KeyboardInterrupt), the way the launcher handles its own.
+Exit codes:
 
 - 0: normal end (signal, or the node finished on its own, see ``finish``);
 - 2: invalid parameter at start: ONE line on stderr, ``<executable>: <message>``, where the
@@ -40,6 +45,11 @@ from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from .params import ParameterError, check_overrides
 
 EXECUTORS = ('events', 'single')
+#: Longest wait of one spin_once: bounds how long a stop signal waits for an idle node.
+SPIN_TIMEOUT_S = 0.1
+#: Names of the stop signals received (SIGINT, SIGTERM) while the node spins.
+_stop_signals = []
+_spinning = False
 
 
 def make_executor(kind=None, context=None):
@@ -59,6 +69,12 @@ def finish(node, code=0):
     node.context.try_shutdown()
 
 
+def stop_requested(node):
+    """Whether the node should end: a stop signal came (noted, see the module docstring) or its
+    context is shut down. A long callback (planner_node's planning) polls it to end early."""
+    return bool(_stop_signals) or not node.context.ok()
+
+
 def wait_for_acks(node, publishers, timeout_s=2.0):
     """Give reliable subscribers of ``publishers`` up to ``timeout_s`` each to acknowledge what
     was published, unless the context is shutting down (a signal that lands while we wait makes
@@ -66,7 +82,7 @@ def wait_for_acks(node, publishers, timeout_s=2.0):
     are skipped."""
     from rclpy.duration import Duration
     for pub in publishers:
-        if pub is None or not node.context.ok():
+        if pub is None or not node.context.ok() or _stop_signals:
             return
         try:
             pub.wait_for_all_acked(Duration(seconds=timeout_s))
@@ -77,29 +93,45 @@ def wait_for_acks(node, publishers, timeout_s=2.0):
 
 
 def spin(node, executor=None):
-    """Spin ``node`` until its context shuts down.
+    """Spin ``node`` until its context shuts down (``finish``) or a stop signal came.
 
     The Jazzy (7.1.6) EventsExecutor's own spin() never runs timers and does not release the
     GIL while it waits (tested: a 10 ms timer never fires, other threads stall), while its
-    spin_once() works, so we loop over spin_once. The timeout only bounds how long a wait may
-    last; shutdown (signal, ``finish``) wakes the executor at once.
+    spin_once() works, so we loop over spin_once. A stop signal is only noted by the handler
+    (see the module docstring) and seen here between two callbacks: no callback is cut short
+    and nothing publishes on a context that is gone.
     """
+    global _spinning
     ex = make_executor(executor, context=node.context)
     ex.add_node(node)
     ok = node.context.ok
     spin_once = ex.spin_once
-    while ok():
-        try:
-            spin_once(timeout_sec=1.0)
-        except RCLError:
-            # A shutdown (signal) that lands inside a callback invalidates the context under
-            # a publish; that is the normal end, anything else is a real error.
-            if ok():
-                raise
+    _spinning = True
+    try:
+        while ok() and not _stop_signals:
+            try:
+                spin_once(timeout_sec=SPIN_TIMEOUT_S)
+            except RCLError:
+                # ``finish`` from inside a callback shuts the context down under a later
+                # publish of the same callback: the normal end; anything else is a real error.
+                if ok():
+                    raise
+    finally:
+        _spinning = False
 
 
-def _ignore_signal(signum, frame):
-    pass
+def _on_stop_signal(signum, frame):
+    """SIGINT / SIGTERM: noted while spinning (``spin`` ends between callbacks); before that
+    (rclpy starting, the node being built, e.g. blocked opening a file) the start ends now."""
+    _stop_signals.append(signal.Signals(signum).name)
+    if not _spinning:
+        raise KeyboardInterrupt(_stop_signals[-1])
+
+
+def install_stop_handlers():
+    """run_node's SIGINT and SIGTERM handlers (module docstring); rclpy's are not installed."""
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, _on_stop_signal)
 
 
 #: rcl's source locations (``, at /project/src/rcl/arguments.c:352``) and empty reasons.
@@ -142,9 +174,10 @@ class _HeldStderr:
 def _init(args):
     """rclpy.init; rcl logs 'Failed to parse global arguments' before it raises, that line is
     dropped (the caller prints the one line)."""
+    from rclpy.signals import SignalHandlerOptions
     held = _HeldStderr()
     try:
-        rclpy.init(args=args)
+        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     except BaseException as exc:
         held.release(drop=isinstance(exc, (RCLError, UnknownROSArgsError)))
         raise
@@ -179,17 +212,16 @@ def _build(node_factory):
 def run_node(node_factory, *, args=None, executor=None):
     """Build the node with ``node_factory()``, spin it until shutdown; return the exit code."""
     prog = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else 'node'
-    # Ctrl-C: rclpy's signal handler (installed by init, chaining to this one) shuts the
-    # context down, which ends the spin loop. Without this no-op, Python would also raise
-    # KeyboardInterrupt in whatever callback runs at that moment, and the EventsExecutor
-    # reports that as a FATAL callback exception. Must be set before rclpy.init.
-    signal.signal(signal.SIGINT, _ignore_signal)
+    install_stop_handlers()
     try:
         _init(args)
     except (RCLError, UnknownROSArgsError) as exc:
         print(f'{prog}: invalid ROS arguments: {rcl_reason(exc)}', file=sys.stderr, flush=True)
         rclpy.try_shutdown()
         return 2
+    except KeyboardInterrupt:
+        rclpy.try_shutdown()
+        return 0
     node = None
     code = 0
     try:

@@ -119,10 +119,10 @@ def node_parameter_names(package, executable):
     for folder in (INSTALL / package / 'share' / package / 'config',
                    REPO / 'ros_ws' / 'src' / package / 'config'):
         if (folder / name).is_file():
-            from ship_planner.yaml_route_reader import Loader
-            text = (folder / name).read_text()
+            from ship_sim.safe_load import load_yaml, read_regular_file
+            text = read_regular_file(folder / name)
             names = set(RCLPY_PARAMETERS)
-            for section in (yaml.load(text, Loader=Loader) or {}).values():
+            for section in (load_yaml(text, folder / name) or {}).values():
                 names |= set((section or {}).get('ros__parameters') or {})
             for line in text.splitlines():
                 if line.lstrip().startswith('#'):

@@ -53,8 +53,9 @@ Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes 
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
 the graph together (model, start pose, stepping mode, pairing, rates). The launcher's check
 (mission.launcher.check_scenario) refuses keys a node does not declare, naming the closest one.
-Errors name the file and the key. The file must be a regular UTF-8 file; numbers may be written
-``1e9`` (read as YAML 1.2 does, ship_planner.yaml_route_reader.Loader, as route files are).
+Errors name the file and the key. The file is read by ship_sim.safe_load (the bounded reader of
+every input file): a regular UTF-8 file, bounded in size, nesting, aliases and number length,
+no key given twice; numbers may be written ``1e9`` (read as YAML 1.2 does).
 
 Collision avoidance: a vessel with a `colav` block runs colav_node in its namespace; guidance's
 heading_cmd is remapped to heading_ref (colav_node's nominal input) and colav_node publishes the
@@ -82,16 +83,13 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import yaml
-
 from mission.fields import ScenarioError, need, number, unknown
 from mission.platoon import parse_platoon
 from mission.vessel_spec import parse_vessel
 from mission.wind_block import check_wind, check_wind_model
 
-from ship_planner.route_data import TextFileError, read_text_file
-from ship_planner.yaml_route_reader import Loader
 from ship_sim.frames import psi_to_yaw
+from ship_sim.safe_load import InputError, load_yaml_file
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais',
@@ -150,12 +148,9 @@ def load_scenario(path):
     """Read and check a scenario file; ScenarioError names the file and the offending key."""
     path = Path(path)
     try:
-        data = yaml.load(read_text_file(path), Loader=Loader)
-    except TextFileError as exc:
-        where = f'{path}:{exc.line}' if exc.line else f'{path}'
-        raise ScenarioError(f'{where}: cannot read: {exc.detail}') from None
-    except yaml.YAMLError as exc:
-        raise ScenarioError(f'{path}: not valid YAML: ' + ' '.join(str(exc).split())) from None
+        data = load_yaml_file(path)
+    except InputError as exc:
+        raise ScenarioError(str(exc)) from None
     need(isinstance(data, dict), path, '(top)', 'must be a mapping')
     unknown(data, TOP_KEYS, path, '')
     check_name(data.get('name'), path)

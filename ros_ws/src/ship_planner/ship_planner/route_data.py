@@ -15,10 +15,8 @@ Bounds every route reader applies (one place; a route beyond them is refused wit
   the machine;
 - MAX_FILE_BYTES (10 MB): route files are read only if they are regular files (a FIFO, a
   directory or a device is refused before it is read, so nothing blocks) of at most that size,
-  and only as UTF-8 text (read_text_file).
+  and only as UTF-8 text (ship_sim.safe_load.read_regular_file, the reader of every input file).
 """
-import os
-import stat
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
@@ -26,13 +24,8 @@ import numpy as np
 
 # One set of bounds for route files, generated curves and Path messages.
 from ship_guidance.path import MAX_COORDINATE_M, MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES
-
-#: Largest input file (bytes) read as a route or scenario file.
-MAX_FILE_BYTES = 10_000_000
-
-_FILE_KINDS = ((stat.S_ISDIR, 'a directory'), (stat.S_ISFIFO, 'a FIFO (named pipe)'),
-               (stat.S_ISSOCK, 'a socket'), (stat.S_ISCHR, 'a character device'),
-               (stat.S_ISBLK, 'a block device'))
+# Files are read by the project's one bounded reader (names kept for the route readers).
+from ship_sim.safe_load import MAX_FILE_BYTES, TextFileError, read_text_file  # noqa: F401
 
 
 class RouteError(ValueError):
@@ -59,50 +52,6 @@ class RouteError(ValueError):
         elif self.line is not None:
             where += f':{self.line}'
         return f'{where}: {self.detail}'
-
-
-class TextFileError(ValueError):
-    """A file that cannot be read as text (read_text_file); ``detail`` and ``line`` (or None)."""
-
-    def __init__(self, detail, line=None):
-        self.detail = detail
-        self.line = line
-        super().__init__(detail if line is None else f'line {line}: {detail}')
-
-
-def _check_regular(mode):
-    if not stat.S_ISREG(mode):
-        kind = next((k for test, k in _FILE_KINDS if test(mode)), 'not a regular file')
-        raise TextFileError(f'it is {kind}, not a regular file')
-
-
-def read_text_file(path, max_bytes=MAX_FILE_BYTES):
-    """The UTF-8 text of the regular file ``path``; TextFileError (one line) otherwise.
-
-    The file is opened without blocking and checked on the open descriptor, so a FIFO, a
-    directory or a device is refused without waiting for a writer; a file over ``max_bytes``
-    or with bytes that are not UTF-8 (line and byte offset given) is refused too."""
-    try:
-        _check_regular(os.stat(path).st_mode)     # before opening: opening a device may act
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, 'O_CLOEXEC', 0))
-    except OSError as exc:
-        raise TextFileError(exc.strerror) from None
-    try:
-        _check_regular(os.fstat(fd).st_mode)      # and what was opened (it may have been swapped)
-        with os.fdopen(fd, 'rb', closefd=False) as f:
-            data = f.read(max_bytes + 1)
-    except OSError as exc:
-        raise TextFileError(exc.strerror) from None
-    finally:
-        os.close(fd)
-    if len(data) > max_bytes:
-        raise TextFileError(f'it is larger than {max_bytes} bytes')
-    try:
-        return data.decode('utf-8')
-    except UnicodeDecodeError as exc:
-        line = data.count(b'\n', 0, exc.start) + 1
-        raise TextFileError(f'not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start})',
-                            line=line) from None
 
 
 def check_point(north, east, what):

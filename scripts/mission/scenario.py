@@ -105,6 +105,8 @@ STEPPING = ('lockstep', 'realtime')
 #: bound (ros_ws/src/ship_sim/ship_sim/vessel_node.py, 10**12), so the launcher's check refuses
 #: what the node would refuse after the graph has started.
 MAX_STEPS = 10**12
+#: Shortest run (duration_s, s): a run shorter than one control period or so records nothing.
+MIN_DURATION_S = 0.1
 
 
 @dataclass
@@ -187,7 +189,7 @@ def load_scenario(path):
     return Scenario(
         file=path, name=data['name'], source=str(data.get('source', '')),
         description=str(data.get('description', '')),
-        duration_s=number(data, 'duration_s', path, 1000.0, lo=0.1),
+        duration_s=number(data, 'duration_s', path, 1000.0, lo=MIN_DURATION_S),
         stepping=stepping, speedup=number(data, 'speedup', path, 1.0, lo=0.01, hi=1e4),
         dt_s=number(data, 'dt_s', path, 0.1, lo=1e-3, hi=10.0),
         settle_s=number(data, 'settle_s', path, 0.0, lo=0.0),

@@ -54,12 +54,12 @@ from datetime import datetime
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from mission.domain import DomainLease
 from mission.launcher import MissionFailed, run_scenario
 from mission.processes import REPO
 from mission.scenario import ScenarioError, load_scenario
+from ship_sim.safe_load import load_json_file, load_yaml_file
 
 SCENARIO_DIR = REPO / 'scenarios'
 DEFAULT_GLOBS = ('*_003.yaml', '*_004.yaml', '*_000.yaml')
@@ -300,7 +300,7 @@ def analyse_run(scenario, run, make_pngs=True):
 
 def reanalyse(batch):
     """Recompute the metrics of every run of an earlier batch (its results.json) from the bags."""
-    old = json.loads((batch / 'results.json').read_text())
+    old = load_json_file(batch / 'results.json')
     results = []
     for r in old['runs']:
         if r.get('run_dir') and (Path(r['run_dir']) / 'bag').exists():
@@ -357,7 +357,7 @@ def run_one(path, batch_dir, quick, wall_timeout_s, verbose, domain_id, retries=
                                   progress=progress, wall_timeout_s=wall_timeout_s,
                                   domain_id=domain_id)
             result['run_dir'] = str(run)
-            summary = yaml.safe_load((run / 'run.json').read_text())  # the launcher writes YAML
+            summary = load_yaml_file(run / 'run.json')  # the launcher writes YAML
             result['outcome'] = summary['outcome']
             result['run'] = summary
             result['metrics'] = analyse_run(scenario, run)

@@ -100,9 +100,9 @@ def flagship_run(variant, duration=1250.0):
     from ship_sim.current import OceanCurrent
     from ship_sim.environment.sea_state import superpose
     from mission.waves import wave_filter_parameters, wave_parameters
-    import yaml
     scenario = Path(__file__).resolve().parents[1] / 'scenarios' / 'flagship_mariner_waves.yaml'
-    spec = yaml.safe_load(scenario.read_text())['vessels']['vessel_0']
+    from ship_sim.safe_load import load_yaml_file
+    spec = load_yaml_file(scenario)['vessels']['vessel_0']
     g, a = spec['guidance'], spec['autopilot']
     route = load_route(scenario.parent / spec['route']).route
     wp = wave_parameters(spec['waves'], str(scenario), 'waves.')

@@ -32,13 +32,14 @@ import yaml
 from mission import conditions
 from mission.launcher import MissionFailed, check_scenario, run_scenario
 from mission.scenario import ScenarioError, load_scenario
+from ship_sim.safe_load import load_yaml_file
 
 REPO = Path(__file__).resolve().parents[1]
 
 
 def variant(source, speed, args, folder):
     """Copy of the scenario file with the wind block and absolute routes; returns its path."""
-    data = yaml.safe_load(source.read_text())
+    data = load_yaml_file(source)
     if speed > 0.0:
         data['wind'] = {'speed_mps': speed, 'direction_deg': args.direction_deg,
                         'gust_sd_mps': round(args.gust_fraction * speed, 6),
@@ -59,7 +60,7 @@ def condition_variant(source, name, folder, start_timeout=None):
     """Copy of the scenario file in condition ``name`` (mission.conditions), absolute routes;
     ``start_timeout`` (s): every simulator's lockstep_start_timeout (a loaded machine)."""
     from ship_planner.route_loader import load_route
-    data = yaml.safe_load(source.read_text())
+    data = load_yaml_file(source)
     platoon = data.get('platoon') if isinstance(data.get('platoon'), dict) else None
     for section in ('vessels', 'traffic'):
         for entry in (data.get(section) or {}).values():

@@ -11,10 +11,11 @@ Frames: NED (north, east, course clockwise from north) like every pure module (s
 ``parse_targets`` reads the scenario / node parameter form, which is ENU (x east, y north)
 like the rest of a scenario, course clockwise from north like ``current.direction_deg``.
 """
-import json
 import math
 
 import numpy as np
+
+from ship_sim.safe_load import InputError, load_json
 
 
 class LightTraffic:
@@ -165,7 +166,7 @@ def parse_targets(text):
     at t = 0) or ``{name, waypoints: [[t_s, x_m, y_m], ...]}`` (ENU, times strictly
     increasing). Raises ValueError naming the target and the problem."""
     try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ValueError(f'light targets: not valid JSON: {exc}') from None
+        data = load_json(text)       # bounded: nesting, number length, keys given twice
+    except InputError as exc:
+        raise ValueError(f'light targets: {exc}') from None
     return make_traffic(data)

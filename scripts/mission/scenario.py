@@ -89,7 +89,7 @@ from mission.vessel_spec import parse_vessel
 from mission.wind_block import check_wind, check_wind_model
 
 from ship_sim.frames import psi_to_yaw
-from ship_sim.safe_load import InputError, load_yaml_file
+from ship_sim.safe_load import InputError, load_yaml_file, ros_name_problem
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais',
@@ -255,8 +255,7 @@ def _parse_light(entries, path):
     out = []
     for ns, v in entries.items():
         where = f'traffic.{ns}'
-        need(isinstance(ns, str) and ns.isidentifier(), path, where,
-              'namespace must be a plain name like target_1')
+        need(not ros_name_problem(ns), path, where, f'namespace {ros_name_problem(ns)}')
         unknown(v, {'light'}, path, where + '.')
         light = v['light']
         need(isinstance(light, dict), path, where + '.light', 'a mapping')
@@ -277,8 +276,7 @@ def _parse_vessels(vessels, section, keys, path, traffic=False):
     specs = []
     for ns, v in vessels.items():
         where = f'{section}.{ns}.'
-        need(isinstance(ns, str) and ns.isidentifier(), path, f'{section}.{ns}',
-              'namespace must be a plain name like vessel_0')
+        need(not ros_name_problem(ns), path, f'{section}.{ns}', f'namespace {ros_name_problem(ns)}')
         need(isinstance(v, dict), path, where[:-1], 'must be a mapping')
         unknown(v, keys, path, where)
         need(isinstance(v.get('model'), str), path, where + 'model', 'a model name')

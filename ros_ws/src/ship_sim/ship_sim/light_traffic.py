@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from ship_sim.safe_load import InputError, load_json
+from ship_sim.safe_load import InputError, load_json, ros_name_problem
 
 
 class LightTraffic:
@@ -123,8 +123,9 @@ def make_traffic(targets):
         if not isinstance(d, dict):
             raise ValueError(f'{where}: a mapping, got {d!r}')
         name = d.get('name')
-        if not (isinstance(name, str) and name.isidentifier()):
-            raise ValueError(f'{where}: name must be a plain name like target_1, got {name!r}')
+        bad = ros_name_problem(name)       # the name makes the topic /<name>/odom
+        if bad:
+            raise ValueError(f'{where}: name {bad}')
         where = f'light target {name}'
         keys = set(d) - {'name'}
         const = {'x_m', 'y_m', 'course_deg', 'speed_mps'}

@@ -18,6 +18,11 @@ full memory or a traceback:
 - duplicate keys: a mapping that gives a key twice is refused, naming the key and both lines
   (YAML would keep the last silently; JSON likewise).
 
+Names that become part of ROS names (vessel namespaces, light-target names) are checked as ROS
+checks a topic name token (``ros_name_problem``): ASCII letters, digits and underscores, not
+starting with a digit. ``str.isidentifier`` is not that test: it accepts letters of every
+alphabet, which ROS then refuses as an "invalid topic name" after the graph has started.
+
 YAML numbers: YAML 1.1 (PyYAML) reads ``1e9`` (no dot) as text; ``Loader`` reads it as the
 number YAML 1.2 and every other reader would see.
 
@@ -61,6 +66,19 @@ class InputError(ValueError):
 
 #: The name the route readers and the launcher have used for file errors.
 TextFileError = InputError
+
+_ROS_NAME = re.compile(r'[A-Za-z_][A-Za-z0-9_]*')
+
+
+def ros_name_problem(name):
+    """None if ``name`` can be one token of a ROS name (a namespace, a topic's first part),
+    else the one-line text of what is wrong with it."""
+    if not isinstance(name, str):
+        return f'a name must be text, got {name!r}'
+    if not _ROS_NAME.fullmatch(name):
+        return (f'{name!r} is not a ROS name: ASCII letters, digits and underscores only, not '
+                'starting with a digit (like target_1)')
+    return None
 
 
 # -- files -----------------------------------------------------------------------------------------

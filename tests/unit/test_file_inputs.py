@@ -709,3 +709,20 @@ def test_cli_number_and_input_refusals_are_one_line(tmp_path, script, args, need
     rc, lines = _cli(script, *args)
     assert rc == 2 and len(lines) == 1 and needle in lines[0], lines
     assert not out.exists() and not (tmp_path / 'runs').exists()
+
+
+@pytest.mark.timeout(20)
+def test_chart_files_that_are_not_regular_or_too_large_are_refused_before_reading(tmp_path):
+    from PIL import Image
+
+    from ship_planner.chart import ChartError, image_chart
+    fifo = tmp_path / 'chart.png'
+    os.mkfifo(fifo)
+    with pytest.raises(ChartError, match='FIFO') as exc:
+        image_chart(fifo, 10.0)           # PIL would wait for a writer
+    _one_line(exc.value)
+    big = tmp_path / 'big.png'
+    Image.new('1', (4000, 3000), 1).save(big)     # a few kB on disk, 12 million cells
+    with pytest.raises(ChartError, match='4000 = 12,000,000 cells'):
+        image_chart(big, 10.0, max_cells=1_000_000)
+    assert image_chart(big, 10.0, max_cells=12_000_000).water.all()

@@ -23,13 +23,15 @@ class OneLineParser(argparse.ArgumentParser):
 
 
 def _bounds_text(lo, hi, above):
+    def fmt(v):
+        return str(v) if isinstance(v, int) else f'{v:g}'
     parts = []
     if above is not None:
-        parts.append(f'> {above:g}')
+        parts.append(f'> {fmt(above)}')
     elif lo is not None:
-        parts.append(f'>= {lo:g}')
+        parts.append(f'>= {fmt(lo)}')
     if hi is not None:
-        parts.append(f'<= {hi:g}')
+        parts.append(f'<= {fmt(hi)}')
     return ' and '.join(parts)
 
 

@@ -40,8 +40,10 @@ import yaml
 MAX_FILE_BYTES = 10_000_000
 #: Deepest nesting of lists and mappings.
 MAX_DEPTH = 64
-#: Most values (scalars, lists, mappings) in one document, counted after alias expansion.
-MAX_NODES = 1_000_000
+#: Most values (scalars, lists, mappings) in one document, counted after alias expansion: a
+#: thousand times the largest shipped file, and small enough that PyYAML's pure-Python parser
+#: (which the checks need) gets through the worst case in seconds, not minutes.
+MAX_NODES = 200_000
 #: Longest number literal (characters).
 MAX_NUMBER_CHARS = 100
 
@@ -156,15 +158,33 @@ def _read(path, max_bytes):
 _NUMBER_TAGS = ('tag:yaml.org,2002:int', 'tag:yaml.org,2002:float')
 _MERGE_TAG = 'tag:yaml.org,2002:merge'
 
+try:        # libyaml's scanner and parser: the same events, a few times faster
+    from yaml._yaml import CParser as _Parser
+except ImportError:                                        # pragma: no cover (a pure PyYAML)
+    from yaml.reader import Reader
+    from yaml.scanner import Scanner
+    from yaml.parser import Parser
 
-class Loader(yaml.SafeLoader):
-    """yaml.SafeLoader within the bounds of the module docstring (depth, values after alias
-    expansion, number length, duplicate keys), checked while the document is composed, and
-    reading exponent numbers without a dot (``1e9``, ``-2E-3``) as floats, as YAML 1.2 does.
-    A refusal raises InputError with the line (``file`` unset)."""
+    class _Parser(Reader, Scanner, Parser):
+        def __init__(self, stream):
+            Reader.__init__(self, stream)
+            Scanner.__init__(self)
+            Parser.__init__(self)
+
+
+class Loader(yaml.composer.Composer, _Parser, yaml.constructor.SafeConstructor,
+             yaml.resolver.Resolver):
+    """yaml.SafeLoader's rules within the bounds of the module docstring (depth, values after
+    alias expansion, number length, duplicate keys), checked while the document is composed (in
+    Python: the composer is where the checks live; libyaml parses the events), and reading
+    exponent numbers without a dot (``1e9``, ``-2E-3``) as floats, as YAML 1.2 does. A refusal
+    raises InputError with the line (``file`` unset)."""
 
     def __init__(self, stream):
-        super().__init__(stream)
+        _Parser.__init__(self, stream)
+        yaml.composer.Composer.__init__(self)
+        yaml.constructor.SafeConstructor.__init__(self)
+        yaml.resolver.Resolver.__init__(self)
         self._depth = 0          # nesting of the node being composed
         self._deepest = 0        # deepest level reached so far (aliases expanded)
         self._count = 0          # values so far (aliases expanded)
@@ -249,7 +269,7 @@ def compose_yaml(text, file=None):
     except yaml.YAMLError as exc:
         raise _yaml_error(exc, file) from None
     finally:
-        loader.dispose()
+        _dispose(loader)
 
 
 def load_yaml(text, file=None):
@@ -265,7 +285,13 @@ def load_yaml(text, file=None):
     except (ValueError, OverflowError) as exc:   # a constructor's own refusal (e.g. a date)
         raise InputError(f'not valid YAML: {exc}', file=file) from None
     finally:
-        loader.dispose()
+        _dispose(loader)
+
+
+def _dispose(loader):
+    dispose = getattr(loader, 'dispose', None)
+    if dispose is not None:
+        dispose()
 
 
 def load_yaml_file(path, max_bytes=MAX_FILE_BYTES):

@@ -42,7 +42,6 @@ when a run it needs is missing or failed.
 Units in the table: metres, degrees, seconds; reward = mission.metrics cumulative Gaussian reward
 (Martinsen and Lekkas 2018 eq. 8, sigma 10 m, sampled every 0.1 s, whole run).
 """
-import argparse
 import fnmatch
 import glob
 import json
@@ -55,6 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mission.cli_args import OneLineParser, integer, number
 from mission.domain import DomainLease
 from mission.launcher import MissionFailed, run_scenario
 from mission.processes import REPO
@@ -695,7 +695,7 @@ def markdown(results, claims, header):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap = OneLineParser(description=__doc__.split('\n')[0])
     ap.add_argument('scenarios', nargs='*', help='scenario files or globs (default: the seed '
                     'scenarios, scenarios/*_00{0,3,4}.yaml)')
     ap.add_argument('--only', action='append', default=[], metavar='PATTERN',
@@ -704,11 +704,11 @@ def main(argv=None):
     ap.add_argument('--quick', action='store_true', help=f'durations x{QUICK_FACTOR} '
                     f'(at least {QUICK_MIN_DURATION_S:.0f} s) for development; claims may fail')
     ap.add_argument('--runs', default=str(REPO / 'runs'), help='parent folder of the batch folder')
-    ap.add_argument('--wall-timeout', type=float, default=600.0,
+    ap.add_argument('--wall-timeout', type=number(above=0.0), default=600.0,
                     help='fail a run after this many wall seconds (default 600)')
-    ap.add_argument('--domain-id', type=int, default=None, help='ROS_DOMAIN_ID for every run '
+    ap.add_argument('--domain-id', type=integer(0, 232), default=None, help='ROS_DOMAIN_ID for every run '
                     '(default: a leased one on which no other node is seen)')
-    ap.add_argument('--retries', type=int, default=1, help='run a scenario again when its bag '
+    ap.add_argument('--retries', type=integer(0, 10), default=1, help='run a scenario again when its bag '
                     'came out incomplete, at most this many times (default 1)')
     ap.add_argument('--verbose', action='store_true', help='show the launchers\' progress lines')
     ap.add_argument('--list', action='store_true', help='list the scenarios and exit')

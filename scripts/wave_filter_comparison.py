@@ -29,7 +29,6 @@ PD given the plant's own heading and yaw rate: no wave motion and no lag). And t
 margin on the identified Nomoto model, without and with the filter at the encounter
 frequencies of the route's legs. Writes <out>/wave_filter_flagship.json.
 """
-import argparse
 import json
 import math
 import sys
@@ -217,10 +216,11 @@ def plot(results, out):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    from mission.cli_args import OneLineParser, number
+    ap = OneLineParser(description=__doc__.split('\n')[0])
     ap.add_argument('--quick', action='store_true', help='1200 s runs, the Mariner only')
     ap.add_argument('--models', nargs='+', default=['mariner', 'container', 'tanker'])
-    ap.add_argument('--duration', type=float, default=3600.0, help='s per run')
+    ap.add_argument('--duration', type=number(above=0.0, hi=1e6), default=3600.0, help='s per run')
     ap.add_argument('--out', type=Path, default=Path('runs/wave_filter'))
     ap.add_argument('--flagship', action='store_true',
                     help="the graph flagship's filter result taken apart (module docstring)")

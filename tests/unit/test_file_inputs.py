@@ -726,3 +726,20 @@ def test_chart_files_that_are_not_regular_or_too_large_are_refused_before_readin
     with pytest.raises(ChartError, match='4000 = 12,000,000 cells'):
         image_chart(big, 10.0, max_cells=1_000_000)
     assert image_chart(big, 10.0, max_cells=12_000_000).water.all()
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize('script, args', [
+    ('evaluate_controllers.py', ['--duration', 'nan']),
+    ('evaluate_controllers.py', ['--jobs', '100000']),
+    ('wave_filter_comparison.py', ['--duration', '-1']),
+    ('replay_bag.py', ['{out}', '--settle', 'inf']),
+    ('run_seed_scenarios.py', ['--wall-timeout', 'nan']),
+    ('wind_study.py', ['--speeds', '1e9']),
+])
+def test_other_tools_refuse_bad_numbers_in_one_line(tmp_path, script, args):
+    out = tmp_path / 'out'
+    option = next(a for a in args if a.startswith('--'))
+    rc, lines = _cli(script, *[a.replace('{out}', str(out)) for a in args])
+    assert rc == 2 and len(lines) == 1 and f'argument {option}:' in lines[0], lines
+    assert list(tmp_path.iterdir()) == []

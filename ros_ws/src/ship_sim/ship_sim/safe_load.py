@@ -41,8 +41,8 @@ MAX_FILE_BYTES = 10_000_000
 #: Deepest nesting of lists and mappings.
 MAX_DEPTH = 64
 #: Most values (scalars, lists, mappings) in one document, counted after alias expansion: a
-#: thousand times the largest shipped file, and small enough that PyYAML's pure-Python parser
-#: (which the checks need) gets through the worst case in seconds, not minutes.
+#: thousand times the largest shipped file, and small enough that the composer (Python, where
+#: the checks are) gets through the worst case in seconds, not minutes.
 MAX_NODES = 200_000
 #: Longest number literal (characters).
 MAX_NUMBER_CHARS = 100

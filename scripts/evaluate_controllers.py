@@ -58,9 +58,9 @@ over the last 500 s (settled), rudder activity = mean |d delta / dt| of the actu
 samples with the rudder at its limit. Output: <out>.json, <out>.md (also printed) and <out>.html (the same tables,
 mission.html_report).
 """
-import argparse
 import json
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -480,15 +480,17 @@ def html_page(path, results, models, controllers, duration, n_starts):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    from mission.cli_args import OneLineParser, integer, number
+    p = OneLineParser(description=__doc__.split('\n')[0])
     p.add_argument('--quick', action='store_true',
                    help='1 start state, 300 s episodes (a smoke run for make bench)')
     p.add_argument('--models', default=','.join(MODELS))
     p.add_argument('--controllers', default=','.join(CONTROLLERS))
-    p.add_argument('--starts', type=int, default=5)
-    p.add_argument('--duration', type=float, default=1000.0)
+    p.add_argument('--starts', type=integer(1, 10_000), default=5)
+    p.add_argument('--duration', type=number(above=0.0, hi=1e6), default=1000.0)
     p.add_argument('--out', default=str(ROOT / 'runs' / 'eval' / 'controllers'))
-    p.add_argument('--jobs', type=int, default=1, help='parallel processes (default 1)')
+    p.add_argument('--jobs', type=integer(1, max(2, os.cpu_count() or 1)), default=1,
+                   help='parallel processes (default 1, at most the cores)')
     p.add_argument('--policy', default=None, metavar='PATH',
                    help="policy files instead of the shipped ones, '{model}' in the path is "
                         "replaced by the ship, e.g. runs/rl/{model}_scratch/policy.npz")

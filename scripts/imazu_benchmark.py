@@ -31,8 +31,15 @@ from pathlib import Path
 
 from imazu.cases import SINGLE, load_cases
 from imazu.runner import DURATION_S, METHODS, SHIPS, case_scenario, write_scenario
+from mission.cli_args import OneLineParser, integer, number, out_folder
+from mission.scenario import MIN_DURATION_S
 
 ROOT = Path(__file__).resolve().parent.parent
+
+#: Most worker processes: each run is one CPU's work, more processes than cores only contend.
+MAX_JOBS = max(2, os.cpu_count() or 1)
+#: Longest run (sim s): an Imazu encounter is over within DURATION_S; a day is beyond any use.
+MAX_DURATION_S = 86400.0
 
 
 def _ints(text):
@@ -50,16 +57,18 @@ def _names(choices):
 
 
 def parse_args(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap = OneLineParser(description=__doc__.split('\n')[0])
     ap.add_argument('--quick', action='store_true', help='cases 1-4, mariner, both methods')
     ap.add_argument('--cases', type=_ints, help='case numbers, e.g. 1,2,5 (default all 22)')
     ap.add_argument('--ships', type=_names(SHIPS), help=f'own ships (default {",".join(SHIPS)})')
     ap.add_argument('--methods', type=_names(METHODS), help=f'default {",".join(METHODS)}')
-    ap.add_argument('--jobs', type=int, default=2, help='worker processes (default 2)')
-    ap.add_argument('--duration', type=float, default=DURATION_S, help='sim time per run, s')
-    ap.add_argument('--out', type=Path, default=ROOT / 'runs', help='parent of the run folder')
+    ap.add_argument('--jobs', type=integer(1, MAX_JOBS), default=2,
+                    help=f'worker processes, 1-{MAX_JOBS} (default 2)')
+    ap.add_argument('--duration', type=number(MIN_DURATION_S, MAX_DURATION_S), default=DURATION_S,
+                    help=f'sim time per run, s ({MIN_DURATION_S:g} to {MAX_DURATION_S:g})')
+    ap.add_argument('--out', type=out_folder, default=ROOT / 'runs', help='parent of the run folder')
     ap.add_argument('--no-plots', action='store_true')
-    ap.add_argument('--scenario-out', type=Path, help='write the scenarios here and stop')
+    ap.add_argument('--scenario-out', type=out_folder, help='write the scenarios here and stop')
     args = ap.parse_args(argv)
     cases = load_cases()
     if args.quick:
@@ -71,8 +80,6 @@ def parse_args(argv=None):
         ap.error(f'no Imazu case {bad}; cases are 1-22')
     args.ships = args.ships or list(SHIPS)
     args.methods = args.methods or list(METHODS)
-    if args.jobs < 1:
-        ap.error('--jobs must be >= 1')
     return args, cases
 
 

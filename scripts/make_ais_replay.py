@@ -7,15 +7,18 @@ position reports (ship_guidance.ais_replay), in the ENU frame of a geodetic orig
         --origin 63.44 10.40 --light '{"x_m": 4000, "y_m": 0, "course_deg": 270, "speed_mps": 7.7175}' \
         --period 6 --duration 600
 """
-import argparse
-import json
 import shlex
 import sys
 
 import numpy as np
 
+from mission.cli_args import OneLineParser, integer, number
 from ship_guidance.ais_replay import replay_lines
 from ship_sim.light_traffic import make_traffic
+from ship_sim.safe_load import InputError, load_json
+
+#: Most reports in one file (--duration / --period): a day of class A reports every 2 s.
+MAX_REPORTS = 50_000
 
 
 def make_replay(mmsi, origin, light, period_s, duration_s, msg_type=1):
@@ -29,22 +32,32 @@ def make_replay(mmsi, origin, light, period_s, duration_s, msg_type=1):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    ap = OneLineParser(description=__doc__.split('\n\n')[0])
     ap.add_argument('out', help='replay file to write')
-    ap.add_argument('--mmsi', type=int, required=True)
-    ap.add_argument('--origin', type=float, nargs=2, required=True, metavar=('LAT', 'LON'),
-                    help='geodetic origin of the ENU frame (deg)')
+    ap.add_argument('--mmsi', type=integer(1, 999_999_999), required=True,
+                    help='maritime mobile service identity (9 digits)')
+    ap.add_argument('--origin', type=number(-180.0, 180.0), nargs=2, required=True,
+                    metavar=('LAT', 'LON'), help='geodetic origin of the ENU frame (deg)')
     ap.add_argument('--light', required=True, help="the target as a scenario's light: mapping "
                     '(JSON): {x_m, y_m, course_deg, speed_mps} or {waypoints: [[t_s, x_m, y_m], ...]}')
-    ap.add_argument('--period', type=float, default=6.0, help='report interval (s; class A '
-                    'at 14-23 kn: 6 s)')
-    ap.add_argument('--duration', type=float, required=True, help='last report time (s)')
+    ap.add_argument('--period', type=number(above=0.0, hi=3600.0), default=6.0,
+                    help='report interval (s; class A at 14-23 kn: 6 s)')
+    ap.add_argument('--duration', type=number(0.0, 86400.0), required=True,
+                    help='last report time (s)')
     ap.add_argument('--class-b', action='store_true', help='message 18 instead of 1')
     a = ap.parse_args(argv)
+    if not -90.0 <= a.origin[0] <= 90.0:
+        ap.error(f'argument --origin: the latitude must be within [-90, 90], got {a.origin[0]:g}')
+    if a.duration / a.period > MAX_REPORTS:
+        ap.error(f'--duration {a.duration:g} s / --period {a.period:g} s is more than '
+                 f'{MAX_REPORTS} reports')
     try:
-        lines = make_replay(a.mmsi, a.origin, json.loads(a.light), a.period, a.duration,
+        light = load_json(a.light, '--light')
+        if not isinstance(light, dict):
+            raise ValueError(f'--light: a JSON mapping, got {a.light!r}')
+        lines = make_replay(a.mmsi, a.origin, light, a.period, a.duration,
                             18 if a.class_b else 1)
-    except ValueError as exc:
+    except (InputError, ValueError) as exc:
         print(f'make_ais_replay: {exc}', file=sys.stderr)
         return 2
     command = ' '.join(shlex.quote(x) for x in ['scripts/make_ais_replay.py', *(argv or sys.argv[1:])])

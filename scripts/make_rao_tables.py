@@ -7,16 +7,17 @@ HYDRO/vessels_shipx s175.mat / supply.mat, read in GNU Octave).
 The arrays are stored bit for bit (float64); amp/phase are DOF x frequency x heading.
 """
 import argparse
-import json
 from pathlib import Path
 
 import numpy as np
+
+from ship_sim.safe_load import load_json_file
 
 OUT = Path(__file__).resolve().parents[1] / 'ros_ws/src/ship_sim/ship_sim/environment/data'
 
 
 def convert(src, vessel):
-    d = json.loads((src / f'vessel_{vessel}_RAO_zero_speed.json').read_text())
+    d = load_json_file(src / f'vessel_{vessel}_RAO_zero_speed.json')
     arrays = {'headings': np.array(d['headings'], dtype=float), 'g': np.float64(d['main']['g']),
               'Lpp': np.float64(d['main']['Lpp']), 'B': np.float64(d['main']['B']),
               'T': np.float64(d['main']['T']), 'm': np.float64(d['main']['m']),

@@ -9,7 +9,6 @@ change (30, 45, 60, 90 deg) the heading change from the start and the actual rud
 time, PD and fuzzy PID, with the gain table's gains and with Lee 2004's own (dashed).
 """
 import argparse
-import json
 import sys
 from pathlib import Path
 
@@ -17,6 +16,7 @@ import numpy as np
 
 from mission import bag as bagmod
 from mission.processes import REPO
+from ship_sim.safe_load import load_json_file
 
 ANGLES = (30, 45, 60, 90)
 #: ship -> scenario name pattern (angle, controller, suffix)
@@ -28,7 +28,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('batch', nargs='?', default=str(REPO / 'runs' / 'seeds-latest'))
     batch = Path(ap.parse_args(argv).batch)
-    runs = {r['scenario']: r for r in json.loads((batch / 'results.json').read_text())['runs']}
+    runs = {r['scenario']: r for r in load_json_file(batch / 'results.json')['runs']}
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt

@@ -8,37 +8,33 @@ Writes into --out (default: the directory that holds the bag); report.html (miss
 takes the scenario, run summary and node logs from the bag's own run folder. Definitions of the metrics:
 scripts/mission/metrics.py. Exit codes: 0 done, 2 not a bag / nothing to analyse.
 """
-import argparse
 import math
 import sys
 from pathlib import Path
 
 from mission import metrics
 from mission.bag import BagError
+from mission.cli_args import OneLineParser, number
 from mission.integrity import summary_line
 from mission.report import analyse_bag, traffic_lines
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    p = OneLineParser(description=__doc__.split('\n\n')[0])
     p.add_argument('bag', help='rosbag2 directory (one without metadata.yaml, left by a killed '
                    'recorder, is recovered first: mission.bag_recovery)')
     p.add_argument('--out', default=None, help='output directory (default: the bag\'s parent)')
-    p.add_argument('--settle', type=float, default=None, metavar='S',
+    p.add_argument('--settle', type=number(0.0), default=None, metavar='S',
                    help='seconds excluded at the start (default: 10 %% of the run)')
-    p.add_argument('--rudder-limit-deg', type=float, default=None,
+    p.add_argument('--rudder-limit-deg', type=number(above=0.0, hi=90.0), default=None,
                    help='rudder limit for saturation counts and plots (default: from the bag, else none)')
-    p.add_argument('--reward-step', type=float, default=metrics.REWARD_STEP_S, metavar='S',
+    p.add_argument('--reward-step', type=number(above=0.0), default=metrics.REWARD_STEP_S, metavar='S',
                    help='step of the cumulative Gaussian reward (Martinsen and Lekkas 2018 Table I), s')
-    p.add_argument('--episode', type=float, default=None, metavar='S',
+    p.add_argument('--episode', type=number(above=0.0), default=None, metavar='S',
                    help='sum the reward over the first S seconds only (Martinsen and Lekkas 2018: 1000)')
     p.add_argument('--progress-topic', default=None, help='relative name of the progress topic')
     p.add_argument('--no-plots', action='store_true')
     args = p.parse_args(argv)
-    if args.settle is not None and args.settle < 0:
-        p.error(f'--settle must be >= 0, got {args.settle}')
-    if args.reward_step <= 0:
-        p.error(f'--reward-step must be > 0, got {args.reward_step}')
     limit = math.radians(args.rudder_limit_deg) if args.rudder_limit_deg is not None else None
     topics = {'progress': args.progress_topic} if args.progress_topic else None
     try:

@@ -7,27 +7,30 @@ Starts every node as its own process from the colcon install (run `make build` f
 the run folder could not be written (one line naming the path and the OS error), 2 for an
 invalid scenario or option (checked before anything starts), 130 on Ctrl-C or SIGTERM.
 """
-import argparse
 import sys
 
+from mission.cli_args import OneLineParser, integer, number
 from mission.console import summary_line
 from mission.launcher import MissionFailed, check_scenario, install_stop_handlers, run_scenario
 from mission.recorder import COMPRESSIONS
 from mission.report import traffic_lines
-from mission.scenario import ScenarioError, load_scenario
+from mission.scenario import MIN_DURATION_S, ScenarioError, load_scenario
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap = OneLineParser(description=__doc__.split('\n')[0])
     ap.add_argument('scenario', help='scenario YAML file')
     ap.add_argument('--name', default=None, help='the scenario of a matrix file (mission.matrix) '
                     'to run, e.g. course_tanker_90_pd_004 of scenarios/course_changes_004.yaml')
     ap.add_argument('--runs', default=None, help='folder for run folders (default: runs/)')
-    ap.add_argument('--domain-id', type=int, default=None, help='ROS_DOMAIN_ID (default: from pid)')
+    ap.add_argument('--domain-id', type=integer(0, 232), default=None,
+                    help='ROS_DOMAIN_ID, 0-232 (default: a free one, leased)')
     ap.add_argument('--no-record', action='store_true', help='no bag, no metrics')
-    ap.add_argument('--duration', type=float, default=None, help='override duration_s')
+    ap.add_argument('--duration', type=number(MIN_DURATION_S), default=None,
+                    help='override duration_s')
     ap.add_argument('--stepping', choices=('lockstep', 'realtime'), default=None)
-    ap.add_argument('--wall-timeout', type=float, default=None, help='fail after this many s')
+    ap.add_argument('--wall-timeout', type=number(above=0.0), default=None,
+                    help='fail after this many s')
     ap.add_argument('--loopback-only', action='store_true', help='Fast DDS sockets on 127.0.0.1 '
                     'only (by default it also binds 0.0.0.0; doc/security.md)')
     ap.add_argument('--bag-compression', choices=COMPRESSIONS, default=None,
@@ -35,8 +38,9 @@ def main(argv=None):
                     "bag_compression, else zstd)")
     ap.add_argument('--live', action='store_true', help='serve the topics to Foxglove / '
                     'Lichtblick while the run goes (scripts/live_view.py; README Live view)')
-    ap.add_argument('--live-port', type=int, default=8765, help='port of --live (127.0.0.1)')
-    ap.add_argument('--live-nice', type=int, default=10, help='CPU niceness of --live once '
+    ap.add_argument('--live-port', type=integer(0, 65535), default=8765,
+                    help='port of --live (127.0.0.1)')
+    ap.add_argument('--live-nice', type=integer(0, 19), default=10, help='CPU niceness of --live once '
                     'serving (0: it keeps up on a busy machine, at the graph\'s expense)')
     args = ap.parse_args(argv)
     try:
@@ -49,8 +53,6 @@ def main(argv=None):
         if args.bag_compression:
             scenario.bag_compression = args.bag_compression
         if args.live:
-            if not 0 <= args.live_port <= 65535:
-                raise ScenarioError(f'--live-port must be in 0..65535, got {args.live_port}')
             scenario.live_port = args.live_port
             scenario.live_nice = max(0, args.live_nice)
         check_scenario(scenario)

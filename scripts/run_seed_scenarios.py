@@ -44,7 +44,6 @@ when a run it needs is missing or failed.
 Units in the table: metres, degrees, seconds; reward = mission.metrics cumulative Gaussian reward
 (Martinsen and Lekkas 2018 eq. 8, sigma 10 m, sampled every 0.1 s, whole run).
 """
-import argparse
 import fnmatch
 import glob
 import json
@@ -56,12 +55,13 @@ from datetime import datetime
 from pathlib import Path
 
 import numpy as np
-import yaml
 
+from mission.cli_args import OneLineParser, integer, number
 from mission.domain import DomainLease, LeaseError
 from mission.launcher import MissionFailed, run_scenario
 from mission.processes import REPO
 from mission.scenario import ScenarioError, load_scenario, load_scenarios
+from ship_sim.safe_load import load_json_file, load_yaml_file
 
 SCENARIO_DIR = REPO / 'scenarios'
 DEFAULT_GLOBS = ('*_003.yaml', '*_004.yaml', '*_000.yaml')
@@ -306,7 +306,7 @@ def analyse_run(scenario, run, make_pngs=True):
 
 def reanalyse(batch):
     """Recompute the metrics of every run of an earlier batch (its results.json) from the bags."""
-    old = json.loads((batch / 'results.json').read_text())
+    old = load_json_file(batch / 'results.json')
     results, seeds = [], {}
     for r in old['runs']:
         if r.get('run_dir') and (Path(r['run_dir']) / 'bag').exists():
@@ -377,7 +377,7 @@ def run_one(scenario, batch_dir, quick, wall_timeout_s, verbose, domain_id, retr
                                   progress=progress, wall_timeout_s=wall_timeout_s,
                                   domain_id=domain_id)
             result['run_dir'] = str(run)
-            summary = yaml.safe_load((run / 'run.json').read_text())  # the launcher writes YAML
+            summary = load_yaml_file(run / 'run.json')  # the launcher writes YAML
             result['outcome'] = summary['outcome']
             result['run'] = summary
             result['metrics'] = analyse_run(scenario, run)
@@ -715,7 +715,7 @@ def markdown(results, claims, header):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap = OneLineParser(description=__doc__.split('\n')[0])
     ap.add_argument('scenarios', nargs='*', help='scenario files or globs (default: the seed '
                     'scenarios, scenarios/*_00{0,3,4}.yaml)')
     ap.add_argument('--only', action='append', default=[], metavar='PATTERN',
@@ -724,11 +724,11 @@ def main(argv=None):
     ap.add_argument('--quick', action='store_true', help=f'durations x{QUICK_FACTOR} '
                     f'(at least {QUICK_MIN_DURATION_S:.0f} s) for development; claims may fail')
     ap.add_argument('--runs', default=str(REPO / 'runs'), help='parent folder of the batch folder')
-    ap.add_argument('--wall-timeout', type=float, default=600.0,
+    ap.add_argument('--wall-timeout', type=number(above=0.0), default=600.0,
                     help='fail a run after this many wall seconds (default 600)')
-    ap.add_argument('--domain-id', type=int, default=None, help='ROS_DOMAIN_ID for every run '
+    ap.add_argument('--domain-id', type=integer(0, 232), default=None, help='ROS_DOMAIN_ID for every run '
                     '(default: a leased one on which no other node is seen)')
-    ap.add_argument('--retries', type=int, default=1, help='run a scenario again when its bag '
+    ap.add_argument('--retries', type=integer(0, 10), default=1, help='run a scenario again when its bag '
                     'came out incomplete, at most this many times (default 1)')
     ap.add_argument('--verbose', action='store_true', help='show the launchers\' progress lines')
     ap.add_argument('--list', action='store_true', help='list the scenarios and exit')

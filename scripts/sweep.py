@@ -25,7 +25,6 @@ plot embedded, one self-contained page: mission.html_report.batch_page). Exit co
 Test-only: SHIPNAV_SWEEP_FAIL_ONCE=<file> kills the first worker process that starts a chunk
 (montecarlo.episodes), to test that a lost worker's chunk is rerun without duplicated rows.
 """
-import argparse
 import importlib
 import json
 import os
@@ -40,24 +39,28 @@ os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')
 from montecarlo import results
 from montecarlo.backends import SweepRunError
 from montecarlo.driver import run_sweep
-from montecarlo.spec import REPO, SweepError, load
+from mission.cli_args import OneLineParser, integer, number, out_folder
+from montecarlo.spec import MAX_EPISODES, PARAMETERS, REPO, SweepError, check_size, load
+
+#: Most worker processes or Ray CPUs asked for (a cluster's; far beyond one machine's cores).
+MAX_WORKERS = 4096
 
 
 def parse_args(argv=None):
-    p = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    p = OneLineParser(description=__doc__.split('\n')[0])
     p.add_argument('sweep', type=Path, help='sweep file (YAML)')
-    p.add_argument('--out', type=Path, default=None,
+    p.add_argument('--out', type=out_folder, default=None,
                    help='output folder (default runs/sweeps/<name>)')
-    p.add_argument('--workers', type=int, default=None,
+    p.add_argument('--workers', type=integer(1, MAX_WORKERS), default=None,
                    help='processes, or CPUs of a private Ray instance (default: every core)')
-    p.add_argument('--chunk', type=int, default=None,
+    p.add_argument('--chunk', type=integer(1, MAX_EPISODES), default=None,
                    help='episodes per task (default: >= 4 tasks per worker)')
     p.add_argument('--ray', nargs='?', const='local', default=None, metavar='ADDRESS',
                    help="run on Ray: alone, a private local instance; 'auto' or HOST:PORT, "
                         'an existing cluster')
-    p.add_argument('--episodes', type=int, default=None,
+    p.add_argument('--episodes', type=integer(1, MAX_EPISODES), default=None,
                    help="samples per grid cell instead of the file's 'episodes'")
-    p.add_argument('--duration', type=float, default=None,
+    p.add_argument('--duration', type=number(*PARAMETERS['duration_s'][2]), default=None,
                    help="episode length (s) instead of the file's duration_s")
     p.add_argument('--where', action='append', default=[], metavar='AXIS=V1[,V2]',
                    help='run only the grid cells with these values (repeatable); rows keep the '
@@ -66,14 +69,7 @@ def parse_args(argv=None):
     p.add_argument('--resume', action='store_true',
                    help=f'run only the episodes missing from OUT/{results.PARTIAL_NAME} (the '
                         'rows a failed run of the same sweep and options kept)')
-    args = p.parse_args(argv)
-    for name in ('workers', 'chunk', 'episodes'):
-        v = getattr(args, name)
-        if v is not None and v < 1:
-            p.error(f'--{name} must be >= 1, got {v}')
-    if args.duration is not None and not args.duration > 0:
-        p.error(f'--duration must be > 0, got {args.duration}')
-    return args
+    return p.parse_args(argv)
 
 
 #: Optional packages a sweep needs and what installs them: `make demo`'s venv has neither.
@@ -103,11 +99,17 @@ def main(argv=None):
         return 2
     try:
         sweep = load(args.sweep)
+        if args.episodes:
+            check_size(sweep, args.episodes, f'{args.sweep} with --episodes {args.episodes}')
     except SweepError as exc:
         print(f'error: {exc}', file=sys.stderr)
         return 2
     out = args.out or REPO / 'runs' / 'sweeps' / sweep.name
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        print(f'error: cannot create {exc.filename or out}: {exc.strerror or exc}', file=sys.stderr)
+        return 2
     backend = 'ray' if args.ray else 'local'
     address = None if args.ray in (None, 'local') else args.ray
     where = {}

@@ -54,6 +54,7 @@ import numpy as np
 from ship_autopilot.learning.env import EnvConfig, PathFollowingBatch
 from ship_autopilot.learning.policy import policy_path, save_policy
 from ship_guidance.path_state import CLIP, OBS_DIM
+from ship_sim.safe_load import load_json_file
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -343,7 +344,7 @@ def score_scale(folder):
     """Factor that puts a run's evaluation on the 1 s step's scale: the evaluation sums the
     Gaussian once per policy step, so a 1000 s episode scores at most 1000 / control_dt."""
     summary = folder / 'summary.json'
-    control_dt = json.loads(summary.read_text()).get('control_dt', 1.0) if summary.exists() else 1.0
+    control_dt = load_json_file(summary).get('control_dt', 1.0) if summary.exists() else 1.0
     return float(control_dt)
 
 

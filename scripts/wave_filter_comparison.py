@@ -32,7 +32,6 @@ PD given the plant's own heading and yaw rate: no wave motion and no lag). And t
 margin on the identified Nomoto model, without and with the filter at the encounter
 frequencies of the route's legs. Writes <out>/wave_filter_flagship.json.
 """
-import argparse
 import json
 import math
 import sys
@@ -107,9 +106,9 @@ def flagship_run(variant, duration=1250.0):
     from ship_sim.current import OceanCurrent
     from ship_sim.environment.sea_state import superpose
     from mission.waves import wave_filter_parameters, wave_parameters
-    import yaml
     scenario = Path(__file__).resolve().parents[1] / 'scenarios' / 'flagship_mariner_waves.yaml'
-    spec = yaml.safe_load(scenario.read_text())['vessels']['vessel_0']
+    from ship_sim.safe_load import load_yaml_file
+    spec = load_yaml_file(scenario)['vessels']['vessel_0']
     g, a = spec['guidance'], spec['autopilot']
     route = load_route(scenario.parent / spec['route']).route
     wp = wave_parameters(spec['waves'], str(scenario), 'waves.')
@@ -224,10 +223,11 @@ def plot(results, out):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    from mission.cli_args import OneLineParser, number
+    ap = OneLineParser(description=__doc__.split('\n')[0])
     ap.add_argument('--quick', action='store_true', help='1200 s runs, the Mariner only')
     ap.add_argument('--models', nargs='+', default=['mariner', 'container', 'tanker'])
-    ap.add_argument('--duration', type=float, default=3600.0, help='s per run')
+    ap.add_argument('--duration', type=number(above=0.0, hi=1e6), default=3600.0, help='s per run')
     ap.add_argument('--out', type=Path, default=Path('runs/wave_filter'))
     ap.add_argument('--seeds', type=int, nargs='+', default=[1, 2, 3, 4, 5],
                     help='wave seeds per sea (default 1-5; --quick: the first)')

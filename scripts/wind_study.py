@@ -21,7 +21,6 @@ variation over the window.
 wind10, wind20, directions relative to the route's overall course): the wind as a top-level
 `wind:` block, the sea as each vessel's `waves:` block (vessel i of a platoon: seed SEED + i).
 """
-import argparse
 import json
 import math
 import sys
@@ -30,15 +29,18 @@ from pathlib import Path
 import yaml
 
 from mission import conditions
+from mission.cli_args import OneLineParser, integer, number
+from montecarlo.spec import PARAMETERS
 from mission.launcher import MissionFailed, check_scenario, run_scenario
 from mission.scenario import ScenarioError, load_scenario
+from ship_sim.safe_load import load_yaml_file
 
 REPO = Path(__file__).resolve().parents[1]
 
 
 def variant(source, speed, args, folder):
     """Copy of the scenario file with the wind block and absolute routes; returns its path."""
-    data = yaml.safe_load(source.read_text())
+    data = load_yaml_file(source)
     if speed > 0.0:
         data['wind'] = {'speed_mps': speed, 'direction_deg': args.direction_deg,
                         'gust_sd_mps': round(args.gust_fraction * speed, 6),
@@ -59,7 +61,7 @@ def condition_variant(source, name, folder, start_timeout=None):
     """Copy of the scenario file in condition ``name`` (mission.conditions), absolute routes;
     ``start_timeout`` (s): every simulator's lockstep_start_timeout (a loaded machine)."""
     from ship_planner.route_loader import load_route
-    data = yaml.safe_load(source.read_text())
+    data = load_yaml_file(source)
     platoon = data.get('platoon') if isinstance(data.get('platoon'), dict) else None
     for section in ('vessels', 'traffic'):
         for entry in (data.get(section) or {}).values():
@@ -124,21 +126,21 @@ def table(rows):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap = OneLineParser(description=__doc__.split('\n')[0])
     ap.add_argument('--scenario', type=Path, default=REPO / 'scenarios' / 'flagship_mariner.yaml')
-    ap.add_argument('--speeds', type=float, nargs='+', default=[0.0, 10.0, 20.0],
+    ap.add_argument('--speeds', type=number(*PARAMETERS['wind_speed_mps'][2]), nargs='+', default=[0.0, 10.0, 20.0],
                     help='mean wind speeds (m/s)')
-    ap.add_argument('--direction-deg', type=float, default=270.0,
+    ap.add_argument('--direction-deg', type=number(-360.0, 360.0), default=270.0,
                     help='where the wind blows from, clockwise from north (default: west)')
-    ap.add_argument('--gust-fraction', type=float, default=0.1,
+    ap.add_argument('--gust-fraction', type=number(0.0, 1.0), default=0.1,
                     help='gust sd as a fraction of the mean speed')
-    ap.add_argument('--time-constant', type=float, default=60.0, help='gust time constant (s)')
-    ap.add_argument('--seed', type=int, default=1, help='gust random seed')
+    ap.add_argument('--time-constant', type=number(above=0.0, hi=1e6), default=60.0, help='gust time constant (s)')
+    ap.add_argument('--seed', type=integer(0, 2**32 - 1), default=1, help='gust random seed')
     ap.add_argument('--runs', type=Path, default=REPO / 'runs' / 'wind_study')
     ap.add_argument('--quick', action='store_true', help='300 s runs (development)')
     ap.add_argument('--conditions', nargs='+', choices=tuple(conditions.CONDITIONS),
                     help='wind-and-wave conditions (mission.conditions) instead of --speeds')
-    ap.add_argument('--start-timeout', type=float, default=None,
+    ap.add_argument('--start-timeout', type=number(above=0.0, hi=1e5), default=None,
                     help="with --conditions: every simulator's lockstep_start_timeout (s), for "
                          'many vessels on a loaded machine (timing only, not the physics)')
     args = ap.parse_args(argv)

@@ -5,8 +5,9 @@ course and speed; left alone, every ship reaches the point 4 NM ahead after 20 m
 the chosen variant of each case from the project's reference set (its source string says which;
 geometry after Sawada et al. 2021, scaled 2/3).
 """
-import json
 from pathlib import Path
+
+from ship_sim.safe_load import load_json_file
 
 FILE = Path(__file__).with_name('imazu22_cases.json')
 #: The single-target cases (head-on, crossing give-way, overtaking, crossing stand-on).
@@ -16,7 +17,7 @@ SINGLE = (1, 2, 3, 4)
 def load_cases():
     """{case number: {'own': {...}, 'targets': [{name, north_m, east_m, course_deg, speed_mps,
     colregs}, ...]}} with target names in lower case (ts1, ts2, ...: scenario namespaces)."""
-    data = json.loads(FILE.read_text())
+    data = load_json_file(FILE)
     out = {}
     for c in data['cases']:
         targets = [{**t, 'name': t['name'].lower()} for t in c['targets']]

@@ -31,7 +31,6 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
-import yaml
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 from ship_sim.pacing import paired_record
@@ -254,7 +253,8 @@ def recover_if_needed(path):
 
 def read_custom_data(path):
     """The ``custom_data`` of a bag's metadata.yaml ({} when absent)."""
-    meta = yaml.safe_load((Path(path) / 'metadata.yaml').read_text()) or {}
+    from ship_sim.safe_load import load_yaml_file
+    meta = load_yaml_file(Path(path) / 'metadata.yaml') or {}
     return dict((meta.get('rosbag2_bagfile_information') or {}).get('custom_data') or {})
 
 

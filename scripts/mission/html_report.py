@@ -223,10 +223,10 @@ def _utc(ts):
 
 def _run_summary(path):
     """run.json (the launcher's YAML summary) as a dict, {} when absent or unreadable."""
-    import yaml
+    from ship_sim.safe_load import InputError, load_yaml_file
     try:
-        return yaml.safe_load(Path(path).read_text()) or {}
-    except (OSError, yaml.YAMLError):
+        return load_yaml_file(path) or {}
+    except InputError:
         return {}
 
 

@@ -34,7 +34,7 @@ import yaml
 
 from mission.console import progress_line
 from mission.domain import LeaseError, lease_domain_id
-from mission.processes import INSTALL, REPO, ProcessGroup, install_env
+from mission.processes import REPO, ProcessGroup, install_env
 from mission.scenario import ScenarioError, scenario_text, start_pose
 from mission.waves import wave_filter_parameters
 from mission.wind_block import wind_meta, wind_parameters
@@ -116,19 +116,19 @@ def node_parameter_names(package, executable):
     (an empty list has no type in a ROS parameter file, e.g. guidance_node's
     course_schedule_deg) is listed in a comment as ``<name>: [...]``."""
     import re
+    from mission.node_checks import config_file
+    from ship_sim.safe_load import load_yaml, read_regular_file
     name = executable.removesuffix('_node') + '.yaml'
-    for folder in (INSTALL / package / 'share' / package / 'config',
-                   REPO / 'ros_ws' / 'src' / package / 'config'):
-        if (folder / name).is_file():
-            from ship_planner.yaml_route_reader import Loader
-            text = (folder / name).read_text()
-            names = set(RCLPY_PARAMETERS)
-            for section in (yaml.load(text, Loader=Loader) or {}).values():
-                names |= set((section or {}).get('ros__parameters') or {})
-            for line in text.splitlines():
-                if line.lstrip().startswith('#'):
-                    names |= set(re.findall(r'\b([a-z][a-z0-9_]*): \[', line))
-            return names
+    path = config_file(package, executable)
+    if path is not None:
+        text = read_regular_file(path)
+        names = set(RCLPY_PARAMETERS)
+        for section in (load_yaml(text, path) or {}).values():
+            names |= set((section or {}).get('ros__parameters') or {})
+        for line in text.splitlines():
+            if line.lstrip().startswith('#'):
+                names |= set(re.findall(r'\b([a-z][a-z0-9_]*): \[', line))
+        return names
     raise ScenarioError(f'{executable}: no parameter list config/{name} in package {package}')
 
 
@@ -152,6 +152,7 @@ def check_scenario(scenario):
 
     Raises ScenarioError (one line naming the file and the key) before anything starts."""
     import difflib
+    from mission.node_checks import check_vessel_sections
     from mission.scenario import MAX_STEPS
     from ship_planner.route_loader import RouteError
     from ship_sim.models import MODEL_NAMES
@@ -195,6 +196,7 @@ def check_scenario(scenario):
                     hint = f' (did you mean "{near[0]}"?)' if near else ''
                     raise ScenarioError(f'{where}{block}.{key}: {exe} has no parameter '
                                         f'{key!r}{hint}')
+        check_vessel_sections(spec, where)   # values, by the nodes' own rules
     if scenario.ais is not None:
         names = node_parameter_names(*reversed(AIS_NODE))
         for key in scenario.ais:

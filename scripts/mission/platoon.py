@@ -82,6 +82,7 @@ from dataclasses import dataclass, field
 
 from mission.fields import ScenarioError, need, number, unknown
 from mission.vessel_spec import parse_vessel
+from ship_sim.safe_load import ros_name_problem
 
 PLATOON_KEYS = {'route', 'spacing_m', 'current', 'stability_margin', 'allow_unstable',
                 'predecessor_wait_s', 'vessels', 'waves'}
@@ -183,8 +184,7 @@ def parse_platoon(section, path, lockstep_timeout_s):
         where = f'platoon.vessels[{i}]'
         need(isinstance(v, dict), path, where, 'a mapping with namespace, model, ...')
         ns = v.get('namespace')
-        need(isinstance(ns, str) and ns.isidentifier(), path, where + '.namespace',
-              f'a plain name like vessel_{i}, got {ns!r}')
+        need(not ros_name_problem(ns), path, where + '.namespace', f'{ros_name_problem(ns)}')
         if ns in where_of:
             raise ScenarioError(f'{path}: {where}.namespace: {ns} is already the namespace of '
                                 f'{where_of[ns]}: two vessels in one namespace')

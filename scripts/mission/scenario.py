@@ -61,8 +61,9 @@ Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes 
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
 the graph together (model, start pose, stepping mode, pairing, rates). The launcher's check
 (mission.launcher.check_scenario) refuses keys a node does not declare, naming the closest one.
-Errors name the file and the key. The file must be a regular UTF-8 file; numbers may be written
-``1e9`` (read as YAML 1.2 does, ship_planner.yaml_route_reader.Loader, as route files are).
+Errors name the file and the key. The file is read by ship_sim.safe_load (the bounded reader of
+every input file): a regular UTF-8 file, bounded in size, nesting, aliases and number length,
+no key given twice; numbers may be written ``1e9`` (read as YAML 1.2 does).
 
 Collision avoidance: a vessel with a `colav` block runs colav_node in its namespace; guidance's
 heading_cmd is remapped to heading_ref (colav_node's nominal input) and colav_node publishes the
@@ -99,9 +100,8 @@ from mission.recorder import COMPRESSIONS, DEFAULT_COMPRESSION
 from mission.vessel_spec import parse_vessel
 from mission.wind_block import check_wind, check_wind_model
 
-from ship_planner.yaml_route_reader import Loader
 from ship_sim.frames import psi_to_yaw
-from ship_sim.text_files import TextFileError, read_text_file
+from ship_sim.safe_load import InputError, load_yaml_file, ros_name_problem
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais',
@@ -117,6 +117,8 @@ STEPPING = ('lockstep', 'realtime')
 #: bound (ros_ws/src/ship_sim/ship_sim/vessel_node.py, 10**12), so the launcher's check refuses
 #: what the node would refuse after the graph has started.
 MAX_STEPS = 10**12
+#: Shortest run (duration_s, s): a run shorter than one control period or so records nothing.
+MIN_DURATION_S = 0.1
 
 
 @dataclass
@@ -183,12 +185,9 @@ def load_scenarios(path):
     order). ScenarioError names the file (and for a matrix, the combination) and the key."""
     path = Path(path)
     try:
-        data = yaml.load(read_text_file(path), Loader=Loader)
-    except TextFileError as exc:
-        where = f'{path}:{exc.line}' if exc.line else f'{path}'
-        raise ScenarioError(f'{where}: cannot read: {exc.detail}') from None
-    except yaml.YAMLError as exc:
-        raise ScenarioError(f'{path}: not valid YAML: ' + ' '.join(str(exc).split())) from None
+        data = load_yaml_file(path)
+    except InputError as exc:
+        raise ScenarioError(str(exc)) from None
     if not is_matrix(data):
         return [_parse_scenario(data, path)]
     scenarios = []
@@ -254,7 +253,7 @@ def _parse_scenario(data, path):
     return Scenario(
         file=path, name=data['name'], source=str(data.get('source', '')),
         description=str(data.get('description', '')),
-        duration_s=number(data, 'duration_s', path, 1000.0, lo=0.1),
+        duration_s=number(data, 'duration_s', path, 1000.0, lo=MIN_DURATION_S),
         stepping=stepping, speedup=number(data, 'speedup', path, 1.0, lo=0.01, hi=1e4),
         dt_s=number(data, 'dt_s', path, 0.1, lo=1e-3, hi=10.0),
         settle_s=number(data, 'settle_s', path, 0.0, lo=0.0),
@@ -321,8 +320,7 @@ def _parse_light(entries, path):
     out = []
     for ns, v in entries.items():
         where = f'traffic.{ns}'
-        need(isinstance(ns, str) and ns.isidentifier(), path, where,
-              'namespace must be a plain name like target_1')
+        need(not ros_name_problem(ns), path, where, f'namespace {ros_name_problem(ns)}')
         unknown(v, {'light'}, path, where + '.')
         light = v['light']
         need(isinstance(light, dict), path, where + '.light', 'a mapping')
@@ -343,8 +341,7 @@ def _parse_vessels(vessels, section, keys, path, traffic=False):
     specs = []
     for ns, v in vessels.items():
         where = f'{section}.{ns}.'
-        need(isinstance(ns, str) and ns.isidentifier(), path, f'{section}.{ns}',
-              'namespace must be a plain name like vessel_0')
+        need(not ros_name_problem(ns), path, f'{section}.{ns}', f'namespace {ros_name_problem(ns)}')
         need(isinstance(v, dict), path, where[:-1], 'must be a mapping')
         unknown(v, keys, path, where)
         need(isinstance(v.get('model'), str), path, where + 'model', 'a model name')

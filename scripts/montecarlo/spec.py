@@ -2,9 +2,10 @@
 
 A sweep file (YAML; examples in scenarios/sweeps/)::
 
-    name: current_starts_mariner   # output folder name (default: the file's stem)
+    name: current_starts_mariner   # output folder name (default: the file's stem): a plain
+                                   # file name (name_problem)
     seed: 1                        # the whole table follows from it
-    episodes: 50                   # random draws per grid cell
+    episodes: 50                   # random draws per grid cell (at most MAX_EPISODES in all)
     paired: true                   # every grid cell sees the same draws (default true)
     base:                          # the environment; any PARAMETERS entry
       model: mariner
@@ -54,7 +55,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import yaml
+
+from ship_sim.safe_load import InputError, load_yaml_file
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -102,6 +104,14 @@ WEATHER = ('wind_speed_mps', 'wind_direction_deg', 'wave_height_m', 'wave_period
            'wave_direction_deg')
 DISTRIBUTIONS = {'uniform': 2, 'normal': 2, 'choice': None}
 TOP_KEYS = ('name', 'seed', 'episodes', 'paired', 'base', 'vary')
+#: Most episodes of one sweep (grid cells x episodes per cell, ``--episodes`` included): the
+#: episodes are expanded up front, about 1 kB each, so the bound keeps that list (and the
+#: rows) within a few hundred MB; the largest shipped sweep (table1.yaml) has 36,000. A larger
+#: study is several sweeps (``--where`` runs a part of the grid).
+MAX_EPISODES = 200_000
+#: Largest seed: numpy's SeedSequence takes any integer, but the seed is also written to the
+#: tables as a 64-bit integer.
+MAX_SEED = 2**63 - 1
 
 
 class SweepError(ValueError):
@@ -253,13 +263,17 @@ def parse(doc, source='<sweep>'):
         raise SweepError(f'{source}: unknown key(s) {", ".join(extra)}; allowed: '
                          f'{", ".join(TOP_KEYS)}')
     seed, episodes = doc.get('seed', 0), doc.get('episodes', 1)
-    for key, v in (('seed', seed), ('episodes', episodes)):
-        if isinstance(v, bool) or not isinstance(v, int) or v < (0 if key == 'seed' else 1):
-            raise SweepError(f'{source}: {key} must be an integer >= '
-                             f'{0 if key == "seed" else 1}, got {v!r}')
+    for key, v, hi in (('seed', seed, MAX_SEED), ('episodes', episodes, MAX_EPISODES)):
+        lo = 0 if key == 'seed' else 1
+        if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
+            raise SweepError(f'{source}: {key} must be an integer in [{lo}, {hi}], got {v!r}')
     paired = doc.get('paired', True)
     if not isinstance(paired, bool):
         raise SweepError(f'{source}: paired must be true or false, got {paired!r}')
+    for key in ('base', 'vary'):
+        if not isinstance(doc.get(key) or {}, dict):
+            raise SweepError(f'{source}: {key} must be a mapping of parameter: value, got '
+                             f'{doc[key]!r}')
     base = dict(doc.get('base') or {})
     vary = dict(doc.get('vary') or {})
     kind = _sweep_kind(source, [*base, *vary])
@@ -293,22 +307,45 @@ def parse(doc, source='<sweep>'):
     if kind == 'encounter':
         _check_own_ships(source, full_base, grid, rand)
     name = doc.get('name') or Path(source).stem
-    if not isinstance(name, str) or '/' in name:
-        raise SweepError(f'{source}: name must be a plain string, got {name!r}')
-    return Sweep(name, seed, episodes, paired, full_base, grid, rand, source)
+    bad = name_problem(name)
+    if bad:
+        raise SweepError(f'{source}: name {bad} (it names the output folder), got {name!r}')
+    sweep = Sweep(name, seed, episodes, paired, full_base, grid, rand, source)
+    check_size(sweep, episodes, source)
+    return sweep
+
+
+def name_problem(name):
+    """None if ``name`` is a plain, safe file name (it names a folder under runs/sweeps), else
+    what is wrong: not '.' or '..', no path separator, no leading dot or dash (a hidden file, an
+    option), no control character."""
+    if not isinstance(name, str) or not name:
+        return 'must be non-empty text'
+    if name in ('.', '..') or any(c in name for c in '/\\'):
+        return "must be a plain file name (not '.' or '..', no '/' or '\\')"
+    if name[0] in '.-':
+        return 'must not start with a dot or a dash'
+    if any(ord(c) < 32 or ord(c) == 127 for c in name):
+        return 'must not hold control characters'
+    return None
+
+
+def check_size(sweep, episodes, source):
+    """SweepError if the sweep has more than MAX_EPISODES episodes (``episodes`` per cell)."""
+    total = sweep.n_cells * episodes
+    if total > MAX_EPISODES:
+        raise SweepError(f'{source}: {sweep.n_cells} grid cells x {episodes} episodes = {total} '
+                         f'episodes; at most {MAX_EPISODES} in one sweep (split it with --where)')
 
 
 def load(path):
-    """Parse a sweep file; SweepError naming the file for a missing file or bad YAML."""
+    """Parse a sweep file; SweepError naming the file for a missing file or bad YAML (read by
+    ship_sim.safe_load: bounded size, nesting, aliases and numbers, no key given twice)."""
     path = Path(path)
     try:
-        doc = yaml.safe_load(path.read_text())
-    except OSError as exc:
-        raise SweepError(f'{path}: cannot read ({exc.strerror or exc})') from None
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, 'problem_mark', None)
-        at = f' at line {mark.line + 1}' if mark else ''
-        raise SweepError(f'{path}: not valid YAML{at}') from None
+        doc = load_yaml_file(path)
+    except InputError as exc:
+        raise SweepError(str(exc)) from None
     return parse(doc, str(path))
 
 

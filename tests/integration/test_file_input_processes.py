@@ -10,7 +10,10 @@
    (mission.launcher.node_parameter_names) reads: the check never refuses a valid key (the
    unit tests check the other direction: every listed key is one of the file's keys);
 4. a run on a full disk (2 MB tmpfs) fails with exit code 1 and no traceback, and what the
-   launcher wrote (parameter files, the scenario copy, run.json if any) is whole.
+   launcher wrote (parameter files, the scenario copy, run.json if any) is whole;
+5. traffic_node's ``targets`` parameter goes through the bounded loader (ship_sim.safe_load):
+   deep nesting, a 5000-digit number or a target name that is no ROS name ends the node with
+   exit code 2 and one line, not a traceback or a topic-name error.
 """
 import os
 import subprocess
@@ -188,3 +191,25 @@ def test_a_run_on_a_full_disk_ends_without_a_traceback_leaving_readable_files(tm
         assert not (run / '.run.json.tmp').exists()
     finally:
         subprocess.run(['umount', '-l', str(disk)], capture_output=True)
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize('targets, needle', [
+    ('[' * 5000 + ']' * 5000, 'nested deeper than'),                       # was a RecursionError
+    ('[{"name": "a", "x_m": ' + '9' * 5000 + ', "y_m": 0.0, "course_deg": 0.0, '
+     '"speed_mps": 1.0}]', 'a number of 5000 characters'),                # was a ValueError
+    ('[{"name": "ta\u00efget", "course_deg": 0.0, "speed_mps": 1.0}]',
+     "'ta\u00efget' is not a ROS name"),                                   # was "Invalid topic name"
+])
+def test_traffic_node_refuses_unbounded_or_unnamable_targets_in_one_line(ros_graph, tmp_path,
+                                                                         targets, needle):
+    # A parameter file, as the launcher passes it: the JSON is one YAML string.
+    params = tmp_path / 'traffic.yaml'
+    params.write_text(yaml.safe_dump({'/**': {'ros__parameters': {'targets': targets}}},
+                                     allow_unicode=True))
+    proc = ros_graph.start('ship_sim', 'traffic_node', params_file=params)
+    assert proc.wait(30.0) == 2, proc.report()
+    lines = _lines(proc)
+    assert len(lines) == 1 and lines[0].startswith('traffic_node:'), lines
+    assert 'targets' in lines[0] and needle in lines[0], lines
+    assert 'Traceback' not in proc.output()

@@ -13,7 +13,15 @@
    keys are the packages' config/*.yaml lists;
 7. a run folder that cannot be written (its parent a file, a read-only or a full file system)
    ends run_mission with one line naming the path and the OS error, and run.json is either
-   whole or absent.
+   whole or absent;
+8. every YAML/JSON input goes through ship_sim.safe_load: an alias bomb is refused at once in
+   bounded memory, nesting deeper than MAX_DEPTH, numbers longer than MAX_NUMBER_CHARS and keys
+   given twice (both lines named) are refused in one line; FIFOs, devices and oversized files
+   too; names that become ROS names are checked as ROS checks them;
+9. a scenario's node sections (colav, guidance, autopilot) are checked by the nodes' own rules
+   before anything starts (no run folder);
+10. sweep files (episodes, names) and the command-line tools' numbers and output folders are
+   refused in one line with exit code 2, leaving nothing behind.
 """
 import os
 import subprocess
@@ -31,7 +39,8 @@ from mission.scenario import MAX_STEPS, ScenarioError, load_scenario, load_scena
 from ship_planner.route_loader import RouteError, load_route
 from ship_planner.route_data import MAX_COORDINATE_M, MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES
 from ship_planner.yaml_route_reader import Loader, parse_route_yaml
-from ship_sim.text_files import TextFileError, read_text_file
+from ship_sim.safe_load import (MAX_DEPTH, MAX_NODES, MAX_NUMBER_CHARS, InputError, TextFileError,
+                                load_json, load_json_file, load_yaml, load_yaml_file, read_text_file)
 
 ROOT = Path(__file__).resolve().parents[2]
 ROUTE = ROOT / 'scenarios' / 'routes' / 'flagship_mariner.yaml'
@@ -390,3 +399,347 @@ def test_run_json_on_a_full_disk_is_whole_or_absent(tmpfs):
     assert str(run / 'run.json') in msg and os.strerror(28) in msg and '\n' not in msg
     assert yaml.safe_load((run / 'run.json').read_text()) == {'outcome': 'first'}
     assert sorted(p.name for p in run.iterdir()) == ['params', 'run.json']
+
+
+# -- 8. the bounded loader (ship_sim.safe_load): every YAML/JSON input ------------------------------
+
+def _bomb(levels=9, width=9):
+    """A YAML 'billion laughs': ``levels`` anchors of ``width`` aliases of the one before; it
+    stands for width**levels values in a file of a few hundred bytes."""
+    lines = ['l0: &l0 [' + ', '.join(['lol'] * width) + ']']
+    lines += [f'l{i}: &l{i} [' + ', '.join([f'*l{i - 1}'] * width) + ']'
+              for i in range(1, levels)]
+    return '\n'.join(lines) + '\n'
+
+
+def _one_line(exc):
+    msg = str(exc)
+    assert '\n' not in msg and 'Traceback' not in msg, msg
+    return msg
+
+
+@pytest.mark.timeout(20)
+def test_an_alias_bomb_is_refused_fast_in_bounded_memory():
+    import time
+    import tracemalloc
+    text = _bomb()
+    assert 9 ** 9 > 100 * MAX_NODES and len(text) < 1000
+    tracemalloc.start()
+    t0 = time.perf_counter()
+    with pytest.raises(InputError) as exc:
+        load_yaml(text, 'bomb.yaml')
+    wall = time.perf_counter() - t0
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    msg = _one_line(exc.value)
+    assert msg.startswith('bomb.yaml:') and str(MAX_NODES) in msg and 'alias' in msg
+    # Refused before expanding: the parser saw at most MAX_NODES values' worth of aliases and
+    # built only the file's own few dozen nodes (each under 1 kB).
+    assert peak < 10_000_000, peak
+    assert wall < 5.0, wall
+
+
+def test_anchors_aliases_and_merge_keys_within_the_bounds_still_load():
+    data = load_yaml('base: &b {x: 1.0, y: 2.0}\na: *b\nc: {<<: *b, y: 3.0}\nl: [*b, *b]\n')
+    assert data['a'] == {'x': 1.0, 'y': 2.0} and data['c'] == {'x': 1.0, 'y': 3.0}
+    assert data['l'] == [data['a']] * 2
+    small = load_yaml(_bomb(levels=3, width=9))      # 9**3 values: well within the bound
+    assert len(small['l2']) == 9 and small['l2'][0] == small['l1']
+
+
+@pytest.mark.parametrize('text', ['a: &a [1, *a]\n', 'a: &a {b: *a}\n'])
+def test_a_recursive_alias_is_refused(text):
+    with pytest.raises(InputError, match='inside its own anchor') as exc:
+        load_yaml(text, 'r.yaml')
+    assert exc.value.line == 1
+
+
+@pytest.mark.parametrize('kind', ['yaml', 'json'])
+def test_nesting_beyond_the_bound_is_refused_and_within_it_loads(kind):
+    def nested(n):
+        return '[' * n + '1' + ']' * n
+    load = load_yaml if kind == 'yaml' else load_json
+    assert load(nested(MAX_DEPTH - 1)) is not None
+    with pytest.raises(InputError) as exc:
+        load(nested(10_000))        # without the bound: a RecursionError
+    assert f'deeper than {MAX_DEPTH} levels' in _one_line(exc.value)
+    if kind == 'yaml':              # an alias that takes a shallow tree deeper counts too
+        half = nested(MAX_DEPTH // 2 + 1)
+        with pytest.raises(InputError, match='aliases expanded'):
+            load_yaml(f'a: &a {half}\nb: [{"[" * (MAX_DEPTH // 2)}*a{"]" * (MAX_DEPTH // 2)}]\n')
+
+
+@pytest.mark.parametrize('kind', ['yaml', 'json'])
+@pytest.mark.parametrize('number', ['9' * 5000, '1.' + '5' * 5000, '-' + '7' * 200 + 'e3'])
+def test_a_number_beyond_the_length_bound_is_refused(kind, number):
+    text = f'a: {number}\n' if kind == 'yaml' else f'{{"a": {number}}}'
+    load = load_yaml if kind == 'yaml' else load_json
+    with pytest.raises(InputError) as exc:
+        load(text, 'n')
+    assert f'a number of {len(number)} characters' in _one_line(exc.value)
+    assert load(text.replace(number, '1' * MAX_NUMBER_CHARS))['a'] == int('1' * MAX_NUMBER_CHARS)
+
+
+def test_a_key_given_twice_is_refused_naming_the_key_and_both_lines():
+    with pytest.raises(InputError) as exc:
+        load_yaml('a: 1\nb:\n  c: 2\n  d: 3\n  c: 4\n', 'd.yaml')
+    assert exc.value.line == 5 and 'key "c"' in str(exc.value) and 'lines 3 and 5' in str(exc.value)
+    with pytest.raises(InputError, match='key "a" is given twice, on lines 1 and 1'):
+        load_yaml('{a: 1, a: 2}')
+    with pytest.raises(InputError, match='key "a" is given twice'):
+        load_json('{"a": 1, "a": 2}')
+
+
+@pytest.mark.parametrize('body, key, first, second', [
+    ('duration_s: 50.0\n', 'duration_s', 3, 4),
+    ('  vessel_0:\n    model: mariner\n    route: {route}\n', 'vessel_0', 5, 8),
+])
+def test_run_mission_refuses_a_scenario_with_a_key_given_twice(tmp_path, body, key, first, second):
+    path = scenario_file(tmp_path)
+    text = path.read_text()
+    if key == 'duration_s':
+        text = text.replace('duration_s: 100.0\n', 'duration_s: 100.0\n' + body)
+    else:
+        text += body.format(route=ROUTE)
+    path.write_text(text)
+    with pytest.raises(ScenarioError) as exc:
+        load_scenario(path)
+    msg = _one_line(exc.value)
+    assert msg.startswith(f'{path}:{second}:') and f'key "{key}"' in msg
+    assert f'lines {first} and {second}' in msg
+    rc, lines = run_mission(path, '--runs', tmp_path / 'runs')
+    assert rc == 2 and lines == [f'run_mission: {msg}'] and not (tmp_path / 'runs').exists()
+
+
+@pytest.mark.timeout(60)
+def test_run_mission_refuses_an_alias_bomb_scenario_at_once(tmp_path):
+    import time
+    path = tmp_path / 'bomb.yaml'
+    path.write_text(_bomb() + 'name: t\nsource: x\n')
+    # run_mission in a child that reports its own peak memory (kB) last, whatever its exit
+    report = ('import resource, runpy, sys\nsys.argv = sys.argv[1:]\ntry:\n'
+              '    runpy.run_path(sys.argv[0], run_name="__main__")\nfinally:\n'
+              '    print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, file=sys.stderr)\n')
+    t0 = time.perf_counter()
+    out = subprocess.run([sys.executable, '-c', report, str(ROOT / 'scripts' / 'run_mission.py'),
+                          str(path), '--runs', str(tmp_path / 'runs')], capture_output=True,
+                         text=True, timeout=50, stdin=subprocess.DEVNULL)
+    wall = time.perf_counter() - t0
+    *lines, peak_kb = [ln for ln in out.stderr.splitlines() if ln.strip()]
+    assert out.returncode == 2 and len(lines) == 1, out.stderr
+    assert str(MAX_NODES) in lines[0] and str(path) in lines[0] and 'Traceback' not in out.stderr
+    # The expansion (9**9 values) would take tens of GB; the child's peak is the interpreter's
+    # and its imports (well under 1 GB), and it answers in seconds, not never.
+    assert int(peak_kb) < 1_000_000 and wall < 30.0, (peak_kb, wall)
+    assert not (tmp_path / 'runs').exists()
+
+
+@pytest.mark.timeout(20)
+@pytest.mark.parametrize('loader', ['yaml', 'json'])
+def test_file_loaders_refuse_fifos_devices_and_oversized_files(tmp_path, loader):
+    load = load_yaml_file if loader == 'yaml' else load_json_file
+    fifo = tmp_path / 'fifo'
+    os.mkfifo(fifo)
+    for path, what in ((fifo, 'FIFO'), ('/dev/zero', 'character device'), (tmp_path, 'directory')):
+        with pytest.raises(InputError) as exc:
+            load(path)
+        msg = _one_line(exc.value)
+        assert msg.startswith(f'{path}: cannot read: it is ') and what in msg
+    big = tmp_path / 'big'
+    big.write_text('[' + '0, ' * 50 + '0]')
+    with pytest.raises(InputError, match='larger than 100 bytes'):
+        load(big, max_bytes=100)
+    assert load(big, max_bytes=1000) == [0] * 51
+
+
+def test_traffic_targets_parameter_is_bounded():
+    from ship_sim.light_traffic import parse_targets
+    for text, needle in (('[' * 5000 + ']' * 5000, f'deeper than {MAX_DEPTH}'),
+                         ('[{"name": "a", "x_m": ' + '9' * 5000 + '}]', 'a number of 5000'),
+                         ('[{"name": "a", "name": "b"}]', 'key "name" is given twice')):
+        with pytest.raises(ValueError) as exc:
+            parse_targets(text)
+        assert needle in _one_line(exc.value) and str(exc.value).startswith('light targets:')
+
+
+@pytest.mark.parametrize('name', ['ta\u00efget', '\u03a9mega', '2nd'])
+def test_a_light_target_name_that_is_no_ros_name_is_refused_naming_it(tmp_path, name):
+    if not name[0].isdigit():
+        assert name.isidentifier()      # what the former check let through
+    path = scenario_file(tmp_path)
+    path.write_text(path.read_text() + f'traffic:\n  {name}:\n    light: {{course_deg: 0.0, '
+                    'speed_mps: 5.0}\n')
+    with pytest.raises(ScenarioError) as exc:
+        load_scenario(path)
+    msg = _one_line(exc.value)
+    assert f'traffic.{name}' in msg and f"'{name}' is not a ROS name" in msg
+
+
+# -- 9. node sections checked by the nodes' rules before anything starts -----------------------------
+
+@pytest.mark.parametrize('block, needle', [
+    ('colav: {method: magic}', "colav.method: parameter 'method' = 'magic' is not allowed: one of"),
+    ('colav: {d_safe_m: -5.0}', 'colav.d_safe_m:'),
+    ('colav: {d_safe_m: 900}', 'colav.d_safe_m:'),               # an int for a float parameter
+    ('colav: {d_safe_m: 100.0}', 'colav: colav parameters: need 0 < collision_m'),
+    ('colav: {speed_factors: [0.5]}', 'speed_factors 1'),
+    ('guidance: {law: magic}', "guidance.law: parameter 'law' = 'magic'"),
+    ('guidance: {lookahead_m: fast}', 'guidance.lookahead_m:'),
+    ('autopilot: {vessel_model: boat}', 'autopilot.vessel_model:'),
+])
+def test_node_sections_are_checked_before_launch_without_a_run_folder(tmp_path, block, needle):
+    path = scenario_file(tmp_path, block + '\n')
+    with pytest.raises(ScenarioError) as exc:
+        check_scenario(load_scenario(path))
+    assert needle in _one_line(exc.value) and 'vessels.vessel_0.' in str(exc.value)
+    if 'magic' in block and 'colav' in block:
+        rc, lines = run_mission(path, '--runs', tmp_path / 'runs')
+        assert rc == 2 and len(lines) == 1 and needle in lines[0], lines
+        assert not (tmp_path / 'runs').exists()
+
+
+def test_valid_node_sections_pass_the_check(tmp_path):
+    path = scenario_file(tmp_path, 'colav: {method: vo, d_safe_m: 900.0}\n'
+                                   'guidance: {law: ilos, lookahead_m: 800.0}\n'
+                                   'autopilot: {vessel_model: mariner}\n')
+    check_scenario(load_scenario(path))
+
+
+# -- 10. sweep files and command-line tools ------------------------------------------------------------
+
+def _sweep_file(tmp_path, top):
+    path = tmp_path / 'sweep.yaml'
+    path.write_text(top + 'base: {model: mariner, duration_s: 10}\n')
+    return path
+
+
+def _cli(script, *args, timeout=60):
+    out = subprocess.run([sys.executable, str(ROOT / 'scripts' / script), *map(str, args)],
+                         capture_output=True, text=True, timeout=timeout,
+                         stdin=subprocess.DEVNULL)
+    assert 'Traceback' not in out.stderr + out.stdout, out.stderr
+    return out.returncode, [ln for ln in out.stderr.splitlines() if ln.strip()]
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize('top, needle', [
+    ('episodes: 1000000000000\n', 'episodes must be an integer in [1, '),
+    ('episodes: 1000\nvary: {start_cross_m: [' + ', '.join(['0.0'] * 300) + ']}\n', 'at most'),
+    ('name: ".."\n', "name must be a plain file name"),
+    ('name: "."\n', "name must be a plain file name"),
+    ('name: "a/b"\n', "name must be a plain file name"),
+    ('name: "-rf"\n', 'must not start with a dot or a dash'),
+    ('name: ".hidden"\n', 'must not start with a dot or a dash'),
+    ('name: "a\\tb"\n', 'control characters'),
+    ('seed: 1\nseed: 2\n', 'key "seed" is given twice, on lines 1 and 2'),
+    ('vary: {start_cross_m: ' + '[' * 100 + ']' * 100 + '}\n', f'deeper than {MAX_DEPTH}'),
+])
+def test_sweep_refuses_bad_files_in_one_line_before_creating_anything(tmp_path, top, needle):
+    from montecarlo.spec import MAX_EPISODES
+    path = _sweep_file(tmp_path, top)
+    out = tmp_path / 'out'
+    rc, lines = _cli('sweep.py', path, '--out', out, '--no-plots')
+    assert rc == 2 and len(lines) == 1 and needle in lines[0], lines
+    assert not out.exists()
+    if 'at most' in needle:
+        assert str(MAX_EPISODES) in lines[0]
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize('args, needle', [
+    (['--episodes', '1000000000000'], '--episodes'),
+    (['--duration', 'nan'], '--duration'),
+    (['--workers', '0'], '--workers'),
+    (['--out', '{file}'], 'exists and is not a folder'),
+])
+def test_sweep_refuses_bad_arguments_in_one_line(tmp_path, args, needle):
+    path = _sweep_file(tmp_path, 'episodes: 1\n')
+    out = tmp_path / 'out'
+    args = [a.replace('{file}', str(path)) for a in args]
+    if '--out' not in args:
+        args += ['--out', str(out)]
+    rc, lines = _cli('sweep.py', path, *args, '--no-plots')
+    assert rc == 2 and len(lines) == 1 and needle in lines[0], lines
+    assert sorted(p.name for p in tmp_path.iterdir()) == ['sweep.yaml']
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize('args, needle', [
+    (['--duration', 'nan'], '--duration'),
+    (['--duration', '-5'], '--duration'),
+    (['--duration', '0'], '--duration'),
+    (['--duration', 'inf'], '--duration'),
+    (['--jobs', '100000'], '--jobs'),
+    (['--jobs', '0'], '--jobs'),
+    (['--out', '{file}'], 'exists and is not a folder'),
+    (['--out', '{file}/sub'], 'exists and is not a folder'),
+])
+def test_imazu_benchmark_refuses_bad_arguments_leaving_nothing(tmp_path, args, needle):
+    blocker = tmp_path / 'a_file'
+    blocker.write_text('')
+    out = tmp_path / 'results'
+    args = [a.replace('{file}', str(blocker)) for a in args]
+    if '--out' not in args:
+        args += ['--out', str(out)]
+    rc, lines = _cli('imazu_benchmark.py', '--quick', '--no-plots', *args)
+    assert rc == 2 and len(lines) == 1 and needle in lines[0], lines
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ['a_file']
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize('script, args, needle', [
+    ('run_mission.py', ['{scenario}', '--duration', 'nan'], '--duration'),
+    ('run_mission.py', ['{scenario}', '--wall-timeout', '-1'], '--wall-timeout'),
+    ('run_mission.py', ['{scenario}', '--domain-id', '999'], '--domain-id'),
+    ('run_mission.py', ['{scenario}', '--live-port', '70000'], '--live-port'),
+    ('make_ais_replay.py', ['{out}', '--mmsi', '1', '--origin', '63', '10', '--light', '{}',
+                            '--period', '0', '--duration', '60'], '--period'),
+    ('make_ais_replay.py', ['{out}', '--mmsi', '1', '--origin', '63', '10', '--light', '{}',
+                            '--duration', '1e12'], '--duration'),
+    ('make_ais_replay.py', ['{out}', '--mmsi', '1', '--origin', 'nan', '10', '--light', '{}',
+                            '--duration', '60'], '--origin'),
+    ('make_ais_replay.py', ['{out}', '--mmsi', '1', '--origin', '63', '10', '--light',
+                            '[' * 1000 + ']' * 1000, '--duration', '60'], 'deeper than'),
+    ('encounter_report.py', ['{out}'], 'no such file'),
+])
+def test_cli_number_and_input_refusals_are_one_line(tmp_path, script, args, needle):
+    out = tmp_path / 'out.nmea'
+    args = [a.replace('{scenario}', str(scenario_file(tmp_path))).replace('{out}', str(out))
+            for a in args]
+    rc, lines = _cli(script, *args)
+    assert rc == 2 and len(lines) == 1 and needle in lines[0], lines
+    assert not out.exists() and not (tmp_path / 'runs').exists()
+
+
+@pytest.mark.timeout(20)
+def test_chart_files_that_are_not_regular_or_too_large_are_refused_before_reading(tmp_path):
+    from PIL import Image
+
+    from ship_planner.chart import ChartError, image_chart
+    fifo = tmp_path / 'chart.png'
+    os.mkfifo(fifo)
+    with pytest.raises(ChartError, match='FIFO') as exc:
+        image_chart(fifo, 10.0)           # PIL would wait for a writer
+    _one_line(exc.value)
+    big = tmp_path / 'big.png'
+    Image.new('1', (4000, 3000), 1).save(big)     # a few kB on disk, 12 million cells
+    with pytest.raises(ChartError, match='4000 = 12,000,000 cells'):
+        image_chart(big, 10.0, max_cells=1_000_000)
+    assert image_chart(big, 10.0, max_cells=12_000_000).water.all()
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize('script, args', [
+    ('evaluate_controllers.py', ['--duration', 'nan']),
+    ('evaluate_controllers.py', ['--jobs', '100000']),
+    ('wave_filter_comparison.py', ['--duration', '-1']),
+    ('replay_bag.py', ['{out}', '--settle', 'inf']),
+    ('run_seed_scenarios.py', ['--wall-timeout', 'nan']),
+    ('wind_study.py', ['--speeds', '1e9']),
+])
+def test_other_tools_refuse_bad_numbers_in_one_line(tmp_path, script, args):
+    out = tmp_path / 'out'
+    option = next(a for a in args if a.startswith('--'))
+    rc, lines = _cli(script, *[a.replace('{out}', str(out)) for a in args])
+    assert rc == 2 and len(lines) == 1 and f'argument {option}:' in lines[0], lines
+    assert list(tmp_path.iterdir()) == []

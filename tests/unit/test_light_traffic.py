@@ -73,7 +73,11 @@ def test_several_targets_of_both_kinds_at_once():
     ([{'name': 'a', 'course_deg': 0.0, 'speed_mps': True}], 'a number'),
     ([{'name': 'a', 'course_deg': 0.0}], 'give either'),
     ([{'name': 'a', 'course_deg': 0.0, 'speed_mps': 1.0, 'waypoints': []}], 'give either'),
-    ([{'name': 'a/b', 'course_deg': 0.0, 'speed_mps': 1.0}], 'plain name'),
+    ([{'name': 'a/b', 'course_deg': 0.0, 'speed_mps': 1.0}], "'a/b' is not a ROS name"),
+    # isidentifier() accepts these; ROS refuses them in a topic name
+    ([{'name': 'ta\u00efget', 'course_deg': 0.0, 'speed_mps': 1.0}], "'ta\u00efget' is not a ROS name"),
+    ([{'name': '\u03a9', 'course_deg': 0.0, 'speed_mps': 1.0}], "'\u03a9' is not a ROS name"),
+    ([{'name': '1a', 'course_deg': 0.0, 'speed_mps': 1.0}], "'1a' is not a ROS name"),
     ([{'name': 'a', 'course_deg': 0, 'speed_mps': 1}] * 2, 'distinct'),
     ({'name': 'a'}, 'a list'),
 ])

@@ -104,7 +104,7 @@ def test_unpaired_draws_differ_between_cells_and_the_seed_matters():
     ({'vary': {'start_cross_m': {'uniform': [10, -10]}}}, 'low <= high'),
     ({'vary': {'start_cross_m': {'beta': [1, 2]}}}, 'a random parameter is one of'),
     ({'vary': {'start_cross_m': 5}}, 'give a list'),
-    ({'episodes': 0}, 'episodes must be an integer >= 1'),
+    ({'episodes': 0}, 'episodes must be an integer in [1, '),
     ({'vary': {'controller': []}}, 'at least one value'),
     ({'base': {'encounter': 1}, 'vary': {'controller': ['los']}},
      "'controller' is not a parameter of an encounter sweep"),

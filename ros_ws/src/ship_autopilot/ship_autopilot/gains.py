@@ -39,7 +39,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from .fuzzy_pid import FuzzyPIDAutopilot, FuzzyPIDGains, scaling_from_pid
 from ship_guidance.heading_loop import pd_design, pd_gains
@@ -103,8 +102,8 @@ def design_gains(K, T, speed, length, omega_n_nd=1.0, zeta=ZETA, ki_factor=KI_FA
 
 
 def load_yaml(path):
-    with open(path, encoding='utf-8') as f:
-        return yaml.safe_load(f)
+    from ship_sim.safe_load import load_yaml_file
+    return load_yaml_file(path)
 
 
 def nomoto_gains(model, path=None):

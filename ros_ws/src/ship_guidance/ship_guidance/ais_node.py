@@ -5,7 +5,7 @@ Inputs (either or both):
   sentence alone at `file_rate_hz`), fed on the node's clock: with use_sim_time, a line is fed
   once sim time reaches `file_time_offset_s` + t_s (a scenario's sim time starts at 0); on the
   wall clock, times count from the node's start. Each sentence is fed with its own time.
-  The file must be a regular file of at most MAX_REPLAY_BYTES (ship_sim.text_files: a FIFO, a
+  The file must be a regular file of at most MAX_REPLAY_BYTES (ship_sim.safe_load: a FIFO, a
   device or a directory is refused in one line, exit code 2, before anything is read).
 - `udp_port` > 0: NMEA lines (one or more per datagram) on UDP `udp_address`:`udp_port`, the way
   OpenCPN, AIS-catcher and gpsd relay live AIS; stamped with the node's clock on arrival. One
@@ -48,7 +48,7 @@ from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import CLOCK_STEPS, STREAM
 from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
-from ship_sim.text_files import TextFileError, read_text_file
+from ship_sim.safe_load import InputError, read_regular_file
 
 COUNT_NAMES = ('decoded', 'ignored', 'pending_fragments', 'targets') + BAD_REASONS
 SYNC_NAMES = ('stamp_ns', 'targets')
@@ -104,8 +104,8 @@ class AisNode(Node):
         self.replay = []
         if path:
             try:
-                text = read_text_file(path, MAX_REPLAY_BYTES, encoding='ascii', errors='replace')
-            except TextFileError as exc:
+                text = read_regular_file(path, MAX_REPLAY_BYTES, binary=True).decode('ascii', 'replace')
+            except InputError as exc:
                 raise ParameterError('file', path, f'a readable regular file ({exc})') from None
             self.replay = parse_replay(text.splitlines(), rate, offset)
         self.sock = None

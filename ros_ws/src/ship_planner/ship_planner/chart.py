@@ -367,21 +367,35 @@ def image_chart(path, resolution_m, north0=None, east0=None, origin=None, max_ce
     the grey range), one pixel = one cell of resolution_m. The lower-left pixel's centre is at
     (north0, east0), default (res / 2, res / 2) so the image covers [0, H res] x [0, W res]."""
     path = str(path)
+    if os.path.exists(path):
+        _check_regular(path)
     try:
         from PIL import Image
         with Image.open(path) as im:
+            # The size is in the header: a huge image is refused before it is decoded.
+            check_cells(im.height, im.width, resolution_m, max_cells, f'the image {path}')
             img = np.asarray(im.convert('L'), dtype=float)
+    except ChartError:
+        raise
     except FileNotFoundError:
         raise ChartError(f'chart image {path} does not exist; check the path') from None
     except Exception as exc:  # noqa: BLE001 (any decoder failure means the same to the user)
         raise ChartError(f'cannot read the chart image {path}: {exc}; give a PNG/JPEG/TIFF '
                          'with dark land and light water') from None
-    check_cells(img.shape[0], img.shape[1], resolution_m, max_cells, f'the image {path}')
     lo, hi = img.min(), img.max()
     water = img > 0.5 * (lo + hi) if hi > lo else np.full(img.shape, hi > 0)
     r = float(resolution_m)
     return Chart(water[::-1].copy(), r, 0.5 * r if north0 is None else north0, 0.5 * r if east0 is None else east0,
                  origin, f'image {os.path.basename(path)}, {r:g} m per pixel')
+
+
+def _check_regular(path):
+    """ChartError unless ``path`` is a regular file (a FIFO would block the reader)."""
+    from ship_sim.safe_load import InputError, check_regular_file
+    try:
+        check_regular_file(path)
+    except InputError as exc:
+        raise ChartError(f'cannot read the chart {path}: {exc.detail}') from None
 
 
 # ---- S-57 ENC ---------------------------------------------------------------------------------
@@ -419,6 +433,7 @@ def enc_chart(path, resolution_m, draft_m=None, box=None, origin=None, max_cells
     path = str(path)
     if not os.path.exists(path):
         raise ChartError(f'ENC cell {path} does not exist; check the path')
+    _check_regular(path)
     fiona = _fiona()
     try:
         layers = fiona.listlayers(path)

@@ -13,9 +13,9 @@ Bounds every route reader applies (one place; a route beyond them is refused wit
   from ship_guidance.path: a generated curve (ship_guidance.curves) is refused before it is
   sampled, so a typo such as ``sweep_deg: 1.0e+9`` or ``step_m: 1e-9`` cannot take the memory of
   the machine;
-- ship_sim.text_files.MAX_FILE_BYTES (10 MB): route files are read only if they are regular files (a FIFO, a
+- ship_sim.safe_load.MAX_FILE_BYTES (10 MB): route files are read only if they are regular files (a FIFO, a
   directory or a device is refused before it is read, so nothing blocks) of at most that size,
-  and only as UTF-8 text (ship_sim.text_files.read_text_file, the check every file input uses).
+  and only as UTF-8 text (ship_sim.safe_load.read_regular_file, the reader of every input file).
 """
 from dataclasses import dataclass, field
 from typing import Any, Optional
@@ -24,6 +24,8 @@ import numpy as np
 
 # One set of bounds for route files, generated curves and Path messages.
 from ship_guidance.path import MAX_COORDINATE_M, MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES
+# Files are read by the project's one bounded reader (names kept for the route readers).
+from ship_sim.safe_load import MAX_FILE_BYTES, TextFileError, read_text_file  # noqa: F401
 
 
 class RouteError(ValueError):

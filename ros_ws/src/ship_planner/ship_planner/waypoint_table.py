@@ -53,7 +53,7 @@ import numpy as np
 from ship_planner.fillets import ArcSpec, LineSpec, segments_to_route
 from ship_planner.route_data import (MAX_ROUTE_SAMPLES, RouteError, RoutePlan, check_point,
                                      check_route_size)
-from ship_sim.text_files import TextFileError, read_text_file
+from ship_sim.safe_load import TextFileError, read_text_file
 
 COLUMNS = ('x', 'y', 'TURN', 'D', 'PATH', 'ICCW', 'x0', 'y0')
 DIRECTIVES = ('name', 'source', 'length_unit_m', 'start', 'arc_tolerance')

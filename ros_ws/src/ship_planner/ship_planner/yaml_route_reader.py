@@ -48,16 +48,15 @@ do not fit (the corner and the largest radius that fits), points beyond MAX_COOR
 (1e7 m) from the origin, routes or curves beyond MAX_ROUTE_LENGTH_M / MAX_ROUTE_SAMPLES, and
 files that are not regular files, too large or not UTF-8 (ship_planner.route_data).
 
-Numbers: YAML 1.1 (PyYAML) reads ``1e9`` (no dot) as text; ``Loader`` reads it as the number
-YAML 1.2 and every reader would see. Every YAML input of the project that holds numbers (route
-files, scenario files) is read with it.
+Numbers: YAML 1.1 (PyYAML) reads ``1e9`` (no dot) as text; ``Loader`` (ship_sim.safe_load, the
+bounded reader of every input file: nesting, aliases, number length, duplicate keys) reads it
+as the number YAML 1.2 and every reader would see.
 
 Frames: files are ENU (x east, y north) like the ROS topics; the Route is NED (north, east)
 like every pure module (conversion by ship_sim.frames.enu_to_ned_xy).
 """
 import difflib
 import math
-import re
 
 import numpy as np
 import yaml
@@ -68,7 +67,9 @@ from ship_planner.fillets import (ArcSpec, FilletError, LineSpec, fillet_segment
 from ship_sim.geodetic import geodetic_to_ned
 from ship_planner.route_data import RouteError, RoutePlan, check_point, check_route_size
 from ship_sim.frames import enu_to_ned_xy
-from ship_sim.text_files import TextFileError, read_text_file
+# The bounded reader of every input file (Loader: ``1e9`` is a number; bounds on depth,
+# aliases, number length and duplicate keys).
+from ship_sim.safe_load import InputError, Loader, TextFileError, compose_yaml, read_text_file  # noqa: F401
 
 FRAMES = ('enu', 'wgs84')
 TOP_KEYS = ('name', 'source', 'description', 'frame', 'origin', 'fillet_radius_m', 'turn_rudder_deg',
@@ -91,14 +92,6 @@ DEFAULT_STEP_M = 10.0
 _SAME_POINT_M = 1e-6          # consecutive points closer than this make a zero-length leg
 
 
-class Loader(yaml.SafeLoader):
-    """yaml.SafeLoader that also reads exponent numbers without a dot (``1e9``, ``-2E-3``) as
-    floats, as YAML 1.2 does; everything else is SafeLoader's."""
-
-
-Loader.add_implicit_resolver('tag:yaml.org,2002:float',
-                             re.compile(r'^[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+$'),
-                             list('-+0123456789'))
 _CONSTRUCTOR = yaml.constructor.SafeConstructor()
 
 
@@ -232,12 +225,9 @@ class _Reader:
     # ---- document --------------------------------------------------------------------------
     def read(self, text):
         try:
-            root = yaml.compose(text, Loader=Loader)
-        except yaml.YAMLError as exc:
-            mark = getattr(exc, 'problem_mark', None)
-            problem = getattr(exc, 'problem', None) or str(exc)
-            raise RouteError(f'not valid YAML: {problem}', file=self.file,
-                             line=mark.line + 1 if mark is not None else None) from None
+            root = compose_yaml(text)
+        except InputError as exc:
+            raise RouteError(exc.detail, file=self.file, line=exc.line) from None
         if root is None:
             raise RouteError('the route file is empty', file=self.file)
         top = self.mapping(root, 'route file', required=('name', 'source', 'frame'), allowed=TOP_KEYS)

@@ -14,12 +14,12 @@ like the rest of a scenario, course clockwise from north like ``current.directio
 Bounds (ship_sim.bounds): positions within MAX_COORDINATE_M of the origin and speeds (given, or
 of each leg between waypoints) at most MAX_SPEED_MPS; a target beyond them is refused.
 """
-import json
 import math
 
 import numpy as np
 
 from ship_sim.bounds import MAX_COORDINATE_M, MAX_SPEED_MPS
+from ship_sim.safe_load import InputError, load_json, ros_name_problem
 
 
 class LightTraffic:
@@ -142,8 +142,9 @@ def make_traffic(targets):
         if not isinstance(d, dict):
             raise ValueError(f'{where}: a mapping, got {d!r}')
         name = d.get('name')
-        if not (isinstance(name, str) and name.isidentifier()):
-            raise ValueError(f'{where}: name must be a plain name like target_1, got {name!r}')
+        bad = ros_name_problem(name)       # the name makes the topic /<name>/odom
+        if bad:
+            raise ValueError(f'{where}: name {bad}')
         where = f'light target {name}'
         keys = set(d) - {'name'}
         const = {'x_m', 'y_m', 'course_deg', 'speed_mps'}
@@ -185,7 +186,7 @@ def parse_targets(text):
     at t = 0) or ``{name, waypoints: [[t_s, x_m, y_m], ...]}`` (ENU, times strictly
     increasing). Raises ValueError naming the target and the problem."""
     try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ValueError(f'light targets: not valid JSON: {exc}') from None
+        data = load_json(text)       # bounded: nesting, number length, keys given twice
+    except InputError as exc:
+        raise ValueError(f'light targets: {exc}') from None
     return make_traffic(data)

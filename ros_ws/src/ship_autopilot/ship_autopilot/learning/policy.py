@@ -145,7 +145,8 @@ def load_policy(model=None, path=None):
     if missing:
         _fail(path, f'missing arrays {missing}; expected {list(WEIGHT_NAMES) + ["meta"]}')
     try:
-        meta = json.loads(str(arrays['meta'][()]))
+        from ship_sim.safe_load import load_json
+        meta = load_json(str(arrays['meta'][()]))
     except (ValueError, TypeError) as exc:
         _fail(path, f'metadata is not JSON ({exc})')
     if not isinstance(meta, dict) or meta.get('format') != FORMAT:

@@ -195,6 +195,19 @@ class NodeParameters:
                 spec.on_change(p.value)
 
 
+def check_value(name, value, default, *, lo=None, hi=None, choices=None, check=None,
+                allowed=None, allow_nonfinite=False):
+    """None if ``value`` is a valid start value of a parameter declared with ``default`` and
+    these rules (NodeParameters.declare's), else the one-line refusal the node would give: the
+    same check, for programs (the launcher) that refuse a value before the node is started."""
+    kind = type(default)
+    if allowed is None:
+        allowed = _allowed_text(kind, lo, hi, choices)
+    spec = _Spec(name, kind, lo, hi, choices, check, allowed, None, allow_nonfinite)
+    bad = NodeParameters._problem(spec, value)
+    return None if bad is None else str(ParameterError(name, value, bad))
+
+
 def check_overrides(node):
     """Raise ParameterError if ``node`` was given a parameter it does not declare.
 

@@ -21,6 +21,9 @@ dimensions unless `static` gives them.
 import json
 
 from mission.fields import ScenarioError
+from mission.node_checks import node_parameter_names
+from mission.scenario import scenario_origin
+from ship_guidance.nav_display import DEFAULT_ORIGIN_DEG
 
 KEYS = {'udp', 'file', 'origin', 'mmsi', 'static'}
 STATIC_KEYS = {'class', 'name', 'callsign', 'ship_type', 'length_m', 'beam_m', 'antenna_x_m',
@@ -45,7 +48,6 @@ def _model_dimensions(model):
 def aivdm_parameters(scenario, run):
     """aivdm_out_node's parameters for ``scenario`` (its `aivdm_out` mapping), the file in the
     run folder ``run`` when relative. ScenarioError names the key of anything wrong."""
-    from mission.launcher import node_parameter_names
     block = scenario.aivdm_out
     if not isinstance(block, dict):
         _fail(scenario, '', 'a mapping (udp, file, origin, mmsi, static, sensor parameters)')
@@ -83,16 +85,8 @@ def aivdm_parameters(scenario, run):
         if not isinstance(origin, dict) or set(origin) != {'lat_deg', 'lon_deg'}:
             _fail(scenario, 'origin', 'a mapping {lat_deg, lon_deg}')
         lat0, lon0 = float(origin['lat_deg']), float(origin['lon_deg'])
-    elif scenario.ais is not None:
-        lat0, lon0 = scenario.ais['origin_lat_deg'], scenario.ais['origin_lon_deg']
-    else:
-        from mission.launcher import route_plan
-        lat0 = lon0 = 0.0
-        for s in scenario.vessels:
-            plan = route_plan(scenario, s)
-            if plan.origin_lat_deg is not None:
-                lat0, lon0 = plan.origin_lat_deg, plan.origin_lon_deg
-                break
+    else:   # the scenario's origin, as the display's fix uses it (one place picks it)
+        lat0, lon0 = scenario_origin(scenario) or DEFAULT_ORIGIN_DEG
     file = str(block.get('file', '') or '')
     if file and not file.startswith('/'):
         file = str(run / file)

@@ -35,7 +35,8 @@ import yaml
 from mission.console import progress_line
 from mission.domain import LeaseError, lease_domain_id
 from mission.processes import REPO, ProcessGroup, install_env
-from mission.scenario import ScenarioError, scenario_text, start_pose
+from mission.node_checks import RCLPY_PARAMETERS, node_parameter_names  # noqa: F401 (the launcher's API)
+from mission.scenario import ScenarioError, route_plan, scenario_origin, scenario_text, start_pose
 from mission.waves import wave_filter_parameters
 from mission.wind_block import wind_meta, wind_parameters
 from ship_guidance.nav_display import DEFAULT_DISPLAY_RATE_HZ
@@ -102,45 +103,6 @@ def install_stop_handlers():
     nodes run in their own sessions, so without a SIGTERM handler they would be orphaned."""
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, _on_stop_signal)
-
-
-#: Parameters rclpy (Jazzy) declares on every node itself (see ship_sim.ros.params.check_overrides).
-RCLPY_PARAMETERS = ('use_sim_time', 'start_type_description_service')
-
-
-def node_parameter_names(package, executable):
-    """The parameters ``executable`` of ``package`` declares, from the package's own list:
-    config/<name>.yaml (``vessel_node`` -> ``vessel.yaml``), which lists every parameter of
-    its node, as installed in share/<package>/config (the source tree's before a build), plus
-    those rclpy declares on every node (RCLPY_PARAMETERS). A list parameter without a default
-    (an empty list has no type in a ROS parameter file, e.g. guidance_node's
-    course_schedule_deg) is listed in a comment as ``<name>: [...]``."""
-    import re
-    from mission.node_checks import config_file
-    from ship_sim.safe_load import load_yaml, read_regular_file
-    name = executable.removesuffix('_node') + '.yaml'
-    path = config_file(package, executable)
-    if path is not None:
-        text = read_regular_file(path)
-        names = set(RCLPY_PARAMETERS)
-        for section in (load_yaml(text, path) or {}).values():
-            names |= set((section or {}).get('ros__parameters') or {})
-        for line in text.splitlines():
-            if line.lstrip().startswith('#'):
-                names |= set(re.findall(r'\b([a-z][a-z0-9_]*): \[', line))
-        return names
-    raise ScenarioError(f'{executable}: no parameter list config/{name} in package {package}')
-
-
-def route_plan(scenario, spec):
-    """The parsed route file of ``spec``, parsed once per file and run: kept in
-    ``scenario.routes`` (check_scenario fills it, node_parameters reads it from there).
-    RouteError if the file is not a valid route."""
-    plan = scenario.routes.get(spec.route_file)
-    if plan is None:
-        from ship_planner.route_loader import load_route
-        plan = scenario.routes[spec.route_file] = load_route(spec.route_file)
-    return plan
 
 
 def check_scenario(scenario):
@@ -376,27 +338,12 @@ def display_every(scenario):
     return max(1, int(round(1.0 / (scenario.dt_s * rate))))
 
 
-def display_origin(scenario):
-    """(lat, lon) of the NavSatFix origin: the scenario's `display: origin`, else the first
-    route file's origin, else the `ais:` block's; None when none gives one (nav_display_node
-    then uses its default sea area, ship_guidance.nav_display.DEFAULT_ORIGIN_DEG)."""
-    if 'origin_lat_deg' in (scenario.display or {}):
-        return scenario.display['origin_lat_deg'], scenario.display['origin_lon_deg']
-    for s in scenario.vessels:
-        plan = route_plan(scenario, s)
-        if plan.origin_lat_deg is not None:
-            return plan.origin_lat_deg, plan.origin_lon_deg
-    if scenario.ais is not None:
-        return scenario.ais['origin_lat_deg'], scenario.ais['origin_lon_deg']
-    return None
-
-
 def display_parameters(scenario, spec):
     """nav_display_node's parameters of one vessel: its model, the scenario's `display:` keys,
-    and the NavSatFix origin (display_origin) if the scenario has one."""
+    and the NavSatFix origin (mission.scenario.scenario_origin) if the scenario has one."""
     # Stamped from odom only: no /clock subscription (a callback per step) is needed.
     params = {'use_sim_time': False, 'model': spec.model, **scenario.display}
-    origin = display_origin(scenario)
+    origin = scenario_origin(scenario)
     if origin is not None:
         params['origin_lat_deg'], params['origin_lon_deg'] = origin
     return params
@@ -406,7 +353,7 @@ def start_viewers(scenario, run, group, progress):
     """Start every vessel's nav_display_node (unless `display: false`) and, with --live, the
     live view (scripts/live_view.py, mission.live_bridge) serving the graph on 127.0.0.1."""
     if scenario.display is not None:
-        if display_origin(scenario) is None:
+        if scenario_origin(scenario) is None:
             from ship_guidance.nav_display import DEFAULT_ORIGIN_DEG
             progress(f'display: no geodetic origin in the scenario or its routes; the fix uses '
                      f'the default sea area {DEFAULT_ORIGIN_DEG[0]:g} N {DEFAULT_ORIGIN_DEG[1]:g} E '

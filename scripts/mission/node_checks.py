@@ -5,7 +5,7 @@ its start (after the whole graph and the run folder exist) is refused here, in o
 the file and the key. The rules are the nodes' own, not copies:
 
 - every section: the value's type is that of the parameter's default in the package's config
-  list (config/<node>.yaml, the file mission.launcher.node_parameter_names reads), as rclpy's
+  list (config/<node>.yaml, the file node_parameter_names reads), as rclpy's
   static parameter types require (rclpy refuses ``900`` for a float parameter: write
   ``900.0``);
 - colav: ``method`` one of ship_guidance.colav_methods.METHODS; every scalar within the bounds
@@ -131,3 +131,30 @@ def check_vessel_sections(spec, where):
         if problems:
             key, bad = problems[0]
             raise ScenarioError(f'{where}{block}' + (f'.{key}' if key else '') + f': {bad}')
+
+
+#: Parameters rclpy (Jazzy) declares on every node itself (see ship_sim.ros.params.check_overrides).
+RCLPY_PARAMETERS = ('use_sim_time', 'start_type_description_service')
+
+
+def node_parameter_names(package, executable):
+    """The parameters ``executable`` of ``package`` declares, from the package's own list:
+    config/<name>.yaml (``vessel_node`` -> ``vessel.yaml``), which lists every parameter of
+    its node, as installed in share/<package>/config (the source tree's before a build), plus
+    those rclpy declares on every node (RCLPY_PARAMETERS). A list parameter without a default
+    (an empty list has no type in a ROS parameter file, e.g. guidance_node's
+    course_schedule_deg) is listed in a comment as ``<name>: [...]``."""
+    import re
+    from ship_sim.safe_load import load_yaml, read_regular_file
+    name = executable.removesuffix('_node') + '.yaml'
+    path = config_file(package, executable)
+    if path is not None:
+        text = read_regular_file(path)
+        names = set(RCLPY_PARAMETERS)
+        for section in (load_yaml(text, path) or {}).values():
+            names |= set((section or {}).get('ros__parameters') or {})
+        for line in text.splitlines():
+            if line.lstrip().startswith('#'):
+                names |= set(re.findall(r'\b([a-z][a-z0-9_]*): \[', line))
+        return names
+    raise ScenarioError(f'{executable}: no parameter list config/{name} in package {package}')

@@ -203,6 +203,33 @@ def load_scenarios(path):
     return scenarios
 
 
+def route_plan(scenario, spec):
+    """The parsed route file of ``spec``, parsed once per file and run: kept in
+    ``scenario.routes`` (the launcher's check_scenario fills it, node_parameters reads it from
+    there). RouteError if the file is not a valid route."""
+    plan = scenario.routes.get(spec.route_file)
+    if plan is None:
+        from ship_planner.route_loader import load_route
+        plan = scenario.routes[spec.route_file] = load_route(spec.route_file)
+    return plan
+
+
+def scenario_origin(scenario):
+    """(lat, lon) of the scenario's geodetic origin, the one place that picks it: `display:
+    origin`, else the first route file's origin, else the `ais:` block's; None when none gives
+    one (then nav_display_node and AIVDM out use the default sea area,
+    ship_guidance.nav_display.DEFAULT_ORIGIN_DEG, and the launcher says so)."""
+    if 'origin_lat_deg' in (scenario.display or {}):
+        return scenario.display['origin_lat_deg'], scenario.display['origin_lon_deg']
+    for s in scenario.vessels:
+        plan = route_plan(scenario, s)
+        if plan.origin_lat_deg is not None:
+            return plan.origin_lat_deg, plan.origin_lon_deg
+    if scenario.ais is not None:
+        return scenario.ais['origin_lat_deg'], scenario.ais['origin_lon_deg']
+    return None
+
+
 def scenario_text(scenario):
     """The YAML text of one scenario: its file's, or for a matrix scenario its own mapping (the
     file holds the whole matrix), headed by a comment naming the matrix."""

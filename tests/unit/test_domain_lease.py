@@ -110,7 +110,7 @@ def test_run_mission_refuses_an_unsafe_lock_dir_in_one_line(tmp_path, monkeypatc
     bad.mkdir(mode=0o755)
     bad.chmod(0o755)
     monkeypatch.setattr(domain, 'lock_dir', lambda env=None: bad)
-    scenario = load_scenario(SCRIPTS.parent / 'scenarios' / 'course_change_30_pd_004.yaml')
+    scenario = load_scenario(SCRIPTS.parent / 'scenarios' / 'course_changes_004.yaml', 'course_change_30_pd_004')
     with pytest.raises(MissionFailed, match='^refusing the domain lock directory') as err:
         run_scenario(scenario, runs_root=tmp_path / 'runs', progress=lambda s: None)
     assert '\n' not in str(err.value)

@@ -517,9 +517,12 @@ def test_run_mission_refuses_an_alias_bomb_scenario_at_once(tmp_path):
     path = tmp_path / 'bomb.yaml'
     path.write_text(_bomb() + 'name: t\nsource: x\n')
     # run_mission in a child that reports its own peak memory (kB) last, whatever its exit
-    report = ('import resource, runpy, sys\nsys.argv = sys.argv[1:]\ntry:\n'
+    # (VmHWM, not ru_maxrss: Linux keeps ru_maxrss across exec, so a child of a large pytest
+    # process would report the parent's peak; VmHWM belongs to the new address space.)
+    report = ('import runpy, sys\nsys.argv = sys.argv[1:]\ntry:\n'
               '    runpy.run_path(sys.argv[0], run_name="__main__")\nfinally:\n'
-              '    print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, file=sys.stderr)\n')
+              '    hwm = [ln for ln in open("/proc/self/status") if ln.startswith("VmHWM")]\n'
+              '    print(hwm[0].split()[1], file=sys.stderr)\n')
     t0 = time.perf_counter()
     out = subprocess.run([sys.executable, '-c', report, str(ROOT / 'scripts' / 'run_mission.py'),
                           str(path), '--runs', str(tmp_path / 'runs')], capture_output=True,

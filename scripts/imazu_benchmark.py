@@ -31,6 +31,7 @@ from pathlib import Path
 
 from imazu.cases import SINGLE, load_cases
 from imazu.runner import DURATION_S, METHODS, SHIPS, case_scenario, write_scenario
+from ship_sim.allocator import tune_allocator
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -89,6 +90,7 @@ def _run(task):
 
 
 def main(argv=None):
+    tune_allocator()   # SB-MPC's decisions; the forked pool inherits it
     args, cases = parse_args(argv)
     if args.scenario_out:
         n = 0

@@ -41,6 +41,7 @@ from montecarlo import results
 from montecarlo.backends import SweepRunError
 from montecarlo.driver import run_sweep
 from montecarlo.spec import REPO, SweepError, load
+from ship_sim.allocator import tune_allocator
 
 
 def parse_args(argv=None):
@@ -95,6 +96,7 @@ def missing_packages(ray):
 
 
 def main(argv=None):
+    tune_allocator()   # local workers are forked from here and inherit it
     args = parse_args(argv)
     missing = missing_packages(args.ray)
     if missing:

@@ -37,6 +37,7 @@ from rclpy.exceptions import NameValidationException
 from rclpy.exceptions import ParameterException as RclpyParameterException
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 
+from ship_sim.allocator import tune_allocator
 from .params import ParameterError, check_overrides
 
 EXECUTORS = ('events', 'single')
@@ -178,6 +179,7 @@ def _build(node_factory):
 
 def run_node(node_factory, *, args=None, executor=None):
     """Build the node with ``node_factory()``, spin it until shutdown; return the exit code."""
+    tune_allocator()   # every node's hot loop (waves, SB-MPC) without mmap churn
     prog = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else 'node'
     # Ctrl-C: rclpy's signal handler (installed by init, chaining to this one) shuts the
     # context down, which ends the spin loop. Without this no-op, Python would also raise

@@ -219,8 +219,8 @@ class WaveResponse:
     def _by_blocks(self, f, n_dofs, U, psi, beta_wave):
         """f(vessels, U, psi, beta_wave) -> arrays (... x B) evaluated on blocks of vessels,
         each block's (n_dofs x block x N x D) complex temporaries small enough to stay in
-        the CPU cache: the cost per vessel then does not grow with the batch, and no step
-        allocates arrays large enough for the C library to map and unmap them. Each vessel's
+        the CPU cache: the cost per vessel then does not grow with the batch, and a step's
+        arrays stay far below the mmap threshold ship_sim.allocator sets. Each vessel's
         numbers are those of one evaluation of the whole batch (the same element-wise
         arithmetic and the same sum over its own components)."""
         if not self.batch_shape:

@@ -34,6 +34,7 @@ from pathlib import Path
 
 from benchmarks import SECTIONS, section_function
 from benchmarks.common import REPO, format_section, machine_info
+from ship_sim.allocator import tune_allocator
 
 DEFAULT_OUT = REPO / 'bench' / 'results' / 'bench.json'
 
@@ -62,6 +63,7 @@ def parse_args(argv=None):
 
 
 def main(argv=None):
+    tune_allocator()   # first: every section's numbers with the same allocator settings
     args = parse_args(argv)
     if args.list:
         for name, (_, _, text) in SECTIONS.items():

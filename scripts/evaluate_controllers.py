@@ -77,6 +77,7 @@ from ship_guidance.guidance import Guidance
 from ship_planner.route_loader import load_route
 from ship_autopilot.wave_filter import WaveFilter
 from ship_sim.environment.sea_state import ShipWaves, rao_table_for
+from ship_sim.allocator import tune_allocator
 from ship_sim.models import make_model
 from mission.conditions import (CONDITIONS, SEED, Condition, route_course, sea_state,
                                 wind_field)
@@ -480,6 +481,7 @@ def html_page(path, results, models, controllers, duration, n_starts):
 
 
 def main(argv=None):
+    tune_allocator()   # its pools are forked from here and inherit it
     from mission.cli_args import OneLineParser, integer, number
     p = OneLineParser(description=__doc__.split('\n')[0])
     p.add_argument('--quick', action='store_true',

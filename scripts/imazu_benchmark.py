@@ -33,6 +33,7 @@ from imazu.cases import SINGLE, load_cases
 from imazu.runner import DURATION_S, METHODS, SHIPS, case_scenario, write_scenario
 from mission.cli_args import OneLineParser, integer, number, out_folder
 from mission.scenario import MIN_DURATION_S
+from ship_sim.allocator import tune_allocator
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -96,6 +97,7 @@ def _run(task):
 
 
 def main(argv=None):
+    tune_allocator()   # SB-MPC's decisions; the forked pool inherits it
     args, cases = parse_args(argv)
     if args.scenario_out:
         n = 0

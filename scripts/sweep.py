@@ -41,6 +41,7 @@ from montecarlo.backends import SweepRunError
 from montecarlo.driver import run_sweep
 from mission.cli_args import OneLineParser, integer, number, out_folder
 from montecarlo.spec import MAX_EPISODES, PARAMETERS, REPO, SweepError, check_size, load
+from ship_sim.allocator import tune_allocator
 
 #: Most worker processes or Ray CPUs asked for (a cluster's; far beyond one machine's cores).
 MAX_WORKERS = 4096
@@ -91,6 +92,7 @@ def missing_packages(ray):
 
 
 def main(argv=None):
+    tune_allocator()   # local workers are forked from here and inherit it
     args = parse_args(argv)
     missing = missing_packages(args.ray)
     if missing:

@@ -54,6 +54,7 @@ import numpy as np
 from ship_autopilot.learning.env import EnvConfig, PathFollowingBatch
 from ship_autopilot.learning.policy import policy_path, save_policy
 from ship_guidance.path_state import CLIP, OBS_DIM
+from ship_sim.allocator import tune_allocator
 from ship_sim.safe_load import load_json_file
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -411,6 +412,7 @@ def compare(args):
 
 
 def main(argv=None):
+    tune_allocator()
     p = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     sub = p.add_subparsers(dest='cmd', required=True)
     t = sub.add_parser('train')

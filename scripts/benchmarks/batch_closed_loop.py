@@ -18,11 +18,18 @@ Three figures side by side, all Mariner, h = 0.1 s:
   loop's CPU rate at the same N.
 
 Each figure is the best of ``repeats`` runs of the stepping alone (set-up reported apart), in
-wall time and in CPU time (time.process_time, which a loaded machine disturbs much less).
+wall time and in CPU time (time.process_time, which a loaded machine disturbs much less),
+with the minor page faults per step of the whole batch (getrusage) beside it. bench.py tunes
+the allocator before any section (ship_sim.allocator), so the plant row, run after the loops,
+sees the allocator they saw; one more plant row runs in a fresh process with the C library's
+default settings, the cost the tuning takes away.
 Goal (issue 16): >= 1 000 000 closed-loop vessel-steps/s at N = 10 000 (Mariner, ILOS + PD).
 """
+import json
 import math
 import os
+import subprocess
+import sys
 import time
 
 import numpy as np
@@ -50,7 +57,8 @@ def episodes(n, seed=1):
 
 
 def batch_rate(route_name, n, sim_s, repeats, condition='calm', current_sd=None):
-    """(best wall rate, best CPU rate, set-up s) of BatchClosedLoop, ILOS + PD, in a
+    """(best wall rate, best CPU rate, set-up s, fewest minor faults per step) of
+    BatchClosedLoop, ILOS + PD, in a
     mission.conditions ``condition`` (a seed per episode, as a sweep's; the sea states' set-up
     is in the set-up time). ``current_sd``: (speed sd m/s, direction sd rad) of a Gauss-Markov
     current about each episode's (CURRENT_TIME_CONSTANT_S, a seed per episode)."""
@@ -60,7 +68,7 @@ def batch_rate(route_name, n, sim_s, repeats, condition='calm', current_sd=None)
     from ship_planner.route_loader import load_route
     route = load_route(common.REPO / 'scenarios' / 'routes' / ROUTES[route_name]).route
     loop = BatchClosedLoop('mariner', [route], 'pd', 'ilos')
-    walls, cpus, setup = [], [], []
+    walls, cpus, setup, faults = [], [], [], []
     for _ in range(repeats):
         t0 = time.perf_counter()
         wind, waves, _ = ec.disturbances(condition, [route], loop.model, [0] * n, range(n))
@@ -74,38 +82,54 @@ def batch_rate(route_name, n, sim_s, repeats, condition='calm', current_sd=None)
         walls.append(res.loop_s)
         cpus.append(res.loop_cpu_s)
         setup.append(res.setup_s)
+        faults.append(res.loop_minor_faults / res.steps)
         assert not res.metrics['failed'].any()
     steps = n * res.steps
-    return steps / min(walls), steps / max(min(cpus), 1e-9), min(setup)
+    return steps / min(walls), steps / max(min(cpus), 1e-9), min(setup), min(faults)
 
 
 def single_rate(steps, repeats):
-    """(wall, CPU) vessel-steps/s of the flagship loop with one vessel (float paths)."""
-    walls, cpus = [], []
+    """(wall, CPU, minor faults per step) vessel-steps/s of the flagship loop with one vessel
+    (float paths)."""
+    walls, cpus, faults = [], [], []
     for _ in range(repeats):
         loop = closed_loop_inprocess.build_loop()
-        t0, c0 = time.perf_counter(), time.process_time()
+        t0, c0, f0 = time.perf_counter(), time.process_time(), common.minor_faults()
         closed_loop_inprocess.run_loop(*loop, steps)
         walls.append(time.perf_counter() - t0)
         cpus.append(time.process_time() - c0)
-    return steps / min(walls), steps / max(min(cpus), 1e-9)
+        faults.append((common.minor_faults() - f0) / steps)
+    return steps / min(walls), steps / max(min(cpus), 1e-9), min(faults)
 
 
 def plant_rate(n, quick):
-    """(wall, CPU) vessel-steps/s of the plant alone: best of 3 blocks of RK4 steps."""
+    """(wall, CPU, minor faults per step) vessel-steps/s of the plant alone: best of 3 blocks
+    of RK4 steps after one step."""
     from ship_sim.integrators import rk4_step
     from ship_sim.models import make_model
     model = make_model('mariner')
     X, U = batched.batch(model, n)
     steps = 10 if quick else 50
-    walls, cpus = [], []
+    rk4_step(model.rhs, X, U, batched.H)
+    walls, cpus, faults = [], [], []
     for _ in range(3):
-        t0, c0 = time.perf_counter(), time.process_time()
+        t0, c0, f0 = time.perf_counter(), time.process_time(), common.minor_faults()
         for _ in range(steps):
             rk4_step(model.rhs, X, U, batched.H)
         walls.append(time.perf_counter() - t0)
         cpus.append(time.process_time() - c0)
-    return n * steps / min(walls), n * steps / max(min(cpus), 1e-9)
+        faults.append((common.minor_faults() - f0) / steps)
+    return n * steps / min(walls), n * steps / max(min(cpus), 1e-9), min(faults)
+
+
+def plant_rate_default_allocator(n, quick):
+    """plant_rate in a fresh interpreter that leaves the C library's allocator as it starts
+    (no ship_sim.allocator): what the tuning saves, measured in the same bench run."""
+    code = ('import json, sys; from benchmarks import batch_closed_loop as b; '
+            f'print(json.dumps(b.plant_rate({int(n)}, {bool(quick)})))')
+    out = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
+                         timeout=600, cwd=common.REPO / 'scripts', check=True)
+    return tuple(json.loads(out.stdout.splitlines()[-1]))
 
 
 def run(quick=False):
@@ -113,30 +137,33 @@ def run(quick=False):
     repeats = 1 if quick else 3
     load = os.getloadavg()[0]
     rows = []
-    w, c = single_rate(int(sim_s / 0.1), repeats)
+    w, c, f = single_rate(int(sim_s / 0.1), repeats)
     rows.append({'loop': 'single vessel, float paths (flagship, ILOS + PD)', 'n': 1,
-                 'rate_wall': w, 'rate_cpu': c})
+                 'rate_wall': w, 'rate_cpu': c, 'faults_per_step': f})
     for n in SIZES:
-        w, c, s = batch_rate('flagship', n, sim_s, repeats)
+        w, c, s, f = batch_rate('flagship', n, sim_s, repeats)
         rows.append({'loop': 'BatchClosedLoop flagship ILOS + PD', 'n': n, 'rate_wall': w,
-                     'rate_cpu': c, 'setup_s': s})
+                     'rate_cpu': c, 'setup_s': s, 'faults_per_step': f})
     goal_row = rows[-1]
     calm = {r['n']: r for r in rows[1:]}
     for n in WAVES_SIZES:   # wind + waves, against the calm row of the same N
-        w, c, s = batch_rate('flagship', n, sim_s / 5, 1, 'wind20')
+        w, c, s, f = batch_rate('flagship', n, sim_s / 5, 1, 'wind20')
         rows.append({'loop': 'BatchClosedLoop flagship ILOS + PD, wind20 (wind + waves)',
                      'n': n, 'rate_wall': w, 'rate_cpu': c, 'setup_s': s,
-                     'ratio_to_calm': c / calm[n]['rate_cpu']})
-    w, c, s = batch_rate('flagship', GOAL_N, sim_s / 5, 1, current_sd=CURRENT_SD)
+                     'faults_per_step': f, 'ratio_to_calm': c / calm[n]['rate_cpu']})
+    w, c, s, f = batch_rate('flagship', GOAL_N, sim_s / 5, 1, current_sd=CURRENT_SD)
     rows.append({'loop': 'BatchClosedLoop flagship ILOS + PD, Gauss-Markov current',
                  'n': GOAL_N, 'rate_wall': w, 'rate_cpu': c, 'setup_s': s,
-                 'ratio_to_calm': c / calm[GOAL_N]['rate_cpu']})
-    w, c, s = batch_rate('curved', GOAL_N, sim_s, 1)
+                 'faults_per_step': f, 'ratio_to_calm': c / calm[GOAL_N]['rate_cpu']})
+    w, c, s, f = batch_rate('curved', GOAL_N, sim_s, 1)
     rows.append({'loop': 'BatchClosedLoop curved path (912 arcs) ILOS + PD', 'n': GOAL_N,
-                 'rate_wall': w, 'rate_cpu': c, 'setup_s': s})
-    pw, pc = plant_rate(GOAL_N, quick)
+                 'rate_wall': w, 'rate_cpu': c, 'setup_s': s, 'faults_per_step': f})
+    pw, pc, f = plant_rate(GOAL_N, quick)
     rows.append({'loop': 'plant only: rk4_step(mariner.rhs) (section batched)', 'n': GOAL_N,
-                 'rate_wall': pw, 'rate_cpu': pc})
+                 'rate_wall': pw, 'rate_cpu': pc, 'faults_per_step': f})
+    dw, dc, f = plant_rate_default_allocator(GOAL_N, quick)
+    rows.append({'loop': "plant only, fresh process, the C library's default allocator",
+                 'n': GOAL_N, 'rate_wall': dw, 'rate_cpu': dc, 'faults_per_step': f})
     for r in rows:
         r['ratio_to_plant'] = r['rate_cpu'] / pc
         r['ratio_to_plant_wall'] = r['rate_wall'] / pw
@@ -146,7 +173,7 @@ def run(quick=False):
                     ['rate_cpu', 'steps/s CPU (best)'], ['ratio_to_plant', 'CPU / plant only'],
                     ['ratio_to_plant_wall', 'wall / plant only'],
                     ['ratio_to_calm', 'CPU / calm, same N'],
-                    ['setup_s', 'set-up s']],
+                    ['faults_per_step', 'faults/step'], ['setup_s', 'set-up s']],
         'rows': rows,
         'goals': [common.goal(f'closed-loop vessel-steps/s at N = {GOAL_N:,}, ILOS + PD (wall)',
                               goal_row['rate_wall'], GOAL_RATE, 'steps/s', below=False),

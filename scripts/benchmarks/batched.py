@@ -4,6 +4,8 @@
 three MSS ships and N = 1, 100, 10 000 (``--quick``: same sizes, shorter timing). Each vessel
 gets its own rudder command (spread over +-0.3 rad) and its own heading, so the saturation
 branches differ across the batch. Step h = 0.1 s.
+Beside each rate, the minor page faults per step (common.time_call; bench.py tunes the
+allocator first, ship_sim.allocator).
 Goal (issue 2): >= 1 000 000 vessel-steps/s at N = 10 000.
 """
 import numpy as np
@@ -42,7 +44,7 @@ def run(quick=False):
                          'step_best_us': t['best_us'], 'step_median_us': t['median_us'],
                          'rate_best': n / t['best_us'] * 1e6,
                          'rate_median': n / t['median_us'] * 1e6,
-                         'us_per_vessel': t['best_us'] / n})
+                         'us_per_vessel': t['best_us'] / n, 'faults_per_step': t['faults']})
     goals = [common.goal(f'{r["model"]} vessel-steps/s at N = {GOAL_N:,} (best)',
                          r['rate_best'], GOAL_RATE, 'steps/s', below=False)
              for r in rows if r['n'] == GOAL_N]
@@ -51,7 +53,7 @@ def run(quick=False):
         'columns': [['model', 'model'], ['n', 'N'],
                     ['step_best_us', 'step best us'], ['step_median_us', 'step median us'],
                     ['rate_best', 'vessel-steps/s best'], ['rate_median', 'vessel-steps/s median'],
-                    ['us_per_vessel', 'us/vessel']],
+                    ['us_per_vessel', 'us/vessel'], ['faults_per_step', 'faults/step']],
         'rows': rows, 'goals': goals, 'h_s': H,
         'notes': ['N = 1 here is (1, n) arrays, slower than the 1-D numpy path of section '
                   "'models' (1-element arrays take numpy's full ufunc path, 0-d components "

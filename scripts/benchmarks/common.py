@@ -2,13 +2,16 @@
 
 Timing follows the ``timeit`` advice: the loop count is grown until one repeat takes at least
 ``min_time`` seconds, the repeat is done several times, and the best and the median per-call
-times are reported (microseconds). Goals are judged on the best: it is the least disturbed by
+times are reported (microseconds), with the minor page faults per call over the repeats
+(``minor_faults``: memory a call maps afresh instead of reusing, see ship_sim.allocator; a
+count the machine's load does not disturb). Goals are judged on the best: it is the least disturbed by
 other processes (timeit's own advice), which matters on a shared machine; the median shows how
 much disturbance there was.
 """
 import datetime
 import os
 import platform
+import resource
 import statistics
 import timeit
 from pathlib import Path
@@ -16,8 +19,14 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[2]
 
 
+def minor_faults():
+    """Minor page faults of this process so far (getrusage); differences count a section's."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+
+
 def time_call(fn, quick=False, min_time=None, repeats=None):
-    """Per-call time of ``fn()`` in microseconds: {'best_us', 'median_us', 'loops', 'repeats'}."""
+    """Per-call time of ``fn()`` in microseconds and minor page faults per call (over the
+    repeats after the first): {'best_us', 'median_us', 'faults', 'loops', 'repeats'}."""
     min_time = (0.05 if quick else 0.2) if min_time is None else min_time
     repeats = (3 if quick else 7) if repeats is None else repeats
     timer = timeit.Timer(fn)
@@ -28,10 +37,12 @@ def time_call(fn, quick=False, min_time=None, repeats=None):
             break
         # Aim a little above min_time from the last measurement; at least double.
         loops = max(2 * loops, int(loops * 1.2 * min_time / max(t, 1e-9)))
+    f0 = minor_faults()
     runs = [t] + timer.repeat(repeat=repeats - 1, number=loops)
+    faults = (minor_faults() - f0) / (loops * max(repeats - 1, 1))
     per_call = [r / loops * 1e6 for r in runs]
     return {'best_us': min(per_call), 'median_us': statistics.median(per_call),
-            'loops': loops, 'repeats': repeats}
+            'faults': faults, 'loops': loops, 'repeats': repeats}
 
 
 def goal(text, value, target, unit, below=True):

@@ -25,6 +25,7 @@ import os
 from pathlib import Path
 
 import numpy as np
+from ship_sim.allocator import tune_allocator
 
 from .spec import REPO, resolve_route
 
@@ -145,6 +146,7 @@ def run_batch(chunk):
 def run_chunk(chunk):
     """Rows (dicts: the episode's parameters and METRICS) for a list of episodes; encounter
     episodes (one sweep kind per chunk) by montecarlo.encounters."""
+    tune_allocator()   # a Ray worker starts here, not in sweep.py's main (once per process)
     _maybe_fail_once()
     if 'encounter' in chunk[0]:
         from .encounters import run_encounter_chunk

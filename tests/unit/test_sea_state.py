@@ -135,3 +135,37 @@ def test_surge_sway_yaw_only_equals_the_full_motion_bit_for_bit(model_name):
                                                                      dofs=SURGE_SWAY_YAW)
                 for f, p in zip(full, part):
                     assert (p[keep] == f[keep]).all() and np.isnan(p[drop]).all()
+
+
+@pytest.mark.parametrize('dofs', [None, SURGE_SWAY_YAW])
+def test_a_batch_in_blocks_equals_the_batch_in_one_piece_bit_for_bit(monkeypatch, dofs):
+    """WaveResponse runs a large batch in blocks of vessels (wave_rao.BLOCK_ELEMENTS) and
+    stores the RAOs once per sea state: each vessel's motion and loads are exactly (==) those
+    of the whole batch evaluated at once, across block edges (blocks of 1, 2 and 5 vessels of
+    a batch of 11, 3 of them sharing one sea state), and the vessels of one sea state share
+    one stored copy of their RAOs."""
+    from ship_sim.environment import wave_rao
+    table = rao_table_for('mariner', make_model('mariner').length)
+    seas = [SeaState(hs=1.0 + 0.3 * i, direction=0.2 * i, spreading=True, n_directions=4,
+                     seed=i) for i in range(8)]
+    seas[8:] = [seas[3]] * 3
+    waves = ShipWaves(seas, table)
+    U, psi = np.linspace(0.0, 12.0, 11), np.linspace(-3.0, 3.0, 11)
+    n_dofs = 6 if dofs is None else len(dofs)
+    per_vessel = n_dofs * waves.response.Amp[0].size
+    monkeypatch.setattr(wave_rao, 'BLOCK_ELEMENTS', 10 ** 9)
+    whole = [waves.motion(t, U, psi, dofs=dofs) for t in (0.0, 55.5)]
+    whole_force = waves.response.force(3.0, U, psi, waves.direction)
+    for vessels in (1, 2, 5):
+        monkeypatch.setattr(wave_rao, 'BLOCK_ELEMENTS', vessels * per_vessel)
+        for t, ref in zip((0.0, 55.5), whole):
+            for got, want in zip(waves.motion(t, U, psi, dofs=dofs), ref):
+                assert got.shape == want.shape == (6, 11)
+                assert np.array_equal(got, want, equal_nan=True)
+        assert np.array_equal(waves.response.force(3.0, U, psi, waves.direction), whole_force)
+    # 8 sea states among 11 vessels: 8 stored RAO sets, vessels 8-10 those of vessel 3.
+    assert waves.response._stored_rao(dofs).shape[0] == 8
+    U[8:], psi[8:] = U[3], psi[3]   # at vessel 3's speed and heading, its motion exactly
+    eta, nu = waves.motion(55.5, U, psi, dofs=dofs)
+    for a in (eta, nu):
+        assert np.array_equal(a[:, 8:], np.repeat(a[:, [3]], 3, axis=1), equal_nan=True)

@@ -34,6 +34,7 @@ deg), completion (route end reached, and when), and whether the
 state left the model's domain (that episode's plant then stays at its last valid state).
 """
 import math
+import resource
 import time
 from dataclasses import dataclass, field
 
@@ -72,6 +73,9 @@ class BatchResult:
     setup_s: float = 0.0
     loop_s: float = 0.0
     loop_cpu_s: float = 0.0
+    #: Minor page faults of the process during the stepping (getrusage): memory the steps
+    #: map afresh rather than reuse (ship_sim.allocator).
+    loop_minor_faults: int = 0
 
 
 def _episode_arrays(episodes, keys):
@@ -236,6 +240,7 @@ class BatchClosedLoop:
                 psi_c = psi_c_all
             if not step:  # the first update searched the whole route: set-up, not stepping
                 t_loop, c_loop = time.perf_counter(), time.process_time()
+                f_loop = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
             new = fin & np.isnan(finish_t)
             if new.any():
                 finish_t[new] = t
@@ -280,6 +285,7 @@ class BatchClosedLoop:
             if not ok.all():
                 failed |= ~ok
         loop_s, loop_cpu_s = time.perf_counter() - t_loop, time.process_time() - c_loop
+        loop_faults = resource.getrusage(resource.RUSAGE_SELF).ru_minflt - f_loop
         n_s = max(n_steps, 1)
         metrics = {
             'gaussian': gauss, 'mean_abs_e': sum_e / n_s, 'rms_e': np.sqrt(sum_e2 / n_s),
@@ -289,7 +295,8 @@ class BatchClosedLoop:
             'rudder_tv_deg': np.degrees(rate_sum), 'rudder_saturated_fraction': saturated / n_s,
             'mean_abs_rudder_deg': np.degrees(abs_rud / (n_steps + 1)),
             'finished': ~np.isnan(finish_t), 'finish_time_s': finish_t, 'failed': failed}
-        return BatchResult(metrics, log, n_steps, t_loop - t_setup, loop_s, loop_cpu_s)
+        return BatchResult(metrics, log, n_steps, t_loop - t_setup, loop_s, loop_cpu_s,
+                           loop_faults)
 
     # -- log -----------------------------------------------------------------------------------
     @staticmethod

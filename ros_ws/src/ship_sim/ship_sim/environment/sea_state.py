@@ -120,7 +120,8 @@ class ShipWaves:
     batch of ships, ``sea`` a sequence of SeaStates (one per ship, equal n_frequencies,
     n_directions and spreading; their own seeds, heights, periods and directions): ``motion``
     then takes and returns arrays, each ship's numbers those of its own ShipWaves to rounding
-    (the same arithmetic, WaveResponse on a batch)."""
+    (the same arithmetic, WaveResponse on a batch, in blocks of ships whose cost per ship does
+    not grow with the batch)."""
 
     def __init__(self, sea, table):
         if isinstance(sea, SeaState):
@@ -138,7 +139,10 @@ class ShipWaves:
         if len(layout) > 1:
             raise ValueError(f'a batch of sea states needs one component layout '
                              f'(frequencies, directions); got {sorted(layout)}')
-        comps = [s.components() for s in self.seas]
+        # Episodes of one sea state (equal SeaStates: one seed) draw its components once; their
+        # RAOs are then stored once too (WaveResponse shares them between equal frequencies).
+        drawn = {s: s.components() for s in dict.fromkeys(self.seas)}
+        comps = [drawn[s] for s in self.seas]
         self.direction = np.array([s.direction for s in self.seas])
         self.response = WaveResponse(table, np.stack([c.Omega for c, _ in comps]),
                                      np.stack([np.atleast_1d(c.mu) for c, _ in comps]),

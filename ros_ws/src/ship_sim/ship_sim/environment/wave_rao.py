@@ -101,6 +101,12 @@ def spheroid_rao(a, b, zn, *, signed=False):
                     phase=phase, g=g, length=2.0 * a, kind='force', vessel='spheroid')
 
 
+#: Complex elements (DOF x vessels x components) of one block of a batch's wave response:
+#: 16 bytes each (512 KiB), so the few such temporaries alive at a time fit a core's L2 cache,
+#: and a block is large enough that numpy's per-call cost stays small beside its work.
+BLOCK_ELEMENTS = 32_768
+
+
 def _interp_extrap(x, xq):
     """Indices i and weights s of linear interpolation with linear extrapolation (interp1
     'linear', 'extrap'): y(xq) = y[i] + s (y[i+1] - y[i])."""
@@ -117,7 +123,9 @@ class WaveResponse:
 
     A batch of vessels, each with its own components (the batched closed loop): ``Omega``
     (B x N), ``mu`` (B x D), ``Amp`` and ``phases`` (B x N x D); the methods then take U, psi
-    and beta_wave as arrays (B) and return 6 x B (the same arithmetic per vessel).
+    and beta_wave as arrays (B) and return 6 x B (the same arithmetic per vessel). Vessels
+    with equal component frequencies (one sea state) share their stored RAOs, and ``motion``
+    and ``force`` run over blocks of vessels (``BLOCK_ELEMENTS``).
     """
 
     def __init__(self, table, Omega, mu, Amp, phases=None, *, rng=None, wrap_headings=False):
@@ -141,42 +149,60 @@ class WaveResponse:
             headings = np.append(headings, headings[0] + 2.0 * np.pi)
             re = np.concatenate([re, re[:, :, :1]], axis=2)
             im = np.concatenate([im, im[:, :, :1]], axis=2)
-        i, s = _interp_extrap(table.w, self.Omega)
-        s = s[None, ..., None]
-        # RAOs at the component frequencies (the MSS cache), as one complex array (the real
-        # and imaginary parts interpolated alike: a real weight times a complex number scales
-        # both parts, the same numbers as two real interpolations), stored [batch x] n_h x 6 x N
-        # so that picking a heading per vessel and direction copies whole 6 x N blocks.
         if len(self.batch_shape) > 1:
             raise ValueError('WaveResponse takes one batch axis')
-        rao = (re[:, i] + s * (re[:, i + 1] - re[:, i])) \
-            + 1j * (im[:, i] + s * (im[:, i + 1] - im[:, i]))     # 6 x [batch x] N x n_h
-        self._rao = {None: np.ascontiguousarray(np.moveaxis(rao, [0, -1], [-2, -3]))}
-        self._vessel = np.arange(self.batch_shape[0])[:, None] if self.batch_shape else None
+        # The RAOs depend on the component frequencies only: vessels whose frequencies are
+        # equal (one sea state, e.g. a shared seed) share one copy; self._vessel maps each
+        # vessel to its row of the stored RAOs.
+        Omega_rao, self._vessel = self.Omega, None
+        if self.batch_shape:
+            Omega_rao, inverse = np.unique(self.Omega, axis=0, return_inverse=True)
+            self._vessel = inverse.reshape(-1)[:, None]
+        self._re, self._im = re, im
+        self._w_index = _interp_extrap(table.w, Omega_rao)
+        self._rao = {}
         self._headings = headings
         # w^2 / g of every component: depends on the sea only, not on the step.
         self._om2_g = self.Omega[..., :, None] ** 2 / self.g
 
-    def _at(self, U, psi, beta_wave, dofs=None):
+    def _stored_rao(self, dofs=None):
+        """The RAOs of DOF ``dofs`` (None: all 6) at the component frequencies, made once:
+        [unique frequency sets x] n_h x len(dofs) x N complex (the MSS cache), so that
+        picking a heading per vessel and direction copies whole blocks. One complex array
+        (the real and imaginary parts interpolated alike: a real weight times a complex
+        number scales both parts, the same numbers as two real interpolations); the rows of
+        a subset of DOF are computed from the table's rows of those DOF alone (element-wise,
+        the same numbers as the full table's rows), so a 3-DOF loop never stores all 6."""
+        rao = self._rao.get(dofs)
+        if rao is None:
+            rows = slice(None) if dofs is None else list(dofs)
+            re, im = self._re[rows], self._im[rows]
+            i, s = self._w_index
+            s = s[None, ..., None]
+            rao = (re[:, i] + s * (re[:, i + 1] - re[:, i])) \
+                + 1j * (im[:, i] + s * (im[:, i + 1] - im[:, i]))     # dofs x [S x] N x n_h
+            rao = self._rao[dofs] = np.ascontiguousarray(np.moveaxis(rao, [0, -1], [-2, -3]))
+        return rao
+
+    def _at(self, U, psi, beta_wave, dofs=None, vessels=slice(None)):
         """Encounter frequencies ([batch x] N x D) and complex RAOs (6 x [batch x] N x D) for
         one heading per vessel (U, psi, beta_wave: scalars, or arrays of the batch shape);
-        ``dofs`` (indices into the 6 DOF): the RAOs of those DOF only (len(dofs) x ...)."""
+        ``dofs`` (indices into the 6 DOF): the RAOs of those DOF only (len(dofs) x ...);
+        ``vessels``: a slice of the batch (U, psi, beta_wave then of that slice)."""
         U, psi, beta_wave = (np.asarray(a, dtype=float)[..., None] for a in (U, psi, beta_wave))
-        beta = np.mod(beta_wave - psi + self.mu, 2.0 * np.pi)
-        Om = self.Omega[..., :, None]
-        Oe = np.abs(Om - self._om2_g * U[..., None] * np.cos(beta)[..., None, :])
+        beta = np.mod(beta_wave - psi + self.mu[vessels], 2.0 * np.pi)
+        Om = self.Omega[vessels][..., :, None]
+        Oe = np.abs(Om - self._om2_g[vessels] * U[..., None] * np.cos(beta)[..., None, :])
         i, s = _interp_extrap(self._headings, beta)
-        z0, z1 = (self._pick(j, dofs) for j in (i, i + 1))
+        z0, z1 = (self._pick(j, dofs, vessels) for j in (i, i + 1))
         s = s[None, ..., None, :]
         return Oe, z0 + s * (z1 - z0)
 
-    def _pick(self, i, dofs=None):
+    def _pick(self, i, dofs=None, vessels=slice(None)):
         """RAOs at heading-table column i ([batch x] D) -> 6 (or len(dofs)) x [batch x] N x D
-        (contiguous)."""
-        rao = self._rao.get(dofs)
-        if rao is None:   # the stored RAOs of those DOF only, made once
-            rao = self._rao[dofs] = np.ascontiguousarray(self._rao[None][..., list(dofs), :])
-        z = rao[i] if self._vessel is None else rao[self._vessel, i]
+        (contiguous); ``vessels``: the slice of the batch that i is of."""
+        rao = self._stored_rao(dofs)
+        z = rao[i] if self._vessel is None else rao[self._vessel[vessels], i]
         return np.ascontiguousarray(np.moveaxis(z, [-3, -2], [-1, 0]))
 
     def response_amplitudes(self, U, psi, beta_wave):
@@ -185,10 +211,39 @@ class WaveResponse:
         Oe, Z = self._at(U, psi, beta_wave)
         return Oe, np.abs(Z) * self.Amp
 
-    def _phasors(self, Oe, t):
+    def _phasors(self, Oe, t, vessels=slice(None)):
         """Amp exp(i (w_e t + phase)) of every component (N x D): |Z| Amp cos(w_e t + arg Z +
         phase) summed over the components is Re(sum Z times this), evaluated that way."""
-        return self.Amp * np.exp(1j * (Oe * t + self.phases))
+        return self.Amp[vessels] * np.exp(1j * (Oe * t + self.phases[vessels]))
+
+    def _by_blocks(self, f, n_dofs, U, psi, beta_wave):
+        """f(vessels, U, psi, beta_wave) -> arrays (... x B) evaluated on blocks of vessels,
+        each block's (n_dofs x block x N x D) complex temporaries small enough to stay in
+        the CPU cache: the cost per vessel then does not grow with the batch, and a step's
+        arrays stay far below the mmap threshold ship_sim.allocator sets. Each vessel's
+        numbers are those of one evaluation of the whole batch (the same element-wise
+        arithmetic and the same sum over its own components)."""
+        if not self.batch_shape:
+            return f(slice(None), U, psi, beta_wave)
+        n = self.batch_shape[0]
+        size = max(1, BLOCK_ELEMENTS // (n_dofs * self.Amp[0].size))
+        if n <= size:
+            return f(slice(None), U, psi, beta_wave)
+        U, psi, beta_wave = np.broadcast_arrays(*(np.asarray(a, dtype=float)
+                                                  for a in (U, psi, beta_wave)))
+        if U.shape != self.batch_shape:
+            raise ValueError(f'U, psi and beta_wave of shape {U.shape}: expected '
+                             f'{self.batch_shape} or scalars')
+        out = None
+        for lo in range(0, n, size):
+            v = slice(lo, lo + size)
+            part = f(v, U[v], psi[v], beta_wave[v])
+            if out is None:
+                out = [None if p is None else np.empty(p.shape[:-1] + (n,)) for p in part]
+            for o, p in zip(out, part):
+                if p is not None:
+                    o[..., v] = p
+        return tuple(out)
 
     def elevation(self, t, U, psi, beta_wave):
         """Wave elevation (m) the vessel sees at time t (s), MSS waveElevation."""
@@ -200,8 +255,10 @@ class WaveResponse:
         """First-order wave loads tau_wave1 (6: N, N, N, N m, N m, N m) at time t (s), speed U
         (m/s), heading psi (rad) and main wave direction beta_wave (rad, 0 = following sea
         for psi = 0), MSS waveForceRAO (Fossen 2021, eq. 10.96)."""
-        Oe, Z = self._at(U, psi, beta_wave)
-        return np.real(np.sum(Z * self._phasors(Oe, t), axis=(-2, -1)))
+        def block(v, U, psi, beta_wave):
+            Oe, Z = self._at(U, psi, beta_wave, vessels=v)
+            return (np.real(np.sum(Z * self._phasors(Oe, t, v), axis=(-2, -1))),)
+        return self._by_blocks(block, 6, U, psi, beta_wave)[0]
 
     def motion(self, t, U, psi, beta_wave, rates=True, accelerations=True, dofs=None):
         """Wave-frequency motion (eta_WF, nu_WF, nudot_WF), 6 each (m, rad; per s; per s^2), MSS
@@ -210,16 +267,20 @@ class WaveResponse:
         indices (e.g. SURGE_SWAY_YAW) to compute, the others not computed and NaN; the
         computed ones are the numbers of the full computation, bit for bit (the same
         element-wise arithmetic and the same sum over each DOF's components)."""
-        Oe, Z = self._at(U, psi, beta_wave, dofs)
-        zp = Z * self._phasors(Oe, t)
-        eta = _rows(np.real(np.sum(zp, axis=(-2, -1))), dofs)
-        if not rates:
-            return eta
-        izp = 1j * Oe * zp
-        nu = _rows(np.real(np.sum(izp, axis=(-2, -1))), dofs)
-        if not accelerations:
-            return eta, nu, None
-        return eta, nu, _rows(np.real(np.sum(1j * Oe * izp, axis=(-2, -1))), dofs)
+        def block(v, U, psi, beta_wave):
+            Oe, Z = self._at(U, psi, beta_wave, dofs, v)
+            zp = Z * self._phasors(Oe, t, v)
+            eta = _rows(np.real(np.sum(zp, axis=(-2, -1))), dofs)
+            if not rates:
+                return eta, None, None
+            izp = 1j * Oe * zp
+            nu = _rows(np.real(np.sum(izp, axis=(-2, -1))), dofs)
+            if not accelerations:
+                return eta, nu, None
+            return eta, nu, _rows(np.real(np.sum(1j * Oe * izp, axis=(-2, -1))), dofs)
+        eta, nu, nudot = self._by_blocks(block, 6 if dofs is None else len(dofs), U, psi,
+                                         beta_wave)
+        return (eta, nu, nudot) if rates else eta
 
 
 #: The DOF a 3-DOF (surge, sway, yaw) manoeuvring model uses, for ``WaveResponse.motion``.

@@ -42,6 +42,7 @@ from rclpy.exceptions import NameValidationException
 from rclpy.exceptions import ParameterException as RclpyParameterException
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 
+from ship_sim.allocator import tune_allocator
 from .params import ParameterError, check_overrides
 
 EXECUTORS = ('events', 'single')
@@ -211,6 +212,7 @@ def _build(node_factory):
 
 def run_node(node_factory, *, args=None, executor=None):
     """Build the node with ``node_factory()``, spin it until shutdown; return the exit code."""
+    tune_allocator()   # every node's hot loop (waves, SB-MPC) without mmap churn
     prog = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else 'node'
     install_stop_handlers()
     try:

@@ -22,11 +22,21 @@ def evaluate(result, reference, case, ship):
     """evaluate_run of one run; each target's situation is the case's (the encounter as designed,
     own ship's view at t = 0), the same as the classification of the first sample. The Imazu
     targets are given the own ship's dimensions (the cases state none; two ships of one size,
-    so the hull contact and the domains are symmetric)."""
+    so the hull contact and the domains are symmetric). The route returned to is the case's
+    straight route (the one runner.case_scenario writes and RunEnd measures against)."""
+    import math
+
+    import numpy as np
+
+    from imazu.runner import ROUTE_LENGTH_M
     situations = {t['name']: t['colregs'] for t in case['targets']}
     targets = {n: track(result, rows) for n, rows in result.targets.items()}
+    own = case['own']
+    start = np.array([own['north_m'], own['east_m']])
+    c = math.radians(own['course_deg'])
+    route = np.stack((start, start + ROUTE_LENGTH_M * np.array([math.cos(c), math.sin(c)])))
     return evaluate_run(track(result), targets, track(reference), ship_dimensions(ship),
-                        situations=situations)
+                        situations=situations, route=route)
 
 
 def rows_of(case_no, ship, method, run, result):

@@ -61,8 +61,9 @@ the same run without traffic (the reference) and both ships' dimensions:
   the run's end time minus the time the reference reached the along-track progress the own
   ship made by then (progress along the reference's overall direction);
 - return to route: from the last target's closest approach, the time until the own ship is
-  within ``route_band_m`` of the reference track and stays there for ``route_dwell_s``; None
-  (never) if the run ends before.
+  within ``route_band_m`` of its route (a polyline; by default the reference's straight line
+  from first to last point) and stays there for ``route_dwell_s``; None (never) if the run
+  ends before.
 
 Tracks are arrays over the same sample times: t (s), north, east (m, NED), course (rad,
 clockwise from north), speed (m/s) and optionally heading (rad; the course when not given).
@@ -325,12 +326,23 @@ def path_deviation(own, reference):
     return float(distance_to_reference(own, reference).max())
 
 
-def return_to_route(own, reference, t_from, params=None):
-    """Seconds from ``t_from`` until the own ship is within ``route_band_m`` of the reference
-    track and stays there for ``route_dwell_s`` (0 if it already is at ``t_from``); None if no
-    such stay begins and lasts within the run."""
+def distance_to_polyline(points, polyline):
+    """Exact distance (m) of each of ``points`` (N, 2) from the polyline (M, 2), M >= 2 (for
+    a route's few legs: N x (M - 1) point-segment distances)."""
+    a, b = polyline[:-1], polyline[1:]
+    ab = b - a
+    rel = points[:, None, :] - a[None]
+    s = np.clip(np.einsum('nmk,mk->nm', rel, ab) / np.maximum(np.einsum('mk,mk->m', ab, ab),
+                                                              1e-12), 0.0, 1.0)
+    return np.hypot(*np.moveaxis(rel - s[..., None] * ab[None], -1, 0)).min(axis=1)
+
+
+def return_to_route(own, route, t_from, params=None):
+    """Seconds from ``t_from`` until the own ship is within ``route_band_m`` of the ``route``
+    polyline ((M, 2) NED) and stays there for ``route_dwell_s`` (0 if it already is at
+    ``t_from``); None if no such stay begins and lasts within the run."""
     p = params or EvaluationParams()
-    inside = distance_to_reference(own, reference) <= p.route_band_m
+    inside = distance_to_polyline(own.p, np.asarray(route, dtype=float)) <= p.route_band_m
     inside &= own.t >= t_from
     # each stay inside: from a sample that enters to the last one before leaving
     edges = np.diff(np.concatenate(([0], inside.astype(np.int8), [0])))
@@ -352,12 +364,14 @@ def time_lost(own, reference):
 
 
 def evaluate_run(own, targets, reference, own_dims, target_dims=None, params=None,
-                 situations=None):
+                 situations=None, route=None):
     """dict: per target (``evaluate_target`` with its name), the run's minimum distance and
     hull clearance, counts of collisions / near misses / below safe, mean rule score, path
     deviation, time lost, and the return to the route from the last target's closest approach
     (``last_cpa_s``). ``targets``: {name: Track}; ``target_dims``: {name: ShipDimensions}
-    (default the own ship's); ``situations``: {name: situation} overrides."""
+    (default the own ship's); ``situations``: {name: situation} overrides; ``route``: the
+    polyline ((M, 2) NED) to return to, default the straight line from the reference's first
+    to its last point."""
     p = params or EvaluationParams()
     situations = situations or {}
     dims = target_dims or {}
@@ -377,4 +391,5 @@ def evaluate_run(own, targets, reference, own_dims, target_dims=None, params=Non
             'path_deviation_m': path_deviation(own, reference),
             'time_lost_s': time_lost(own, reference),
             'last_cpa_s': last_cpa,
-            'return_to_route_s': return_to_route(own, reference, last_cpa, p)}
+            'return_to_route_s': return_to_route(
+                own, reference.p[[0, -1]] if route is None else route, last_cpa, p)}

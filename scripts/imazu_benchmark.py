@@ -120,6 +120,7 @@ def main(argv=None):
     from ship_guidance.colav_evaluation import EvaluationParams
 
     stamp = datetime.now(timezone.utc).strftime('%Y%m%d-%H%M%S')
+    started = provenance(argv)    # the code the runs import is the code at their start
     if args.rescore:
         out = args.rescore
         saved = pickle.loads((out / 'runs.pkl').read_bytes())
@@ -152,6 +153,7 @@ def main(argv=None):
         nonlocal writer
         ship, method, c = key
         run = evaluate(results[key], results[(ship, None, None)], cases[c], ship)
+        run.update(run_end=results[key].end, run_end_s=float(results[key].t[-1]))
         per_run[(c, ship, method)] = run
         rows = rows_of(c, ship, method, run, results[key])
         if writer is None:
@@ -185,10 +187,10 @@ def main(argv=None):
             (out / 'runs.pkl').write_bytes(pickle.dumps(
                 {'results': results, 'walls': walls, 'cases': args.cases, 'ships': args.ships,
                  'methods': args.methods, 'limit': args.limit,
-                 'provenance': provenance(argv)}))
+                 'provenance': dict(started, load_1min_end=os.getloadavg()[0])}))
     per_run = {k: per_run[k] for k in sorted(per_run)}
     summary = summarise(per_run, results, args, walls)
-    summary['provenance'] = provenance(argv)
+    summary['provenance'] = started
     if args.rescore:    # the runs' own provenance: the code and load that produced the tracks
         summary['runs_provenance'] = saved.get('provenance')
     (out / 'summary.json').write_text(json.dumps(summary, indent=1))
@@ -245,13 +247,12 @@ def summarise(per_run, results, args, walls):
                                                    'scores': [], 'single_scores': [],
                                                    'deviation': [], 'time_lost': [], 'cases': {},
                                                    'returns': [], 'never': 0, 'limit': 0})
-        result = results[(ship, method, c)]
         back = run['return_to_route_s']
         if back is None:
             g['never'] += 1
         else:
             g['returns'].append(back)
-        g['limit'] += result.end == 'limit'
+        g['limit'] += run['run_end'] == 'limit'
         g['runs'] += 1
         g['collisions'] += run['collisions']
         g['near_misses'] += run['near_misses']
@@ -270,7 +271,7 @@ def summarise(per_run, results, args, walls):
                          'min_hull_clearance_m': round(run['min_hull_clearance_m'], 1),
                          'last_cpa_s': round(run['last_cpa_s'], 1),
                          'return_to_route_s': None if back is None else round(back, 1),
-                         'run_end_s': round(float(result.t[-1]), 1), 'run_end': result.end,
+                         'run_end_s': round(run['run_end_s'], 1), 'run_end': run['run_end'],
                          'penalties': {n: sorted(v['penalties']) for n, v in run['targets'].items()
                                        if v['penalties']}}
     out = {}
@@ -342,8 +343,7 @@ def html_page(path, per_run, summary, cases, plots=True):
                      round(run['min_distance_m'], 1), run['collisions'], run['near_misses'],
                      run['below_safe'], round(run['rule_score'], 3), pen,
                      round(run['path_deviation_m'], 1), round(run['time_lost_s'], 1),
-                     _back(run['return_to_route_s']), summary['groups'][f'{ship}/{method}']
-                     ['cases'][c]['run_end']])
+                     _back(run['return_to_route_s']), run['run_end']])
         links.append('#' + figure_id(f'case_{c:02d}.png') if plots else None)
     return batch_page(
         path, 'Imazu benchmark: collision avoidance on the MSS plants',

@@ -170,6 +170,12 @@ def test_stand_on_may_act_only_from_stage_three():
     assert early['manoeuvre_range_m'] == pytest.approx(math.sqrt(2.0) * U * 360.0)
     port = evaluate_target(turning(1000.0, -40.0), tgt, REF, SHIP)
     assert set(port['penalties']) == {'port_turn'}
+    # holding into stage 4 (4 L = 640 m, reached at 1200 - 640 / (sqrt2 U) = 1124.6 s): Rule
+    # 17(b) required action; a turn at 1120 s (range 679 m) is in time, at 1130 s (594 m) not
+    assert 'not_acting' in evaluate_target(REF, tgt, REF, SHIP)['penalties']
+    assert evaluate_target(turning(1120.0, 40.0), tgt, REF, SHIP)['penalties'] == {}
+    assert set(evaluate_target(turning(1130.0, 40.0), tgt, REF, SHIP)['penalties']) == \
+        {'not_acting'}
     # the window is the target's range, not the method: the same turn judged against a longer
     # own ship (stage 4 from 4 L) is still stage 3 at 1000 s (range 1697 m) for 160 m and
     # stage 4 for a 450 m ship

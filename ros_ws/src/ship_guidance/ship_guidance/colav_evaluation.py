@@ -54,6 +54,8 @@ the same run without traffic (the reference) and both ships' dimensions:
   stand-on (crossing stand-on, being overtaken):
     not holding: a manoeuvre starting while the target is still in stage 1 or 2 (range beyond
       ``r_colregs_3_max_m``, Rule 17(a)(i))                                 gamma_so
+    not acting: the target reaches stage 4 before any manoeuvre (Rule 17(b): the stand-on
+      ship must then act; ours, weighted as not holding)                    gamma_so
     port turn (crossing stand-on): the first departure beyond ``theta_sm_lim`` is to port
       (Rule 17(c))                                                          gamma_ho_nsm
 
@@ -286,6 +288,9 @@ def evaluate_target(own, target, reference, own_dims, target_dims=None, params=N
     elif situation in STAND_ON_SITUATIONS:
         if stage is not None and stage <= 2:
             penalties['not_holding'] = p.gamma_so
+        close = np.flatnonzero(d[:k + 1] <= p.colregs_4_lengths * own_dims.length_m)
+        if close.size and (start is None or start > close[0]):
+            penalties['not_acting'] = p.gamma_so
         if situation == 'crossing-stand-on' and first_side(dchi, p, k) < 0:
             penalties['port_turn'] = p.gamma_ho_nsm
         role = colregs.STAND_ON

@@ -176,6 +176,16 @@ def test_stand_on_may_act_only_from_stage_three():
     assert evaluate_target(turning(1120.0, 40.0), tgt, REF, SHIP)['penalties'] == {}
     assert set(evaluate_target(turning(1130.0, 40.0), tgt, REF, SHIP)['penalties']) == \
         {'not_acting'}
+    # no duty where the unmanoeuvred pass clears both domains: overtaken on a parallel track
+    # 300 m to starboard by a ship at 2 U, abeam at t = 500 s, inside 4 L = 640 m (stage 4)
+    # for 2 x 565 m of relative track but never inside 1.6 L = 256 m abeam; 200 m off is
+    for side, duty in ((300.0, False), (200.0, True)):
+        r = evaluate_target(REF, straight(-3000.0, side, 0.0, speed=2.0 * U), REF, SHIP,
+                            situation='being-overtaken')
+        assert r['min_distance_m'] == pytest.approx(side) and r['t_min_s'] == 500.0
+        assert r['min_distance_m'] < P.colregs_4_lengths * SHIP.length_m
+        assert r['domain_index'] == pytest.approx(side / (P.domain_across * SHIP.length_m))
+        assert ('not_acting' in r['penalties']) is duty
     # the window is the target's range, not the method: the same turn judged against a longer
     # own ship (stage 4 from 4 L) is still stage 3 at 1000 s (range 1697 m) for 160 m and
     # stage 4 for a 450 m ship

@@ -54,8 +54,9 @@ the same run without traffic (the reference) and both ships' dimensions:
   stand-on (crossing stand-on, being overtaken):
     not holding: a manoeuvre starting while the target is still in stage 1 or 2 (range beyond
       ``r_colregs_3_max_m``, Rule 17(a)(i))                                 gamma_so
-    not acting: the target reaches stage 4 before any manoeuvre (Rule 17(b): the stand-on
-      ship must then act; ours, weighted as not holding)                    gamma_so
+    not acting: the target reaches stage 4 before any manoeuvre although, unmanoeuvred, it
+      would have come inside a domain (Rule 17(b): the stand-on ship must then act; ours,
+      weighted as not holding)                                              gamma_so
     port turn (crossing stand-on): the first departure beyond ``theta_sm_lim`` is to port
       (Rule 17(c))                                                          gamma_ho_nsm
 
@@ -234,6 +235,20 @@ def domain_index(observer, other, dims, params):
                     y / (params.domain_across * dims.length_m))
 
 
+def unmanoeuvred_near_miss(target, reference, own_dims, target_dims, params):
+    """True if the target would have come inside a domain (its or the own ship's) had the own
+    ship not manoeuvred (the reference track on the target's sample times): the risk that makes
+    the stand-on ship's action in stage 4 a duty."""
+    t = target.t
+    ref = Track.of(t, np.interp(t, reference.t, reference.north),
+                   np.interp(t, reference.t, reference.east),
+                   np.interp(t, reference.t, np.unwrap(reference.course)),
+                   np.interp(t, reference.t, reference.speed),
+                   np.interp(t, reference.t, np.unwrap(reference.psi)))
+    return bool(min(domain_index(ref, target, own_dims, params).min(),
+                    domain_index(target, ref, target_dims, params).min()) < 1.0)
+
+
 def colregs_stage(range_m, own_dims, params=None):
     """COLREGs stage 1-4 of a target at ``range_m`` (module docstring)."""
     p = params or EvaluationParams()
@@ -289,7 +304,8 @@ def evaluate_target(own, target, reference, own_dims, target_dims=None, params=N
         if stage is not None and stage <= 2:
             penalties['not_holding'] = p.gamma_so
         close = np.flatnonzero(d[:k + 1] <= p.colregs_4_lengths * own_dims.length_m)
-        if close.size and (start is None or start > close[0]):
+        if close.size and (start is None or start > close[0]) and unmanoeuvred_near_miss(
+                target, reference, own_dims, target_dims, p):
             penalties['not_acting'] = p.gamma_so
         if situation == 'crossing-stand-on' and first_side(dchi, p, k) < 0:
             penalties['port_turn'] = p.gamma_ho_nsm

@@ -23,3 +23,16 @@ def load_cases():
         targets = [{**t, 'name': t['name'].lower()} for t in c['targets']]
         out[int(c['case'])] = {'own': c['own'], 'targets': targets}
     return out
+
+
+
+def turn_back_case():
+    """The turn-back encounter (the tanker near-miss mechanism: give way to one ship, then turn
+    back towards the route while another is still closing): ts2 crosses from starboard close
+    ahead (closest point about 11 min in), so the own ship gives way early and far to
+    starboard; ts1 crosses from port towards the route point 4 NM ahead, so it is still closing
+    when the own ship, its give-way done, turns back to port towards its route and towards ts1.
+    This is Imazu case 11's geometry (taken from the case file, not copied): built variants
+    with ts1 crossing the route later, or with case 2's starboard crosser as the first ship,
+    left the MSS tanker outside both ships' domains."""
+    return load_cases()[11]

@@ -5,8 +5,10 @@ import numpy as np
 MARK_S = 300.0   # time marks every 5 min
 
 
-def case_figure(path, case_no, runs, references, params):
-    """``runs``: {(ship, method): RunResult}; ``references``: {ship: RunResult}."""
+def case_figure(path, case_no, runs, references, params, dims):
+    """``runs``: {(ship, method): RunResult}; ``references``: {ship: RunResult}; ``dims``:
+    {ship: ShipDimensions} (the range plot marks r_min and the ship domain's semi-axes, ahead
+    and abeam: a target inside the abeam one at the side is a near miss)."""
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
@@ -34,8 +36,10 @@ def case_figure(path, case_no, runs, references, params):
         ax.set_title(f'{key[0]} {key[1]}', fontsize=9)
         ax.set_xlabel('east [m]', fontsize=8)
         ax.tick_params(labelsize=7)
-        for radius, style, label in ((params.r_min_m, '--', 'r_min'), (params.r_nm_m, '-.', 'r_nm'),
-                                     (params.r_col_m, ':', 'r_col')):
+        length = dims[key[0]].length_m
+        for radius, style, label in ((params.r_min_m, '--', 'r_min'),
+                                     (params.domain_along * length, '-.', 'domain ahead'),
+                                     (params.domain_across * length, ':', 'domain abeam')):
             ax_r.axhline(radius, ls=style, color='r', lw=0.8, label=label)
         ax_r.set_ylim(0, 4000)
         ax_r.set_xlabel('t [s]', fontsize=8)
@@ -59,15 +63,18 @@ def summary_figure(path, rows, params):
     cases = sorted({r['case'] for r in rows})
     cols = sorted({(r['ship'], r['method']) for r in rows}, key=lambda k: (k[1], k[0]))
     dmin = np.full((len(cases), len(cols)), np.nan)
+    verdict = np.full((len(cases), len(cols)), np.nan)
     score = np.full((len(cases), len(cols)), np.nan)
     for r in rows:
         i, j = cases.index(r['case']), cols.index((r['ship'], r['method']))
         dmin[i, j] = r['run_min_distance_m']
+        verdict[i, j] = (0 if r['collisions'] else 1 if r['near_misses'] else
+                         2 if r['below_safe'] else 3)
         score[i, j] = r['run_rule_score']
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 7))
-    bounds = [0, params.r_col_m, params.r_nm_m, params.r_min_m, 1e6]
     cmap = ListedColormap(['black', 'red', 'orange', 'tab:green'])
-    a1.imshow(dmin, cmap=cmap, norm=BoundaryNorm(bounds, cmap.N), aspect='auto')
+    a1.imshow(verdict, cmap=cmap, norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], cmap.N),
+              aspect='auto')
     im = a2.imshow(score, cmap='RdYlGn', vmin=0, vmax=1, aspect='auto')
     for ax, data, fmt in ((a1, dmin, '{:.0f}'), (a2, score, '{:.2f}')):
         for (i, j), v in np.ndenumerate(data):
@@ -77,7 +84,7 @@ def summary_figure(path, rows, params):
         ax.set_yticks(range(len(cases)), [str(c) for c in cases], fontsize=7)
         ax.set_ylabel('Imazu case')
     a1.set_title(f'minimum distance [m]: green >= r_min {params.r_min_m:.0f}, orange < r_min,\n'
-                 f'red < r_nm {params.r_nm_m:.0f}, black < r_col {params.r_col_m:.0f}', fontsize=9)
+                 'red: near miss (ship domain), black: collision (hull contact)', fontsize=9)
     a2.set_title('rule compliance score (mean over targets)', fontsize=9)
     fig.colorbar(im, ax=a2, fraction=0.04)
     fig.tight_layout()

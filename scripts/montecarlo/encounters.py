@@ -25,8 +25,8 @@ The targets of the case are perturbed first (``perturbed_case``), every target a
 The situations scored (Rule 13-17 roles) are the case's as designed, as in the benchmark: a
 large miss can turn a give-way encounter into one where no action is needed, which the rule
 score then judges as the designed role. Metrics per episode (METRICS), over all targets:
-collision / near miss / below r_min (0 or 1: any target closer than r_col / r_nm / r_min of
-ship_guidance.colav_evaluation.EvaluationParams), the minimum distance, the rule score (mean
+collision / near miss / below r_min (0 or 1: any target's hull touching the own hull / inside a
+ship domain / closer than r_min, ship_guidance.colav_evaluation), the minimum distance, the rule score (mean
 over the targets), path deviation and time lost against the reference run, the number of
 decisions in 'avoid' and in 'last-resort' mode (one decision per colav period, 1 s by
 default), and the smallest unmanoeuvred CPA of the perturbed targets (the geometry the ship
@@ -102,9 +102,12 @@ def reference(model, own, duration_s):
 
 def _run_case(case, model, method, duration_s, number=0):
     import imazu_benchmark
-    from imazu.runner import case_scenario
+    from imazu.runner import RunEnd, case_scenario
+    # as the benchmark: a run with traffic ends once all have passed and the ship is back on
+    # its route (duration_s the limit); the reference runs the whole duration
+    end = RunEnd.of_case(case) if method is not None else None
     _, result, _ = imazu_benchmark._run((None, *case_scenario(number, case, model, method,
-                                                               duration_s)))
+                                                               duration_s), end))
     return result
 
 
@@ -115,8 +118,6 @@ def run_encounter(ep):
     case = perturbed_case(_cases()[number], ep['encounter_speed_factor'],
                           ep['encounter_miss_m'])
     result = _run_case(case, ep['model'], ep['colav_method'], ep['duration_s'], number)
-    # No case number: the stand-on window cache of imazu.evaluate is keyed by the case as
-    # designed, and a perturbed target's window is its own.
     run = evaluate(result, reference(ep['model'], case['own'], ep['duration_s']), case,
                    ep['model'])
     modes = [d[1] for d in result.decisions]

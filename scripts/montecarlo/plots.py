@@ -86,7 +86,7 @@ def cdf_min_distance(rows, grid_axes, path):
     cdf_per_group(rows, grid_axes, path, 'min_distance_m', 'colav_method',
                   'minimum distance to a target (m)',
                   'CDF of the minimum distance per episode', log=False,
-                  marks=((p.r_col_m, 'r_col'), (p.r_nm_m, 'r_nm'), (p.r_min_m, 'r_min')))
+                  marks=((p.r_min_m, 'r_min'),))
 
 
 def metric_vs_parameter(rows, parameter, metric, path, by='controller'):

@@ -46,7 +46,8 @@ collision avoidance instead of route following (montecarlo.encounters)::
       encounter_miss_m: {normal: [0, 300]}             # unmanoeuvred closest approach, m
 
 It takes only ENCOUNTER_KEYS (its own ship is one of imazu.runner.SHIPS; duration_s defaults to
-the benchmark's 2000 s); a route-following key there, or an encounter key in a route-following
+the benchmark's limit, 4000 s, runs ending once all targets have passed and the ship is back on
+its route); a route-following key there, or an encounter key in a route-following
 file, is refused with one line. One kind of sweep per file.
 """
 import itertools
@@ -298,9 +299,9 @@ def parse(doc, source='<sweep>'):
         raise SweepError(f'{source}: give condition or the wind and wave keys '
                          f'({", ".join(weather)}), not both')
     if kind == 'encounter':
-        from imazu.runner import DURATION_S
+        from imazu.runner import LIMIT_S
         full_base = {k: PARAMETERS[k][0] for k in ENCOUNTER_KEYS}
-        full_base['duration_s'] = DURATION_S
+        full_base['duration_s'] = LIMIT_S
     else:
         full_base = {k: v[0] for k, v in PARAMETERS.items() if k not in ENCOUNTER_KEYS[2:]}
     full_base.update(base)

@@ -114,7 +114,7 @@ def test_imazu_index_embeds_its_plots_and_reads_on_a_phone(tmp_path):
     index page shows summary.png and the case plot inline, each row's link reaches its plot."""
     out = tmp_path / 'imazu'
     proc = subprocess.Popen([sys.executable, str(REPO_ROOT / 'scripts' / 'imazu_benchmark.py'),
-                             '--cases', '1', '--ships', 'mariner', '--methods', 'sbmpc', '--duration',
+                             '--cases', '1', '--ships', 'mariner', '--methods', 'sbmpc', '--limit',
                              '600', '--jobs', '1', '--out', str(out)], stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True, start_new_session=True,
                             preexec_fn=_die_with_parent)

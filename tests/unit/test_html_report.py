@@ -181,12 +181,13 @@ def test_imazu_index_embeds_the_summary_and_every_case_plot_and_links_rows_to_th
         (tmp_path / name).write_bytes(data)
     run = {'targets': {'t1': {'penalties': []}}, 'min_distance_m': 900.0, 'collisions': 0,
            'near_misses': 0, 'below_safe': 0, 'rule_score': 1.0, 'path_deviation_m': 50.0,
-           'time_lost_s': 10.0}
+           'time_lost_s': 10.0, 'return_to_route_s': None, 'run_end': 'limit'}
     per_run = {(c, 'mariner', m): run for c in (1, 5) for m in ('sbmpc', 'vo')}
     group = {'runs': 2, 'collisions': 0, 'near_misses': 0, 'below_safe': 0, 'min_distance_m': 900.0,
              'rule_score_mean': 1.0, 'rule_score_single_target_mean': 1.0,
-             'path_deviation_m_mean': 50.0, 'time_lost_s_mean': 10.0}
-    summary = {'groups': {'mariner/sbmpc': group, 'mariner/vo': group}, 'duration_s': 2000.0,
+             'path_deviation_m_mean': 50.0, 'time_lost_s_mean': 10.0,
+             'return_to_route_s_mean': None, 'never_back_on_route': 2, 'limit_hit': 2}
+    summary = {'groups': {'mariner/sbmpc': group, 'mariner/vo': group}, 'limit_s': 4000.0,
                'decision_ms_mean': 1.0, 'load_average_1min': 1.0, 'cpus': 2}
     cases = {c: {'targets': [{'colregs': 'head-on'}]} for c in (1, 5)}
     text = ib.html_page(tmp_path / 'index.html', per_run, summary, cases).read_text()

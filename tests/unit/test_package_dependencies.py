@@ -42,6 +42,7 @@ ROSDEP_KEYS = {
     'networkx': 'python3-networkx',
     'PIL': 'python3-pil',
     'fiona': 'python3-fiona',
+    'shapely': 'python3-shapely',
     'gymnasium': 'python3-gymnasium-pip',
     'pyais': 'python3-pyais-pip',
     'roaring_landmask': 'python3-roaring-landmask-pip',

@@ -213,6 +213,12 @@ class TargetTracks:
             out.append(dead_reckon(states[0], (t_ns - stamps[0]) / NS_PER_S))
         return out
 
+    def forget(self, name):
+        """Drop every state of ``name`` (stale, or evicted from a full table)."""
+        for table in (self._stamps, self._states, self.last_heard):
+            table.pop(name, None)
+        self.lockstep.discard(name)
+
 
 class SyncedSource:
     """Completeness of a many-target topic with per-step announcements (``[stamp, count]``).

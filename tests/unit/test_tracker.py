@@ -230,3 +230,20 @@ def test_bad_config_and_report_refused():
         Tracker(TrackerConfig(position_sigma_m=0.0))
     with pytest.raises(ValueError, match='non-finite'):
         Tracker().update(AisReport(MMSI, 0.0, math.nan, 0.0))
+
+
+def test_odometry_covariances_are_enu_and_body_frame():
+    """Pose: x is east, y north, so the NED position block is swapped; the largest axis is
+    kept (colav_io.position_sigma reads what the tracker's estimate holds). Twist: for a ship
+    heading east the forward velocity is v_east and FLU's left is north."""
+    from ship_guidance.colav_io import position_sigma
+    from ship_guidance.tracker import TrackEstimate, odometry_covariances
+    P = np.diag([4.0, 25.0, 0.01, 0.09])
+    P[0, 1] = P[1, 0] = 3.0
+    est = TrackEstimate(MMSI, 0.0, np.array([0.0, 0.0, 0.0, 5.0]), P, 0.0, None, 'A', 1)
+    pose, twist = odometry_covariances(est, math.pi / 2)
+    assert (pose[0], pose[7], pose[1], pose[6]) == (25.0, 4.0, 3.0, 3.0)
+    assert position_sigma(pose) == pytest.approx(est.position_sigma_m)
+    assert twist[0] == pytest.approx(0.09) and twist[7] == pytest.approx(0.01)
+    # no reported heading: the yaw variance is the COG's, cross-track variance / speed^2
+    assert pose[35] == pytest.approx(0.01 / 25.0)

@@ -150,6 +150,33 @@ class TrackEstimate:
         return math.sqrt(max(float(np.linalg.eigvalsh(self.P[:2, :2])[-1]), 0.0))
 
 
+def odometry_covariances(est, psi):
+    """(pose, twist) covariances of a track as nav_msgs/Odometry carries them: 36 numbers
+    each, row-major over (x, y, z, roll, pitch, yaw) and (vx, vy, vz, wx, wy, wz). Pose: the
+    position block in ENU (x east, y north); yaw: the variance of the heading reported (the
+    sensor's heading sigma) when ``est`` has one, else of the estimated COG (cross-track
+    velocity variance / speed^2, at most pi^2). Twist: the velocity block rotated into the
+    body frame FLU at heading ``psi`` (NED, rad). What the state does not hold (z, roll,
+    pitch, their rates, the yaw rate) is 0, as in the simulators' odometry."""
+    P = est.P
+    pose, twist = [0.0] * 36, [0.0] * 36
+    P = 0.5 * (P + P.T)                     # exactly symmetric, as a covariance is
+    pose[0], pose[1], pose[6], pose[7] = P[1, 1], P[1, 0], P[0, 1], P[0, 0]
+    if est.heading is not None:
+        pose[35] = math.radians(_SENSOR.heading_sigma_deg) ** 2
+    else:
+        speed2 = est.sog ** 2
+        c, s = math.cos(est.cog), math.sin(est.cog)
+        cross = np.array([-s, c]) @ P[2:, 2:] @ np.array([-s, c])
+        pose[35] = min(cross / speed2, math.pi ** 2) if speed2 > 0.0 else math.pi ** 2
+    c, s = math.cos(psi), math.sin(psi)
+    J = np.array([[c, s], [s, -c]])        # (vn, ve) -> (forward, left)
+    V = J @ P[2:, 2:] @ J.T
+    V = 0.5 * (V + V.T)
+    twist[0], twist[1], twist[6], twist[7] = V[0, 0], V[0, 1], V[1, 0], V[1, 1]
+    return [float(v) for v in pose], [float(v) for v in twist]
+
+
 def transition(dt, q):
     """(F, Q) of the nearly-constant-velocity model over ``dt`` s (module docstring)."""
     F = np.eye(4)

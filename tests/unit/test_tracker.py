@@ -247,3 +247,29 @@ def test_odometry_covariances_are_enu_and_body_frame():
     assert twist[0] == pytest.approx(0.09) and twist[7] == pytest.approx(0.01)
     # no reported heading: the yaw variance is the COG's, cross-track variance / speed^2
     assert pose[35] == pytest.approx(0.01 / 25.0)
+
+
+def test_radar_plot_goes_to_the_gated_nearest_track():
+    """Two tracks 400 m apart (east-going at 5 m/s); a radar plot at t = 10 s with sigma 20 m:
+    near one track's prediction it updates that track (position covariance shrinks) and not
+    the other; its Mahalanobis distance decides the gate: a plot just inside the chi-square
+    99 % gate (d^2 = 9.21 of 2 dof) is used, one just outside is returned unused."""
+    from ship_guidance.tracker import predict
+    c = TrackerConfig()
+    tracker = Tracker()
+    for mmsi, north in ((MMSI, 0.0), (MMSI + 1, 400.0)):
+        tracker.update(AisReport(mmsi, 0.0, north, 0.0, 5.0, math.pi / 2))
+    a0, b0 = tracker.estimate(MMSI, 10.0), tracker.estimate(MMSI + 1, 10.0)
+    assert tracker.associate_radar(10.0, 30.0, 50.0, 20.0) == MMSI
+    a1, b1 = tracker.estimate(MMSI, 10.0), tracker.estimate(MMSI + 1, 10.0)
+    assert a1.position_sigma_m < a0.position_sigma_m
+    np.testing.assert_array_equal(b1.P, b0.P)
+    # The gate, along north from track b's prediction at t = 20 s: S = P_pos + R.
+    _, x, P = tracker._tracks[MMSI + 1].newest
+    x, P = predict(x, P, 20.0 - 0.0, c.process_noise)
+    s_nn = P[0, 0] + 20.0 ** 2
+    assert abs(P[0, 1]) < 1e-9 * P[0, 0]           # north and east independent
+    edge = math.sqrt(c.radar_gate * s_nn)          # d^2 = gate at this offset
+    assert edge < 200.0                            # the plot above b: far outside a's gate
+    assert tracker.associate_radar(20.0, x[0] + 1.02 * edge, x[1], 20.0) is None
+    assert tracker.associate_radar(20.0, x[0] + 0.98 * edge, x[1], 20.0) == MMSI + 1

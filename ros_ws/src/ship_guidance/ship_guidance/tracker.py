@@ -44,6 +44,16 @@ last report (ais_sensor.report_interval from its class, SOG and whether it was m
 3-min reporter (class A at anchor, class B at 2 kn or less) keeps its track through two lost
 reports in a row: 540 s. Prediction goes on with a growing covariance until then.
 
+Radar plots (no identity; ``Tracker.associate_radar``): gated nearest neighbour on the
+Mahalanobis distance. The plot (NED position, its sigma per axis) is compared with every live
+track predicted to its time; d^2 = y^T S^-1 y with y the innovation and S = H P H^T + R, and
+the plot goes to the track of the smallest d^2 if that is within the gate (``radar_gate``,
+default the chi-square 99 % point of 2 degrees of freedom, 9.21), as a position-only update.
+Not done: a plot outside every gate is returned unused (no radar-only track initiation),
+tracks older than the plot only are candidates (a plot older than a track's newest report
+would need that track's reprocessing), and two plots never compete for one track (no global
+nearest neighbour or JPDA): the plots are taken one at a time.
+
 Library: plain numpy, not filterpy or Stone Soup (both on PyPI). The filter is 4 states and
 a few lines; filterpy's predict/update cost about what this one does per call (both well below
 a millisecond: 200 targets at 1 Hz take a few percent of a core), but importing filterpy
@@ -78,10 +88,12 @@ class TrackerConfig:
     sog_sigma_mps: float = _SENSOR.sog_sigma_kn * KNOT
     cog_sigma_rad: float = math.radians(_SENSOR.cog_sigma_deg)
     reprocess_window_s: float = 60.0
+    radar_gate: float = 9.21                             # chi-square(2) 99 %: d^2 of a plot
 
     def check(self):
         """ValueError naming the first bad field; returns self."""
-        for name in ('process_noise', 'sog_sigma_mps', 'cog_sigma_rad', 'reprocess_window_s'):
+        for name in ('process_noise', 'sog_sigma_mps', 'cog_sigma_rad', 'reprocess_window_s',
+                     'radar_gate'):
             v = getattr(self, name)
             if not (math.isfinite(v) and v >= 0.0):
                 raise ValueError(f'{name} must be a finite number >= 0, got {v!r}')
@@ -107,6 +119,7 @@ class AisReport:
     heading: float | None = None
     klass: str = 'A'
     moored: bool = False
+    position_sigma_m: float | None = None   # this report's own sigma (a radar plot), else config's
 
     @classmethod
     def from_sensor(cls, r, t=None):
@@ -193,7 +206,8 @@ def predict(x, P, dt, q):
 
 def measurement(report, config):
     """(z, H, R) of a report (module docstring)."""
-    sp = config.position_sigma_m ** 2
+    sigma = config.position_sigma_m if report.position_sigma_m is None else report.position_sigma_m
+    sp = sigma ** 2
     if report.sog is None or report.cog is None:
         return np.array([report.north, report.east]), _H_POS, np.diag([sp, sp])
     s, c = report.sog, report.cog
@@ -297,6 +311,29 @@ class Tracker:
             self.reprocessed += 1
             return 'late'
         return 'updated'
+
+    def associate_radar(self, t, north, east, sigma_m):
+        """A radar plot at ``t`` (NED position, sigma per axis, m) to its gated nearest track
+        (module docstring): the MMSI it updated, or None if it falls in no track's gate."""
+        best = None
+        R = np.diag([sigma_m ** 2, sigma_m ** 2])
+        z = np.array([north, east])
+        for mmsi, track in self._tracks.items():
+            r, x, P = track.newest
+            if r.t > t:
+                continue
+            x, P = predict(x, P, t - r.t, self.config.process_noise)
+            y = z - x[:2]
+            d2 = float(y @ np.linalg.solve(P[:2, :2] + R, y))
+            if d2 <= self.config.radar_gate and (best is None or d2 < best[0]):
+                best = (d2, mmsi, r)
+        if best is None:
+            return None
+        _, mmsi, last = best
+        plot = AisReport(mmsi, t, north, east, klass=last.klass, moored=last.moored,
+                         position_sigma_m=sigma_m)
+        self.update(plot)
+        return mmsi
 
     def prune(self, t):
         """Delete the tracks silent for longer than their expiry at ``t``; the MMSIs deleted."""

@@ -263,6 +263,15 @@ def test_markers_put_the_safe_circle_on_the_target_and_the_arrow_on_the_command_
     assert quaternion_to_yaw(arrow.pose.orientation) == pytest.approx(psi_to_yaw(d.course))
     assert d.course_offset > 0.0 and quaternion_to_yaw(arrow.pose.orientation) < 0.0
     assert arrow.header.stamp.sec == 12 and arrow.header.stamp.nanosec == 500_000_000
+    # per-target radii: an uncertain target's circle is its widened safe distance
+    from ship_guidance.colav_params import ColavParams
+    p = ColavParams()
+    fuzzy = colav_io.target_state('u', 0.0, 4000.0, -math.pi / 2, 7.7, 0.0, 100.0)
+    radii = [p.safe_distance(t.position_sigma_m) for t in (tgt, fuzzy)]
+    d = make_colav('sbmpc').decide(0.0, own, [tgt, fuzzy], math.pi / 2, 1.0)
+    circles = [m for m in colav_markers(0.0, own, [tgt, fuzzy], d, radii).markers
+               if m.ns == 'safe_distance']
+    assert [c.scale.x for c in circles] == [2 * 926.0, 2 * (926.0 + p.uncertainty_k * 100.0)]
     assert all(m.header.frame_id == 'map' for m in markers[1:])
 
 

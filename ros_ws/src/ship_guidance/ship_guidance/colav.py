@@ -252,7 +252,7 @@ class CollisionAvoidance:
         must = stand_on & (joint < p.stand_on_dcpa_m)
         late = stand_on & (d_nom < p.stand_on_dcpa_m) & (t_min <= p.stand_on_act_time_s)
         acting = bool((late | must).any())
-        d_safe = p.d_safe_m + p.uncertainty_k * np.array([tg.position_sigma_m for tg in targets])
+        d_safe = p.safe_distance(np.array([tg.position_sigma_m for tg in targets]))
         return Scenarios(self._offsets, self._multipliers, chi_c, u_c, max(float(u_nom), 0.1),
                          self._t, p_own, chi, p_own0, p_tgt, p_tgt0, v_tgt, dist, frac, step,
                          codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must, u,

@@ -361,7 +361,8 @@ class ColavRosNode(Node):
         self.pub_targets.publish(self.m_targets)
         self.m_decision.data = colav_io.decision_row(t, d, len(targets))
         self.pub_decision.publish(self.m_decision)
-        self.pub_markers.publish(colav_markers(t, own, targets, d, self.params.d_safe_m))
+        radii = [self.params.safe_distance(tg.position_sigma_m) for tg in targets]
+        self.pub_markers.publish(colav_markers(t, own, targets, d, radii))
 
     def _targets_ready(self, t_ns):
         missing = self.tracks.waiting_for(t_ns, self.lockstep_topics)

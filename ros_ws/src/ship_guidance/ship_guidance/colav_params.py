@@ -78,6 +78,10 @@ class ColavParams:
         if any(not 0.0 <= p <= 1.0 for p in self.speed_factors):
             raise ValueError('speed_factors must lie in [0, 1]')
 
+    def safe_distance(self, position_sigma_m):
+        """A target's safe distance (m) for its position sigma (m; arrays work too)."""
+        return self.d_safe_m + self.uncertainty_k * position_sigma_m
+
     @classmethod
     def from_dict(cls, values):
         """From a flat mapping (e.g. the node's parameters); ``*_deg`` keys are converted."""

@@ -55,11 +55,10 @@ would need that track's reprocessing), and two plots never compete for one track
 nearest neighbour or JPDA): the plots are taken one at a time.
 
 Library: plain numpy, not filterpy or Stone Soup (both on PyPI). The filter is 4 states and
-a few lines; filterpy's predict/update cost about what this one does per call (both well below
-a millisecond: 200 targets at 1 Hz take a few percent of a core), but importing filterpy
-.kalman loads matplotlib and takes seconds on this machine, at every node start, and its filter
-object holds state that the late-report reprocessing would have to copy in and out; Stone Soup
-is a framework of its own (types, deleters, initiators) far larger than this need.
+a few lines; filterpy's predict/update cost about what this one does per call, but importing
+filterpy.kalman loads matplotlib at every node start, and its filter object holds state that
+the late-report reprocessing would have to copy in and out; Stone Soup is a framework of its
+own (types, deleters, initiators) far larger than this need.
 """
 import math
 from bisect import bisect_right

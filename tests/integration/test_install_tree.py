@@ -115,6 +115,7 @@ BAD_PARAMETER = {
     'traffic_node': ('targets', 'no_json'),
     'nav_display_node': ('display_rate_hz', '-1.0'),
     'aivdm_out_node': ('vessels', 'no_json'),
+    'tracker_node': ('process_noise', '-1.0'),
 }
 
 

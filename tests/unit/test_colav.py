@@ -674,3 +674,33 @@ def test_disc_window_is_in_seconds():
     assert np.allclose(disc_window([0, 0], own_v, [2000, 300], tgt_v, 500.0), (160.0, 240.0))
     assert disc_window([0, 0], own_v, [2000, 600], tgt_v, 500.0) == (np.inf, -np.inf)
     assert disc_window([0, 0], own_v, [300, 0], own_v, 500.0) == (-np.inf, np.inf)
+
+
+@pytest.mark.parametrize('method', METHODS)
+def test_an_uncertain_target_is_kept_farther_away(method):
+    """Crossing from starboard (give-way), the target passing 1100 m ahead (own ship astern
+    of it, the side Rule 15 wants): beyond d_safe (926 m), so an exact target needs no
+    alteration. The same target with a position sigma s has the safe distance
+    d_safe + uncertainty_k s (1226 m for s = 150 m, k = 2): more scenarios intrude on it, the
+    decision alters to starboard, and its predicted pass keeps the widened distance."""
+    lateral, sigma = 1100.0, 150.0
+    widened = P.d_safe_m + P.uncertainty_k * sigma
+    assert P.d_safe_m < lateral < widened
+    on_course = _target_on_collision_course(270.0, 480.0)
+    ahead = lateral * np.array([1.0, -1.0]) / math.sqrt(2.0)    # across the relative velocity
+    exact = dataclasses.replace(on_course, north=on_course.north + ahead[0],
+                                east=on_course.east + ahead[1])
+    fuzzy = dataclasses.replace(exact, position_sigma_m=sigma)
+    passes = {}
+    for target in (exact, fuzzy):
+        col = make_colav(method, ship=SHIP)
+        d = col.decide(0.0, OWN, [target], 0.0, 1.0)
+        sc = col.scenarios(OWN, [target], 0.0, 1.0)
+        k = int(np.flatnonzero((sc.offsets == d.scenario_offset)
+                               & (sc.multipliers == d.speed_multiplier))[0])
+        unsafe = int((sc.dist < sc.d_safe[None, :, None]).any(axis=(1, 2)).sum())
+        passes[target.position_sigma_m] = (d.course_offset, sc.dist[k].min(), unsafe)
+    (off0, pass0, unsafe0), (off1, pass1, unsafe1) = passes[0.0], passes[sigma]
+    assert off0 == 0.0 and pass0 == pytest.approx(lateral, rel=1e-3)
+    assert unsafe1 > unsafe0
+    assert off1 > 0.0 and pass1 >= widened > pass0

@@ -263,4 +263,34 @@ def test_markers_put_the_safe_circle_on_the_target_and_the_arrow_on_the_command_
     assert quaternion_to_yaw(arrow.pose.orientation) == pytest.approx(psi_to_yaw(d.course))
     assert d.course_offset > 0.0 and quaternion_to_yaw(arrow.pose.orientation) < 0.0
     assert arrow.header.stamp.sec == 12 and arrow.header.stamp.nanosec == 500_000_000
+    # per-target radii: an uncertain target's circle is its widened safe distance
+    from ship_guidance.colav_params import ColavParams
+    p = ColavParams()
+    fuzzy = colav_io.target_state('u', 0.0, 4000.0, -math.pi / 2, 7.7, 0.0, 100.0)
+    radii = [p.safe_distance(t.position_sigma_m) for t in (tgt, fuzzy)]
+    d = make_colav('sbmpc').decide(0.0, own, [tgt, fuzzy], math.pi / 2, 1.0)
+    circles = [m for m in colav_markers(0.0, own, [tgt, fuzzy], d, radii).markers
+               if m.ns == 'safe_distance']
+    assert [c.scale.x for c in circles] == [2 * 926.0, 2 * (926.0 + p.uncertainty_k * 100.0)]
     assert all(m.header.frame_id == 'map' for m in markers[1:])
+
+
+def test_position_sigma_is_the_largest_axis_of_the_covariance():
+    """sqrt of the largest eigenvalue of the x-y block of a 6x6 row-major pose covariance:
+    a diagonal one gives its larger sigma, a rotated ellipse its major axis, zeros 0; a
+    non-finite one is nan and the target is refused."""
+    from ship_guidance.colav_io import position_sigma, target_problem, target_state
+    cov = [0.0] * 36
+    assert position_sigma(cov) == 0.0
+    cov[0], cov[7] = 9.0, 400.0
+    assert position_sigma(cov) == pytest.approx(20.0)
+    a, b, th = 30.0, 5.0, 0.7                     # major, minor sigma, rotation
+    c, s = math.cos(th), math.sin(th)
+    cov[0] = a * a * c * c + b * b * s * s
+    cov[7] = a * a * s * s + b * b * c * c
+    cov[1] = cov[6] = (a * a - b * b) * c * s
+    assert position_sigma(cov) == pytest.approx(a)
+    cov[1] = math.nan
+    state = target_state('t', 0.0, 0.0, 0.0, 1.0, 0.0, position_sigma(cov))
+    assert target_problem(state)[0] == 'non_finite'
+    assert target_problem(target_state('t', 0.0, 0.0, 0.0, 1.0, 0.0, 20.0)) is None

@@ -29,6 +29,7 @@ setup(
             'colav_node = ship_guidance.colav_node:main',
             'nav_display_node = ship_guidance.nav_display_node:main',
             'aivdm_out_node = ship_guidance.aivdm_out_node:main',
+            'tracker_node = ship_guidance.tracker_node:main',
         ],
     },
 )

@@ -85,6 +85,7 @@ class Track:
     cog: float = 0.0                   # rad, NED, clockwise from north
     heading: float = None              # rad, true heading, None when not reported
     klass: str = None                  # 'A' (1/2/3/5) or 'B' (18/19/24)
+    moored: bool = False               # navigational status at anchor (1) or moored (5)
     name: str = None
     ship_type: int = None
     to_bow: int = None                 # m from the reference point (dimension fields)
@@ -324,6 +325,8 @@ class AisTracker:
         heading = msg.heading
         track.heading = (math.radians(float(heading)) if heading is not None
                          and heading != HEADING_NOT_AVAILABLE and 0 <= heading < 360 else None)
+        status = getattr(msg, 'status', None)         # class A only (messages 1-3)
+        track.moored = status is not None and int(status) in (1, 5)
         track.reports += 1
         return True
 

@@ -72,8 +72,11 @@ class ShipState:
 @dataclass(frozen=True)
 class Target(ShipState):
     """A target's state; ``name`` (unique, e.g. the odometry's child_frame_id) keys its latched
-    situation; without one the target's index in the list is the key."""
+    situation; without one the target's index in the list is the key. ``position_sigma_m``:
+    the square root of the largest eigenvalue of its position covariance (0: exact); the
+    decision widens the target's safe distance by ``uncertainty_k`` times it."""
     name: str = ''
+    position_sigma_m: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -135,6 +138,7 @@ class Scenarios:
     v_rel_beyond: np.ndarray = None
     must_act: np.ndarray = None    # (M,) bool: Rule 17(b) moment for a stand-on target (step 3)
     u: np.ndarray = None           # (S, N+1) predicted speed through the water, m/s
+    d_safe: np.ndarray = None      # (M,) each target's safe distance, m (d_safe_m widened)
 
 
 class CollisionAvoidance:
@@ -248,9 +252,11 @@ class CollisionAvoidance:
         must = stand_on & (joint < p.stand_on_dcpa_m)
         late = stand_on & (d_nom < p.stand_on_dcpa_m) & (t_min <= p.stand_on_act_time_s)
         acting = bool((late | must).any())
+        d_safe = p.safe_distance(np.array([tg.position_sigma_m for tg in targets]))
         return Scenarios(self._offsets, self._multipliers, chi_c, u_c, max(float(u_nom), 0.1),
                          self._t, p_own, chi, p_own0, p_tgt, p_tgt0, v_tgt, dist, frac, step,
-                         codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must, u)
+                         codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must, u,
+                         d_safe)
 
     def _assess(self, own, targets, sc):
         if sc is None:

@@ -85,9 +85,25 @@ def ship_state(north, east, psi, u, v, r=0.0):
     return ShipState(float(north), float(east), course, speed, float(psi), float(r))
 
 
-def target_state(name, north, east, psi, u, v):
+def target_state(name, north, east, psi, u, v, position_sigma_m=0.0):
     course, speed = _course_speed(psi, u, v)
-    return Target(float(north), float(east), course, speed, float(psi), name=name)
+    return Target(float(north), float(east), course, speed, float(psi), name=name,
+                  position_sigma_m=float(position_sigma_m))
+
+
+def position_sigma(covariance):
+    """Square root of the largest eigenvalue of the x-y block of a pose covariance (the 36
+    row-major numbers of a geometry_msgs PoseWithCovariance), m: the target's position
+    uncertainty along its worst axis, the same in ENU and NED. 0 for an all-zero covariance
+    (unknown: the publisher gives none, as ais_node and the simulators); a negative
+    eigenvalue (not a covariance) counts as 0; nan if any of the four numbers is not finite
+    (refused: target_problem)."""
+    a, b, c, d = (float(covariance[i]) for i in (0, 1, 6, 7))
+    if not all(map(math.isfinite, (a, b, c, d))):
+        return math.nan
+    half_trace, half_diff = 0.5 * (a + d), 0.5 * (a - d)
+    largest = half_trace + math.sqrt(half_diff ** 2 + (0.5 * (b + c)) ** 2)
+    return math.sqrt(max(largest, 0.0))
 
 
 def dead_reckon(state, dt):
@@ -103,6 +119,11 @@ def target_problem(state):
     values = (state.north, state.east, state.course, state.speed, state.heading)
     if not all(v is None or math.isfinite(v) for v in values):
         return 'non_finite', f'non-finite state (north, east, course, speed) = {values[:4]}'
+    if not math.isfinite(state.position_sigma_m):
+        return 'non_finite', 'non-finite position covariance'
+    if state.position_sigma_m > MAX_COORDINATE_M:
+        return 'out_of_range', (f'position sigma {state.position_sigma_m:.3g} m beyond '
+                                f'{MAX_COORDINATE_M:.0e} m')
     if max(abs(state.north), abs(state.east)) > MAX_COORDINATE_M:
         return 'out_of_range', (f'position ({state.north:.3g}, {state.east:.3g}) m beyond '
                                 f'{MAX_COORDINATE_M:.0e} m from the origin')

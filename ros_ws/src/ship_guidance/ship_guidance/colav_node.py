@@ -33,6 +33,11 @@ timing. A lockstep target silent for `lockstep_target_timeout_s` of wall time is
 waited for (warned; waited for again once it speaks); any target whose newest usable state is
 older than `target_stale_s` of sim time is left out, and forgotten.
 
+Target uncertainty: a target's safe distance is `d_safe_m` + `uncertainty_k` (default 2) x
+its position sigma, the square root of the largest eigenvalue of the x-y block of its
+pose.covariance (colav_io.position_sigma; tracker_node's `tracks` fill it, ais_node and the
+simulators leave it zero: d_safe_m itself).
+
 Bad input (counted, warned about with the count, throttled; the node keeps its state):
 - a target state no ship can have (non-finite, beyond 1e7 m from the origin, faster than
   50 m/s: colav_io.target_problem, ship_sim.bounds) is refused; beyond `max_targets` live
@@ -108,6 +113,9 @@ SCALARS = (
      'the nominal passes closer than this ...', 0.0, 1e5, 'm'),
     ('stand_on_act_time_s', DEFAULTS.stand_on_act_time_s, '... with the closest point this near '
      '(the give-way ship is late)', 0.0, 7200.0, 's'),
+    ('uncertainty_k', DEFAULTS.uncertainty_k, 'a target\'s safe distance is d_safe_m + this x '
+     'its position sigma (sqrt of the largest eigenvalue of its pose covariance)', 0.0, 100.0,
+     ''),
     ('course_time_constant_s', SHIP.course_time_constant_s, 'own-ship model: Nomoto T, the '
      'turn rate\'s lag', 1e-3, 1e4, 's'),
     ('max_turn_rate', float(SHIP.max_turn_rate), 'own-ship model: turn-rate cap', 1e-6, 10.0, 'rad/s'),
@@ -265,7 +273,8 @@ class ColavRosNode(Node):
 
     def _add_target(self, name, msg, lockstep):
         o = odometry_to_ned(msg)
-        state = colav_io.target_state(name, o.north, o.east, o.psi, o.u, o.v)
+        state = colav_io.target_state(name, o.north, o.east, o.psi, o.u, o.v,
+                                      colav_io.position_sigma(msg.pose.covariance))
         tracks = self.tracks
         why = tracks.add(name, _stamp_ns(msg), state, time.monotonic(), lockstep)
         if why is None:
@@ -352,7 +361,8 @@ class ColavRosNode(Node):
         self.pub_targets.publish(self.m_targets)
         self.m_decision.data = colav_io.decision_row(t, d, len(targets))
         self.pub_decision.publish(self.m_decision)
-        self.pub_markers.publish(colav_markers(t, own, targets, d, self.params.d_safe_m))
+        radii = [self.params.safe_distance(tg.position_sigma_m) for tg in targets]
+        self.pub_markers.publish(colav_markers(t, own, targets, d, radii))
 
     def _targets_ready(self, t_ns):
         missing = self.tracks.waiting_for(t_ns, self.lockstep_topics)

@@ -57,10 +57,18 @@ class ColavParams:
     stand_on_dcpa_m: float = 926.0         # act (17(a)(ii)) when the nominal passes closer ...
     stand_on_act_time_s: float = 300.0     # ... with the closest point this near: the give-way
     #                                        ship is late (evaluator's early_s, Rule 16)
+    # --- target uncertainty (issue 31 item 3) ---
+    # A target's safe distance is d_safe_m + uncertainty_k x its position sigma (the square
+    # root of the largest eigenvalue of its position covariance, Target.position_sigma_m):
+    # k = 2 keeps d_safe from about 95 % of the positions the target may be at along the
+    # worst axis. Targets without a covariance (sigma 0) keep d_safe_m exactly.
+    uncertainty_k: float = 2.0
 
     def __post_init__(self):
         if not 0.0 < self.collision_m < self.near_miss_m < self.d_safe_m <= self.threat_m:
             raise ValueError('need 0 < collision_m < near_miss_m < d_safe_m <= threat_m')
+        if not (self.uncertainty_k >= 0.0 and np.isfinite(self.uncertainty_k)):
+            raise ValueError('uncertainty_k must be a finite number >= 0')
         if not (self.dt_s > 0.0 and self.horizon_s >= self.dt_s):
             raise ValueError('need 0 < dt_s <= horizon_s')
         if 0.0 not in self.course_offsets or 1.0 not in self.speed_factors:
@@ -69,6 +77,10 @@ class ColavParams:
             raise ValueError('apparent_speed_ratio must lie in [0, 1)')
         if any(not 0.0 <= p <= 1.0 for p in self.speed_factors):
             raise ValueError('speed_factors must lie in [0, 1]')
+
+    def safe_distance(self, position_sigma_m):
+        """A target's safe distance (m) for its position sigma (m; arrays work too)."""
+        return self.d_safe_m + self.uncertainty_k * position_sigma_m
 
     @classmethod
     def from_dict(cls, values):

@@ -6,7 +6,8 @@ own-ship model and scored, all scenarios x targets x steps at once:
     H_k = max_i [ max_t R_ik(t) + kappa mu_ik ] + G_k + port_k + apparent_k + f_k + change_k
 
 - collision risk R (Johansen et al. 2016's C R): on every step where the predicted distance d to
-  target i is below d_safe, w_collision (|v_rel| / U)^2 (T_h / t)^p (d_safe / d)^q, with |v_rel|
+  target i is below its d_safe (d_safe_m, widened by ``uncertainty_k`` times the target's
+  position sigma: ColavParams), w_collision (|v_rel| / U)^2 (T_h / t)^p (d_safe / d)^q, with |v_rel|
   the relative speed on that step (floored at ``relative_speed_floor`` U, so a slow overtaking
   still costs), U the nominal speed, t the time of the closest point on the step (at least one
   step) and T_h the horizon;
@@ -54,12 +55,13 @@ class SBMPC(CollisionAvoidance):
         """(S,) total cost of every scenario."""
         p = self.params
         risk = np.zeros(sc.dist.shape)
-        inside = sc.dist < p.d_safe_m                  # usually a small part: score only it
+        d_safe = np.broadcast_to(sc.d_safe[None, :, None], sc.dist.shape)   # per target
+        inside = sc.dist < d_safe                      # usually a small part: score only it
         if inside.any():
             t_step = sc.t[:-1][np.nonzero(inside)[2]] + sc.frac[inside] * p.dt_s
             speed = np.maximum(sc.step[inside] / (p.dt_s * sc.u_ref), p.relative_speed_floor) ** 2
             when = (p.horizon_s / np.maximum(t_step, p.dt_s)) ** p.risk_time_exponent
-            depth = (p.d_safe_m / np.maximum(sc.dist[inside], 1e-3)) ** p.risk_distance_exponent
+            depth = (d_safe[inside] / np.maximum(sc.dist[inside], 1e-3)) ** p.risk_distance_exponent
             risk[inside] = p.w_collision * speed * when * depth
             risk -= risk.min(axis=0)                   # what no scenario avoids (module doc)
         beyond = self._risk_beyond_horizon(sc)
@@ -84,10 +86,10 @@ class SBMPC(CollisionAvoidance):
         p = self.params
         if sc.dcpa_beyond is None:
             return np.zeros(sc.dist.shape[:2])
-        hit = sc.dcpa_beyond < p.d_safe_m
+        hit = sc.dcpa_beyond < sc.d_safe[None]
         speed = np.maximum(sc.v_rel_beyond / sc.u_ref, p.relative_speed_floor) ** 2
         when = (p.horizon_s / (p.horizon_s + sc.tcpa_beyond)) ** p.risk_time_exponent
-        depth = (p.d_safe_m / np.maximum(sc.dcpa_beyond, 1e-3)) ** p.risk_distance_exponent
+        depth = (sc.d_safe[None] / np.maximum(sc.dcpa_beyond, 1e-3)) ** p.risk_distance_exponent
         return np.where(hit, p.w_collision * speed * when * depth, 0.0)
 
     def _choose(self, sc):

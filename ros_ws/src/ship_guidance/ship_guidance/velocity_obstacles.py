@@ -3,8 +3,9 @@
 Candidates are the scenario grid's commanded velocities (course = nominal + offset, speed =
 multiplier x nominal speed). Against each target, with the relative motion a straight line:
 
-- collision cone: a candidate is inadmissible when it brings the target within d_safe (the cone
-  of the target's disc inflated by the safe distance) between now and the horizon;
+- collision cone: a candidate is inadmissible when it brings the target within its d_safe (the
+  cone of the target's disc inflated by the safe distance, widened by the target's position
+  uncertainty: ColavParams.uncertainty_k) between now and the horizon;
 - COLREGs (Kuwata et al. 2014): for a threat the own ship gives way to in head-on or crossing,
   the cone is widened to its port side: a closing candidate whose relative velocity points to
   port of the line of sight (it would pass with the target on its starboard side, i.e. cross
@@ -40,7 +41,7 @@ class VelocityObstacles(CollisionAvoidance):
         p = self.params
         v_c = velocity(sc.chi_c, sc.u_c)[:, None, :]                            # (S, 1, 2)
         tcpa, _ = cpa(sc.p_own0, v_c, sc.p_tgt0[None], sc.v_tgt[None])          # (S, M)
-        t_in, t_out = disc_window(sc.p_own0, v_c, sc.p_tgt0[None], sc.v_tgt[None], p.d_safe_m)
+        t_in, t_out = disc_window(sc.p_own0, v_c, sc.p_tgt0[None], sc.v_tgt[None], sc.d_safe)
         in_cone = (t_in < p.horizon_s) & (t_out > 0.0)
         los = sc.p_tgt0[None] - sc.p_own0                                       # (1, M, 2)
         w = v_c - sc.v_tgt[None]                                                # own relative velocity

@@ -1,6 +1,7 @@
 """visualization_msgs/MarkerArray of a collision-avoidance decision (RViz, Foxglove), in ENU.
 
-Namespaces: ``safe_distance`` (a flat cylinder of radius d_safe around each target),
+Namespaces: ``safe_distance`` (a flat cylinder of radius d_safe around each target: one
+radius for all, or one per target, widened by its uncertainty: ColavParams.safe_distance),
 ``cpa`` (spheres at the own ship's and each target's position at TCPA, straight lines),
 ``course`` (an arrow from the own ship along the commanded course, one minute of travel).
 The first marker is a DELETEALL, so targets that left do not linger.
@@ -28,12 +29,13 @@ def colav_markers(t, own, targets, decision, d_safe):
     """MarkerArray for own ship / targets (NED states) and the Decision taken at ``t`` (s)."""
     stamp = time_to_msg(t)
     out = [Marker(action=Marker.DELETEALL)]
+    radii = list(d_safe) if hasattr(d_safe, '__len__') else [d_safe] * len(targets)
     for i, (tg, a) in enumerate(zip(targets, decision.targets)):
         red = a.threat
         c = _marker('safe_distance', i, Marker.CYLINDER, stamp,
                     (1.0, 0.2, 0.2, 0.3) if red else (0.2, 0.6, 1.0, 0.2))
         c.pose.position.x, c.pose.position.y = tg.east, tg.north
-        c.scale.x = c.scale.y = 2.0 * d_safe
+        c.scale.x = c.scale.y = 2.0 * radii[i]
         c.scale.z = 1.0
         out.append(c)
         tc = max(a.tcpa_s, 0.0)

@@ -1,0 +1,162 @@
+"""tracker_node: AIS (NMEA 0183 AIVDM over UDP) -> Kalman tracks with covariance on `tracks`.
+
+Input: NMEA lines on UDP `udp_address`:`udp_port` (one or more per datagram), the way a live
+receiver relays AIS and the way aivdm_out_node sends the simulated vessels' AIS (its `udp`
+parameter: point it here). Decoding is ship_guidance.ais's (the same checks as ais_node); each
+position report is stamped with the node's clock on arrival (sim time with use_sim_time) and
+goes to the tracker (ship_guidance.tracker: a nearly-constant-velocity Kalman filter per MMSI,
+late reports retrodicted, tracks deleted after a silence that depends on the report class). A
+report without SOG or COG updates the position only. Polls are bounded as in ais_node
+(UDP_MAX_DATAGRAMS, UDP_POLL_BUDGET_S).
+
+Output: every `publish_period_s` of the node's clock, each live track predicted to now as
+nav_msgs/Odometry on `tracks`: ENU at (`origin_lat_deg`, `origin_lon_deg`), frame_id `map`,
+child_frame_id `ais_<mmsi>` (ais_node's names), orientation the reported true heading (else
+the estimated COG), twist FLU over ground, pose and twist covariance filled
+(tracker.odometry_covariances). colav_node takes it as its `targets_topic` (`tracks`) and widens
+each target's safe distance by its position uncertainty (colav_node `uncertainty_k`).
+
+Parameters: `udp_port` (required, 1-65535), `udp_address` (default 127.0.0.1), the origin,
+`publish_period_s` (1 s), and the filter's noise model (ship_guidance.tracker.TrackerConfig):
+`process_noise` (q, m^2/s^3), `position_sigma_m`, `sog_sigma_kn`, `cog_sigma_deg` (defaults:
+the AIS sensor model's), `reprocess_window_s` (how late a report may come and still be used).
+Bad AIS input is counted and warned about (throttled); it never stops the node.
+"""
+import math
+import socket
+import time
+
+from nav_msgs.msg import Odometry
+from rclpy.clock import Clock, ClockType
+from rclpy.node import Node
+
+from ship_guidance.ais import KNOT, AisTracker
+from ship_guidance.ais_node import UDP_MAX_DATAGRAMS, UDP_POLL_BUDGET_S, UDP_POLL_S, child_frame
+from ship_guidance.tracker import AisReport, Tracker, TrackerConfig, odometry_covariances
+from ship_sim.ros.conversions import make_odometry
+from ship_sim.ros.params import NodeParameters, ParameterError
+from ship_sim.ros.qos import STREAM
+from ship_sim.ros.run import run_node
+
+DEFAULTS = TrackerConfig()
+
+
+class TrackerNode(Node):
+    def __init__(self):
+        super().__init__('tracker_node')
+        p = NodeParameters(self)
+        port = p.declare('udp_port', 0, 'UDP port to receive AIS NMEA on', lo=0, hi=65535,
+                         read_only=True)
+        address = p.declare('udp_address', '127.0.0.1', 'local address to bind the UDP port '
+                            'to (0.0.0.0: every interface)', read_only=True)
+        lat0 = p.declare('origin_lat_deg', 0.0, 'geodetic origin of the local ENU frame',
+                         lo=-89.0, hi=89.0, unit='deg', read_only=True)
+        lon0 = p.declare('origin_lon_deg', 0.0, 'geodetic origin of the local ENU frame',
+                         lo=-180.0, hi=180.0, unit='deg', read_only=True)
+        period = p.declare('publish_period_s', 1.0, 'period of the track publication, on the '
+                           'node clock', lo=1e-3, hi=3600.0, unit='s', read_only=True)
+        config = TrackerConfig(
+            process_noise=p.declare('process_noise', DEFAULTS.process_noise, 'acceleration '
+                                    'power spectral density q of the nearly-constant-velocity '
+                                    'model', lo=0.0, hi=100.0, unit='m^2/s^3', read_only=True),
+            position_sigma_m=p.declare('position_sigma_m', DEFAULTS.position_sigma_m, 'AIS '
+                                       'position noise per axis', lo=0.01, hi=1e4, unit='m',
+                                       read_only=True),
+            sog_sigma_mps=KNOT * p.declare('sog_sigma_kn', DEFAULTS.sog_sigma_mps / KNOT,
+                                           'AIS SOG noise', lo=0.0, hi=100.0, unit='kn',
+                                           read_only=True),
+            cog_sigma_rad=math.radians(p.declare(
+                'cog_sigma_deg', math.degrees(DEFAULTS.cog_sigma_rad), 'AIS COG noise', lo=0.0,
+                hi=180.0, unit='deg', read_only=True)),
+            reprocess_window_s=p.declare('reprocess_window_s', DEFAULTS.reprocess_window_s,
+                                         'a report up to this much older than its track\'s '
+                                         'newest is retrodicted; older ones are dropped',
+                                         lo=0.0, hi=3600.0, unit='s', read_only=True))
+        if not port:
+            raise ParameterError('udp_port', message='give the UDP port AIS arrives on '
+                                 '(udp_port)')
+        try:
+            sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+            sock.bind((address, port))
+        except OSError as exc:
+            raise ParameterError('udp_port', port, f'a free UDP port on {address} '
+                                 f'({exc.strerror})') from None
+        sock.setblocking(False)
+        self.sock = sock
+        self.decoder = AisTracker(lat0, lon0)
+        self.tracker = Tracker(config)
+        self.n_bad = 0
+        self.used = {}            # MMSI -> the decoder's report count already tracked
+        self.pub = self.create_publisher(Odometry, 'tracks', STREAM)
+        self.create_timer(period, self._publish)
+        self.create_timer(UDP_POLL_S, self._poll, clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self.get_logger().info(f'tracker: AIS on UDP {address}:{port}; origin {lat0:.6f}, '
+                               f'{lon0:.6f}; q {config.process_noise:g} m^2/s^3')
+
+    def _now(self):
+        return self.get_clock().now().nanoseconds * 1e-9
+
+    def _poll(self):
+        t = self._now()
+        deadline = time.monotonic() + UDP_POLL_BUDGET_S
+        for _ in range(UDP_MAX_DATAGRAMS):
+            if time.monotonic() > deadline:
+                return
+            try:
+                data = self.sock.recv(65536)
+            except (BlockingIOError, InterruptedError):
+                return
+            except OSError as exc:
+                self.get_logger().warning(f'UDP receive failed: {exc}',
+                                          throttle_duration_sec=5.0)
+                return
+            for line in data.splitlines():
+                if line.strip():
+                    self._feed(line, t)
+
+    def _feed(self, line, t):
+        """Decode one line; a new position report goes to the tracker."""
+        dec = self.decoder
+        no_velocity = dec.bad['velocity_not_available']
+        mmsi = dec.feed(line, t)
+        n_bad = sum(dec.bad.values()) - dec.bad['velocity_not_available']
+        if n_bad > self.n_bad:
+            self.n_bad = n_bad
+            reason, text = dec.last_bad
+            self.get_logger().warning(f'skipped bad AIS input ({reason}): {text[:90]!r}; '
+                                      f'{n_bad} so far', throttle_duration_sec=5.0)
+        track = dec.tracks.get(mmsi) if mmsi is not None else None
+        if track is None or track.reports == self.used.get(mmsi, 0):
+            return                                 # static data only, or nothing usable
+        self.used[mmsi] = track.reports
+        velocity = dec.bad['velocity_not_available'] == no_velocity
+        self.tracker.update(AisReport(
+            mmsi, t, track.north, track.east, track.sog if velocity else None,
+            track.cog if velocity else None, track.heading,
+            'A' if track.klass == 'A' else 'B', track.moored))
+
+    def _publish(self):
+        now = self._now()
+        for mmsi in self.decoder.prune(now):
+            self.used.pop(mmsi, None)
+        for est in self.tracker.tracks(now):
+            psi = est.heading if est.heading is not None else est.cog
+            d = est.cog - psi
+            msg = make_odometry(now, est.north, est.east, psi, est.sog * math.cos(d),
+                                est.sog * math.sin(d), 0.0, child_frame(est.mmsi))
+            pose, twist = odometry_covariances(est, psi)
+            msg.pose.covariance = pose
+            msg.twist.covariance = twist
+            self.pub.publish(msg)
+
+    def destroy_node(self):
+        self.sock.close()
+        super().destroy_node()
+
+
+def main(args=None):
+    return run_node(TrackerNode, args=args)
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())

@@ -234,6 +234,7 @@ def main():
     ap.add_argument('--flagship', action='store_true',
                     help="the graph flagship's filter result taken apart (module docstring)")
     args = ap.parse_args()
+    started = provenance()     # the code the runs use is the code at their start
     if args.flagship:
         args.out.mkdir(parents=True, exist_ok=True)
         table = heading_loop_design('mariner', 'pd')
@@ -287,7 +288,7 @@ def main():
             print(f'{key}, {label}: ' + ', '.join(cells))
     # provenance: the results page (doc/results/wind_waves.md) renders from this file
     (args.out / 'wave_filter.json').write_text(json.dumps({
-        'provenance': provenance(),
+        'provenance': started,
         'settings': {'duration_s': duration, 'dt_s': DT, 'wave_direction_deg': 150.0,
                      'seeds': seeds, 'sensitivity_seed': seeds[0]},
         'runs': results, 'sensitivity': sensitivity}, indent=1))

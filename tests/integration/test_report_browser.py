@@ -84,7 +84,7 @@ def test_run_report_loads_in_chromium_with_every_plot_decoded(launch, tmp_path):
     assert len(pngs) >= 4    # track, cross-track error, heading, rudder
     images = {i['alt']: (i['natural_width'], i['natural_height']) for i in result['images']}
     assert images == {p.name: png_size(p) for p in pngs}
-    assert result['title'] == 'Run report: auv_closed_loop'
+    assert result['title'] == 'Run report: test_auv_closed_loop'   # the scenario's name, as its run folder
     assert png_size(shot) == (1280, 1000)
     # the contents list: one link per section, each reaching its heading
     assert len(result['anchors']) >= 4 and all(a['found'] for a in result['anchors'])

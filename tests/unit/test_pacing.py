@@ -40,7 +40,17 @@ def test_pairer_skip_drops_the_late_partner_and_keeps_alignment():
     assert list(p.pairs()) == [(1, 'c1')]
 
 
-def test_paired_record_only_when_the_counts_agree():
+def test_paired_record_takes_a_record_cut_off_after_steps_the_recorder_missed():
+    # The answering node got the last odom, the recorder did not (the simulator stopped): the
+    # first messages pair exactly with the recorded stamps, the extra one takes the next step.
+    stamps = np.array([0.0, 0.1, 0.2, 0.30000000000000004])
+    got = paired_record(stamps, 5)
+    assert np.array_equal(got[:4], stamps) and got[4] == stamps[3] + 0.1
+    # with a step missing in the stream the pairing cannot be recovered
+    assert paired_record(np.array([0.0, 0.1, 0.3]), 4) is None
+
+
+def test_paired_record_when_the_counts_agree_and_never_with_fewer_messages():
     stamps = np.array([0.0, 0.1, 0.2])
     got = paired_record(stamps, 3)
     assert np.array_equal(got, stamps) and got is not stamps

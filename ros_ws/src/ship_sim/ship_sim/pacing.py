@@ -98,11 +98,21 @@ class SequencePairer:
 
 def paired_record(stamps, count):
     """The pairing rule applied to a whole record: a topic with ``count`` messages recorded next
-    to a stream with ``stamps`` was paired with it message by message when the counts agree, so
-    message n takes stamps[n] (a copy). None when they differ (a message lost, a partial
-    record): then the pairing cannot be recovered."""
+    to a stream with ``stamps`` was paired with it message by message, so message n takes
+    stamps[n] (a copy), when the counts agree. A topic with more messages than the stream, next
+    to a stream of evenly spaced stamps (no step missing), is the same record cut off: the
+    simulator was stopped after publishing steps the recorder did not get, which the answering
+    node did get, so the first messages pair exactly and the rest take the next steps' stamps.
+    None otherwise (a message lost, a partial record): then the pairing cannot be recovered."""
     stamps = np.asarray(stamps)
-    return stamps.copy() if count == len(stamps) else None
+    if count == len(stamps):
+        return stamps.copy()
+    if count > len(stamps) >= 2:
+        step = np.diff(stamps)
+        if np.all(np.abs(step - step[0]) <= 1e-6 * max(abs(step[0]), 1e-9)) and step[0] > 0:
+            extra = stamps[-1] + step[0] * np.arange(1, count - len(stamps) + 1)
+            return np.concatenate([stamps, extra])
+    return None
 
 
 class RunningStats:

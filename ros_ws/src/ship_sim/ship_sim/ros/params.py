@@ -1,8 +1,15 @@
 """Declaring and validating ROS parameters, the same way in every node of the project.
 
-Usage inside a node's constructor::
+Every node declares from its parameter schema (ship_sim.param_schema; the tables are in each
+package's ``schema.py``)::
 
-    self.params = NodeParameters(self)
+    self.params = NodeParameters(self, VESSEL_NODE)
+    dt = self.params.param('dt')                     # default, range, description: the schema's
+    self.params.param('speedup', on_change=self._set_speedup)
+    values = self.params.declare_schema()            # or all of them, in the schema's order
+
+``declare`` is the underlying call, for a parameter given by hand::
+
     dt = self.params.declare('dt', 0.1, 'integration step (s)', lo=1e-3, hi=1.0, read_only=True)
     mode = self.params.declare('stepping_mode', 'realtime', 'how the sim is paced',
                                choices=('realtime', 'lockstep'), read_only=True)
@@ -204,19 +211,6 @@ class NodeParameters:
             spec = self._specs.get(p.name)
             if spec is not None and spec.on_change is not None:
                 spec.on_change(p.value)
-
-
-def check_value(name, value, default, *, lo=None, hi=None, choices=None, check=None,
-                allowed=None, allow_nonfinite=False):
-    """None if ``value`` is a valid start value of a parameter declared with ``default`` and
-    these rules (NodeParameters.declare's), else the one-line refusal the node would give: the
-    same check, for programs (the launcher) that refuse a value before the node is started."""
-    kind = type(default)
-    if allowed is None:
-        allowed = _allowed_text(kind, lo, hi, choices)
-    spec = _Spec(name, kind, lo, hi, choices, check, allowed, None, allow_nonfinite)
-    bad = NodeParameters._problem(spec, value)
-    return None if bad is None else str(ParameterError(name, value, bad))
 
 
 def check_overrides(node):

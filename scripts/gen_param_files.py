@@ -74,6 +74,8 @@ def comment(p):
     unit = f' [{p.unit}]' if p.unit else ''
     rules = rule_text(p)
     tail = (f'; {rules}' if rules else '') + ('' if p.read_only else '; changeable at runtime')
+    if p.deprecated_names:
+        tail += '; old name ' + ', '.join(p.deprecated_names) + ' (deprecated, still taken)'
     return f'{p.description}{unit}{tail}.'
 
 

@@ -197,3 +197,26 @@ def test_prelaunch_check_agrees_with_the_node(make_node, package, executable, ke
         node_says = str(exc)
     ours = check_param(schema, key, value)
     assert (ours is None) == (node_says is None), (ours, node_says)
+
+
+def test_a_deprecated_name_still_sets_the_parameter_with_a_warning(make_node):
+    """U0 (renamed nominal_speed_mps) is taken for one release: the value reaches the new name,
+    one warning names both, and the old key is no longer an unknown override."""
+    from ship_sim.ros.params import NodeParameters, check_overrides
+    from ship_sim.schema import VESSEL_NODE
+    assert VESSEL_NODE.renamed() == {'U0': 'nominal_speed_mps', 'depth': 'water_depth_m'}
+    node, _ = make_node(U0=6.5)
+    warnings = []
+    node.get_logger().warning = warnings.append   # the node's logger, read back here
+    p = NodeParameters(node, VESSEL_NODE)
+    assert p.param('nominal_speed_mps') == 6.5
+    assert len(warnings) == 1 and "'U0'" in warnings[0] and "'nominal_speed_mps'" in warnings[0]
+    check_overrides(node)                          # raises if 'U0' still counted as unknown
+    assert check_param(VESSEL_NODE, 'nominal_speed_mps', 40.0) is not None   # same range
+
+
+def test_scenario_keys_under_a_deprecated_name_are_checked_by_the_new_rules():
+    from mission.node_checks import section_problems
+    assert section_problems('ship_sim', 'vessel_node', {'depth': 30.0}) == []
+    [(key, bad)] = section_problems('ship_sim', 'vessel_node', {'depth': -1.0})
+    assert key == 'depth' and "'water_depth_m'" in bad

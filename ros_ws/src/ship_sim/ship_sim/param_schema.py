@@ -116,6 +116,14 @@ class NodeSchema:
         """{old name: current name} of the deprecated names."""
         return {old: p.name for p in self.params for old in p.deprecated_names}
 
+    def current_names(self, values):
+        """``values`` (a mapping of parameters) with deprecated names replaced by the current
+        ones (a value given under both: the current name's)."""
+        renamed = self.renamed()
+        out = {renamed[k]: v for k, v in values.items() if k in renamed}
+        out.update({k: v for k, v in values.items() if k not in renamed})
+        return out
+
 
 #: Parameters rclpy (Jazzy) declares on every node itself (see ship_sim.ros.params.check_overrides).
 RCLPY_PARAMETERS = ('use_sim_time', 'start_type_description_service')

@@ -24,10 +24,12 @@ VESSEL_NODE = NodeSchema('ship_sim', 'vessel_node', summary='the plant: a ship m
     Param.of('model', 'mariner', 'plant model', choices=MODEL_NAMES, read_only=True),
     Param.of('preset', '', "model preset ('' = the model's default; nomoto1/"
         'nomoto2: mariner or tanker)', read_only=True),
-    Param.of('U0', 0.0, 'nominal speed of the model (mariner U0, nomoto/nps_auv2 '
-        "U); 0 = the model's default", lo=0.0, hi=30.0, unit='m/s', read_only=True),
-    Param.of('depth', 0.0, "water depth (tanker h >= 18.5 m); 0 = the model's "
-        'default (deep water)', lo=0.0, hi=1e4, unit='m', read_only=True),
+    Param.of('nominal_speed_mps', 0.0, 'nominal speed of the model (mariner U0, nomoto/nps_auv2 '
+        "U); 0 = the model's default", lo=0.0, hi=30.0, unit='m/s', read_only=True,
+        deprecated_names=('U0',)),
+    Param.of('water_depth_m', 0.0, "water depth (tanker h >= 18.5 m); 0 = the model's "
+        'default (deep water)', lo=0.0, hi=1e4, unit='m', read_only=True,
+        deprecated_names=('depth',)),
     Param.of('rudder_max_deg', 0.0, "rudder angle limit override; 0 = the model's", lo=0.0, hi=90.0, unit='deg',
         read_only=True),
     Param.of('rudder_rate_max_deg', 0.0, "rudder rate limit override; 0 = the "

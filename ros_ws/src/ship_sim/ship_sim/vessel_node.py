@@ -84,12 +84,12 @@ from ship_sim.schema import VESSEL_NODE
 # Node parameter -> model constructor keyword, per model. 0 / '' means "model default" and is
 # not passed; a non-default value for a model without that keyword is refused.
 MODEL_KWARGS = {
-    'mariner': {'U0': 'U0'},
-    'tanker': {'depth': 'h'},
+    'mariner': {'nominal_speed_mps': 'U0'},
+    'tanker': {'water_depth_m': 'h'},
     'container': {},
-    'nomoto1': {'preset': 'preset', 'U0': 'U'},
-    'nomoto2': {'preset': 'preset', 'U0': 'U'},
-    'nps_auv2': {'U0': 'U'},
+    'nomoto1': {'preset': 'preset', 'nominal_speed_mps': 'U'},
+    'nomoto2': {'preset': 'preset', 'nominal_speed_mps': 'U'},
+    'nps_auv2': {'nominal_speed_mps': 'U'},
 }
 
 
@@ -127,8 +127,8 @@ class VesselNode(Node):
         model = p.param('model')
         given = {
             'preset': p.param('preset'),
-            'U0': p.param('U0'),
-            'depth': p.param('depth'),
+            'nominal_speed_mps': p.param('nominal_speed_mps'),
+            'water_depth_m': p.param('water_depth_m'),
         }
         rmax = p.param('rudder_max_deg')
         rrate = p.param('rudder_rate_max_deg')
@@ -169,7 +169,7 @@ class VesselNode(Node):
             if not value:
                 continue
             if pname not in table:
-                takes = ', '.join(table) or 'none of preset, U0, depth'
+                takes = ', '.join(table) or 'none of preset, nominal_speed_mps, water_depth_m'
                 raise ParameterError(pname, value, f"the default (0 or '') for model {model!r}, "
                                      f'which takes: {takes}')
             kwargs[table[pname]] = value

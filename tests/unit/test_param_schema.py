@@ -12,6 +12,7 @@
 import ast
 import importlib
 import math
+import socket
 from pathlib import Path
 
 import pytest
@@ -37,10 +38,14 @@ NODE_CLASSES = {
     'autopilot_node': ('ship_autopilot.autopilot_node', 'AutopilotNode'),
     'route_node': ('ship_planner.route_node', 'RouteNode'),
     'planner_node': ('ship_planner.planner_node', 'PlannerNode'),
+    'tracker_node': ('ship_guidance.tracker_node', 'TrackerNode'),
 }
-# Start values some nodes need to be built at all (they refuse to start with no input).
+# Start values some nodes need to be built at all (they refuse to start with no input); the
+# UDP nodes get a free port each when the test runs (UDP_PORT is replaced).
+UDP_PORT = object()
 NEEDED = {
-    'ais_node': {'udp_port': 10110},
+    'ais_node': {'udp_port': UDP_PORT},
+    'tracker_node': {'udp_port': UDP_PORT},
     'aivdm_out_node': {'vessels': '[{"topic": "/v/odom", "mmsi": 123456789}]', 'udp': ''},
     'planner_node': {'chart_file': '/nonexistent.png', 'origin_lat_deg': 1.0,
                      'origin_lon_deg': 1.0, 'start_lat_deg': 1.0, 'start_lon_deg': 1.0,
@@ -115,8 +120,14 @@ def built_nodes(tmp_path, monkeypatch):
     from mission.processes import install_env
     # route_node finds its default route through the ament index of the install tree.
     monkeypatch.setenv('AMENT_PREFIX_PATH', install_env()['AMENT_PREFIX_PATH'])
+    def free_udp_port():
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+            s.bind(('127.0.0.1', 0))
+            return s.getsockname()[1]
+    needed = {n: {k: free_udp_port() if v is UDP_PORT else v for k, v in values.items()}
+              for n, values in NEEDED.items()}
     params = tmp_path / 'needed.yaml'
-    params.write_text(yaml.safe_dump({n: {'ros__parameters': v} for n, v in NEEDED.items()}))
+    params.write_text(yaml.safe_dump({n: {'ros__parameters': v} for n, v in needed.items()}))
     rclpy.init(args=['--ros-args', '--params-file', str(params)], domain_id=_domain_id())
     nodes = []
 
@@ -125,6 +136,7 @@ def built_nodes(tmp_path, monkeypatch):
         nodes.append(getattr(importlib.import_module(module), cls)())
         return nodes[-1]
 
+    build.needed = needed
     yield build
     for node in nodes:
         node.destroy_node()
@@ -136,7 +148,7 @@ def test_node_declares_exactly_its_schema(schema, built_nodes):
     from rcl_interfaces.msg import ParameterType
     node = built_nodes(schema.node)
     assert set(node._parameters) == set(schema.names()) | set(RCLPY_PARAMETERS)
-    given = NEEDED.get(schema.node, {})
+    given = built_nodes.needed.get(schema.node, {})
     for p in schema.params:
         d = node.describe_parameter(p.name)
         assert d.description == _expected_description(p), p.name

@@ -1,11 +1,13 @@
 """Parameter schemas of the ship_guidance nodes (ship_sim.param_schema): guidance_node,
-follower_node, ais_node, colav_node, nav_display_node, aivdm_out_node.
+follower_node, ais_node, colav_node, nav_display_node, aivdm_out_node, tracker_node.
 
 Pure: the nodes declare from these tables, scripts/gen_param_files.py writes config/*.yaml from
 them and the launcher checks scenario values against them before anything starts.
 """
 from ship_guidance import colav_io
-from ship_guidance.ais import STALE_AFTER_S
+import math
+
+from ship_guidance.ais import KNOT, STALE_AFTER_S
 from ship_guidance.ais_sensor import SensorConfig
 from ship_guidance.colav_methods import METHODS
 from ship_guidance.colav_params import ColavParams
@@ -14,12 +16,14 @@ from ship_guidance.guidance import LAWS
 from ship_guidance.nav_display import DEFAULT_DISPLAY_RATE_HZ, DEFAULT_ORIGIN_DEG
 from ship_guidance.node_defaults import FOLLOWER_DEFAULTS, GUIDANCE_DEFAULTS
 from ship_guidance.own_ship_prediction import OwnShipModel
+from ship_guidance.tracker import TrackerConfig
 from ship_sim.models import MODEL_NAMES
 from ship_sim.param_schema import NodeSchema, Param
 
 DEFAULTS = ColavParams()
 SHIP = OwnShipModel()
 SENSOR_DEFAULTS = SensorConfig()
+TRACKER_DEFAULTS = TrackerConfig()
 STEPPING_MODES = ('realtime', 'lockstep')
 
 
@@ -301,5 +305,30 @@ AIVDM_OUT_NODE = NodeSchema('ship_guidance', 'aivdm_out_node', summary='vessels 
       for name, desc, lo, hi, unit in SENSOR_PARAMETERS),
 ))
 
+TRACKER_NODE = NodeSchema('ship_guidance', 'tracker_node', summary='AIS over UDP to Kalman tracks '
+                          'with covariance', params=(
+    Param.of('udp_port', 0, 'UDP port to receive AIS NMEA on', lo=0, hi=65535, read_only=True),
+    Param.of('udp_address', '127.0.0.1', 'local address to bind the UDP port to (0.0.0.0: every '
+             'interface)', read_only=True),
+    Param.of('origin_lat_deg', 0.0, 'geodetic origin of the local ENU frame', lo=-89.0, hi=89.0,
+             unit='deg', read_only=True),
+    Param.of('origin_lon_deg', 0.0, 'geodetic origin of the local ENU frame', lo=-180.0,
+             hi=180.0, unit='deg', read_only=True),
+    Param.of('publish_period_s', 1.0, 'period of the track publication, on the node clock',
+             lo=1e-3, hi=3600.0, unit='s', read_only=True),
+    Param.of('process_noise', TRACKER_DEFAULTS.process_noise, 'acceleration power spectral '
+             'density q of the nearly-constant-velocity model', lo=0.0, hi=100.0,
+             unit='m^2/s^3', read_only=True),
+    Param.of('position_sigma_m', TRACKER_DEFAULTS.position_sigma_m, 'AIS position noise per '
+             'axis', lo=0.01, hi=1e4, unit='m', read_only=True),
+    Param.of('sog_sigma_kn', TRACKER_DEFAULTS.sog_sigma_mps / KNOT, 'AIS SOG noise', lo=0.0,
+             hi=100.0, unit='kn', read_only=True),
+    Param.of('cog_sigma_deg', math.degrees(TRACKER_DEFAULTS.cog_sigma_rad), 'AIS COG noise',
+             lo=0.0, hi=180.0, unit='deg', read_only=True),
+    Param.of('reprocess_window_s', TRACKER_DEFAULTS.reprocess_window_s, 'a report up to this '
+             "much older than its track's newest is retrodicted; older ones are dropped",
+             lo=0.0, hi=3600.0, unit='s', read_only=True),
+))
+
 SCHEMAS = {s.node: s for s in (GUIDANCE_NODE, FOLLOWER_NODE, AIS_NODE, COLAV_NODE,
-                               NAV_DISPLAY_NODE, AIVDM_OUT_NODE)}
+                               NAV_DISPLAY_NODE, AIVDM_OUT_NODE, TRACKER_NODE)}

@@ -1,5 +1,6 @@
-"""mkdocs hooks of the documentation site (mkdocs.yml): the packages' science pages and the API
-reference become pages of the site, and links into the repository are checked.
+"""mkdocs hooks of the documentation site (mkdocs.yml): the packages' science pages, the API
+reference and the parameter reference (guide/parameters.md, from the nodes' parameter schemas by
+scripts/gen_param_files.py) become pages of the site, and links into the repository are checked.
 
 The Markdown under doc/ is written to read well on the repository's web view too, so it links
 source files by their repository path (``../../ros_ws/src/ship_sim/ship_sim/frames.py``). The site
@@ -44,6 +45,9 @@ def api_modules():
 
 
 def on_files(files, config):
+    # The parameter reference, rendered from the nodes' schemas at every build: it cannot drift.
+    from gen_param_files import reference_markdown
+    files.append(File.generated(config, 'guide/parameters.md', content=reference_markdown()))
     for uri, src in science_pages():
         files.append(File.generated(config, uri, abs_src_path=str(src)))
     by_pkg = {}

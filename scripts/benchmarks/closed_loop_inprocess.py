@@ -59,12 +59,14 @@ def build_vessel(scenario, spec):
     from ship_sim.models import make_model
     from ship_sim.simulator import VesselSimulator
 
+    from ship_sim.schema import VESSEL_NODE
     from ship_sim.vessel_node import MODEL_KWARGS
 
     route = load_route(spec.route_file).route
     x, y, yaw = start_pose(spec, route)
     table = MODEL_KWARGS[spec.model]
-    model = make_model(spec.model, **{table[k]: v for k, v in spec.vessel_params.items()
+    vessel_params = VESSEL_NODE.current_names(spec.vessel_params)
+    model = make_model(spec.model, **{table[k]: v for k, v in vessel_params.items()
                                       if k in table and v})
     cur = spec.current
     current = (OceanCurrent(cur.get('speed_mps', 0.0), math.radians(cur.get('direction_deg', 0.0)))

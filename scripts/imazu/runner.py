@@ -202,7 +202,7 @@ def case_scenario(number, case, ship, method=None, duration_s=LIMIT_S, colav=Non
     vessel = {'model': ship, 'route': 'route.yaml', 'speed_mps': own['speed_mps'],
               'guidance': dict(GUIDANCE), 'autopilot': {'controller': 'pd'}}
     if ship == 'mariner':   # no propeller: it runs straight only at its nominal speed U0
-        vessel['vessel'] = {'U0': own['speed_mps']}
+        vessel['vessel'] = {'nominal_speed_mps': own['speed_mps']}
     name = f'imazu{number:02d}_{ship}_{method or "none"}'
     scenario = {'name': name,
                 'source': 'Imazu (1987) encounter set, geometry after Sawada et al. 2021 (scaled '

@@ -261,12 +261,14 @@ def autopilot_design(model, autopilot_params):
 
 
 def vessel_speed(spec):
-    """Speed (m/s) of the stability check: speed_mps, else the vessel block's U0, else the
-    model's straight-running trim."""
+    """Speed (m/s) of the stability check: speed_mps, else the vessel block's
+    nominal_speed_mps (U0 before), else the model's straight-running trim."""
+    from ship_sim.schema import VESSEL_NODE
     if spec.speed:
         return float(spec.speed)
-    if spec.vessel_params.get('U0'):
-        return float(spec.vessel_params['U0'])
+    nominal = VESSEL_NODE.current_names(spec.vessel_params).get('nominal_speed_mps')
+    if nominal:
+        return float(nominal)
     from ship_sim.models import make_model
     m = make_model(spec.model)
     return float(m.surge_speed(m.initial_state()))

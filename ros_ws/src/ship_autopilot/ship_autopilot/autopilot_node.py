@@ -37,16 +37,17 @@ from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from std_msgs.msg import Float64, Float64MultiArray
 
-from ship_autopilot.gains import (CONTROLLERS, FUZZY_SCALING_PARAMETERS, ZETA, autopilot_gains,
+from ship_autopilot.gains import (FUZZY_SCALING_PARAMETERS, autopilot_gains,
                                   build_autopilot, heading_loop_design)
 from ship_autopilot.steering import HeadingSteering, PolicySteering
 from ship_autopilot.wave_filter import WaveFilter
-from ship_sim.models import MODEL_NAMES, make_model
+from ship_sim.models import make_model
 from ship_sim.pacing import SequencePairer
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import STREAM
 from ship_sim.ros.run import run_node
+from ship_autopilot.schema import AUTOPILOT_NODE
 
 # The message type of each steering law's command topic (ship_autopilot.steering).
 COMMAND_TYPES = {'heading_cmd': Float64, 'path_state': Float64MultiArray}
@@ -55,43 +56,21 @@ COMMAND_TYPES = {'heading_cmd': Float64, 'path_state': Float64MultiArray}
 class AutopilotNode(Node):
     def __init__(self):
         super().__init__('autopilot_node')
-        p = self.params = NodeParameters(self)
-        model = p.declare('vessel_model', 'mariner', 'vessel model the gains and rudder limits '
-                          'are taken from', choices=MODEL_NAMES, read_only=True)
-        kind = p.declare('controller', 'pd', 'heading controller (policy: learned steering on '
-                         'the guidance node\'s path_state)', choices=CONTROLLERS + ('policy',),
-                         read_only=True)
-        policy_file = p.declare('policy_file', '', 'controller policy: policy file (.npz; empty: '
-                                'the one shipped for vessel_model)', read_only=True)
-        k1 = p.declare('k1', 0.0, 'PD heading gain (0: from the gain table)', lo=0.0, hi=1e3,
-                       unit='rad/rad', read_only=True)
-        k2 = p.declare('k2', 0.0, 'PD yaw-rate gain (0: from the gain table)', lo=0.0, hi=1e5,
-                       unit='rad/(rad/s)', read_only=True)
-        fuzzy = {name: p.declare(name, 0.0, f'fuzzy PID scaling {field} (0: the gain table\'s; '
-                                 'GE, GR, GA, GU all > 0 or all 0; L 0 = 1)', lo=0.0, hi=1e6,
-                                 unit=unit, read_only=True)
-                 for (name, field), unit in zip(FUZZY_SCALING_PARAMETERS.items(),
-                                                ('1/rad', 's/rad', '1/(rad s)', 'rad', ''))}
-        omega_n = p.declare('omega_n', 0.0, 'redesign PD gains for this natural frequency '
-                            '(0: gain table)', lo=0.0, hi=100.0, unit='rad/s', read_only=True)
-        zeta = p.declare('zeta', ZETA, 'damping ratio used with omega_n', lo=0.05, hi=5.0,
-                         read_only=True)
-        rmax = p.declare('rudder_max_deg', 0.0, 'rudder angle limit (0: the model\'s)', lo=0.0,
-                         hi=90.0, unit='deg', read_only=True)
-        rrate = p.declare('rudder_rate_max_deg', 0.0, 'rudder rate limit (0: the model\'s)',
-                          lo=0.0, hi=1e3, unit='deg/s', read_only=True)
-        shape = p.declare('saturation', 'hard', 'rudder saturation form (tanh: Angelopoulos '
-                          '2011, eq. 15)',
-                          choices=('hard', 'tanh'), read_only=True)
-        self.pairing = p.declare('pairing', 'sequence', 'how odom and heading_cmd are paired',
-                                 choices=('sequence', 'latest'), read_only=True)
-        self.timeout = p.declare('heading_timeout_s', 5.0, 'sim time without heading_cmd after '
-                                 'which the command counts as stale (latest pairing)', lo=0.01,
-                                 hi=1e4, unit='s', read_only=True)
-        recovery = p.declare('policy_recovery', True, 'controller policy: steer with ILOS + the '
-                             'gain-table PD while the vessel is outside the policy\'s training '
-                             'region (|e| beyond its start range, or heading > 90 deg off the '
-                             'path), hand back within half that range', read_only=True)
+        p = self.params = NodeParameters(self, AUTOPILOT_NODE)
+        model = p.param('vessel_model')
+        kind = p.param('controller')
+        policy_file = p.param('policy_file')
+        k1 = p.param('k1')
+        k2 = p.param('k2')
+        fuzzy = {name: p.param(name) for name in FUZZY_SCALING_PARAMETERS}
+        omega_n = p.param('omega_n')
+        zeta = p.param('zeta')
+        rmax = p.param('rudder_max_deg')
+        rrate = p.param('rudder_rate_max_deg')
+        shape = p.param('saturation')
+        self.pairing = p.param('pairing')
+        self.timeout = p.param('heading_timeout_s')
+        recovery = p.param('policy_recovery')
 
         # The instance's limits: models set them in __init__ (e.g. Nomoto presets, NPS AUV II),
         # the class attributes are only the base defaults.
@@ -121,23 +100,12 @@ class AutopilotNode(Node):
 
     def _declare_wave_filter(self, p, kind):
         """The optional wave filter (ship_autopilot.wave_filter) on heading and yaw rate."""
-        on = p.declare('wave_filter', False, 'filter the wave-frequency yaw out of the heading '
-                       'and yaw rate the controller sees (notch at the encounter frequency + '
-                       'low-pass; classical controllers)', read_only=True)
-        freq = p.declare('wave_filter_frequency', 0.0, 'fixed notch frequency (0: the encounter '
-                         'frequency of wave_filter_peak_period and wave_filter_direction_deg at '
-                         "the vessel's speed and heading)", lo=0.0, hi=10.0, unit='rad/s',
-                         read_only=True)
-        tp = p.declare('wave_filter_peak_period', 0.0, "the sea's peak period (the notch "
-                       'follows its encounter frequency)', lo=0.0, hi=30.0, unit='s',
-                       read_only=True)
-        direction = p.declare('wave_filter_direction_deg', 0.0, 'direction the waves travel '
-                              'towards, clockwise from north (as waves_direction_deg)',
-                              lo=-360.0, hi=360.0, unit='deg', read_only=True)
-        zeta = p.declare('wave_filter_zeta', 0.1, 'notch gain at its frequency (depth/width)',
-                         lo=0.01, hi=0.99, read_only=True)
-        lowpass = p.declare('wave_filter_lowpass', 0.0, 'low-pass corner (0: the notch '
-                            'frequency)', lo=0.0, hi=10.0, unit='rad/s', read_only=True)
+        on = p.param('wave_filter')
+        freq = p.param('wave_filter_frequency')
+        tp = p.param('wave_filter_peak_period')
+        direction = p.param('wave_filter_direction_deg')
+        zeta = p.param('wave_filter_zeta')
+        lowpass = p.param('wave_filter_lowpass')
         if not on:
             return None
         if kind == 'policy':

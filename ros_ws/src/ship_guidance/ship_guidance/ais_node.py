@@ -42,13 +42,14 @@ from rclpy.node import Node
 from rosgraph_msgs.msg import Clock as ClockMsg
 from std_msgs.msg import MultiArrayDimension, UInt64MultiArray
 
-from ship_guidance.ais import BAD_REASONS, STALE_AFTER_S, AisTracker, parse_replay
+from ship_guidance.ais import BAD_REASONS, AisTracker, parse_replay
 from ship_sim.ros.conversions import make_odometry
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import CLOCK_STEPS, STREAM
 from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
 from ship_sim.safe_load import InputError, read_regular_file
+from ship_guidance.schema import AIS_NODE
 
 COUNT_NAMES = ('decoded', 'ignored', 'pending_fragments', 'targets') + BAD_REASONS
 SYNC_NAMES = ('stamp_ns', 'targets')
@@ -69,35 +70,19 @@ def child_frame(mmsi):
 class AisNode(Node):
     def __init__(self):
         super().__init__('ais_node')
-        p = self.params = NodeParameters(self)
-        path = p.declare('file', '', 'AIS replay file (empty: none); format in '
-                         'ship_guidance.ais.parse_replay', read_only=True)
-        rate = p.declare('file_rate_hz', 1.0, 'rate of the file lines without a time',
-                         lo=1e-3, hi=1e4, unit='Hz', read_only=True)
-        offset = p.declare('file_time_offset_s', 0.0, 'added to every replay time', lo=-1e9,
-                           hi=1e9, unit='s', read_only=True)
-        port = p.declare('udp_port', 0, 'UDP port to receive NMEA on (0: no UDP)', lo=0,
-                         hi=65535, read_only=True)
-        address = p.declare('udp_address', '127.0.0.1', 'local address to bind the UDP port '
-                            'to (0.0.0.0: every interface)', read_only=True)
-        lat0 = p.declare('origin_lat_deg', 0.0, 'geodetic origin of the local ENU frame',
-                         lo=-89.0, hi=89.0, unit='deg', read_only=True)
-        lon0 = p.declare('origin_lon_deg', 0.0, 'geodetic origin of the local ENU frame',
-                         lo=-180.0, hi=180.0, unit='deg', read_only=True)
-        stale = p.declare('stale_after_s', STALE_AFTER_S, 'drop a target after this long '
-                          'without a report (class A at anchor reports every 180 s)', lo=1.0,
-                          hi=86400.0, unit='s', read_only=True)
-        period = p.declare('publish_period_s', 1.0, 'period of the target publication, on '
-                           'the node clock', lo=1e-3, hi=3600.0, unit='s', read_only=True)
-        self.per_target = p.declare('per_target_topics', False, 'also publish each target on '
-                                    'targets/ais_<mmsi>/odom', read_only=True)
-        self.on_clock = p.declare('publish_on_clock', False, 'publish at every /clock message, '
-                                  'stamped with it, each step followed by targets_sync '
-                                  '(lockstep graphs); else every publish_period_s',
-                                  read_only=True)
-        wait = p.declare('wait_subscribers', 0, 'with publish_on_clock: subscribers targets and '
-                         'targets_sync must have before ~/ready turns true (the launcher waits '
-                         'for it in lockstep)', lo=0, hi=1000, read_only=True)
+        p = self.params = NodeParameters(self, AIS_NODE)
+        path = p.param('file')
+        rate = p.param('file_rate_hz')
+        offset = p.param('file_time_offset_s')
+        port = p.param('udp_port')
+        address = p.param('udp_address')
+        lat0 = p.param('origin_lat_deg')
+        lon0 = p.param('origin_lon_deg')
+        stale = p.param('stale_after_s')
+        period = p.param('publish_period_s')
+        self.per_target = p.param('per_target_topics')
+        self.on_clock = p.param('publish_on_clock')
+        wait = p.param('wait_subscribers')
         if not path and not port:
             raise ParameterError('file', message='give a replay file (file) or a UDP port '
                                  '(udp_port), or both')

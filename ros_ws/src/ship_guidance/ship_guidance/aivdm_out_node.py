@@ -23,21 +23,8 @@ from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import STREAM
 from ship_sim.ros.run import run_node
+from ship_guidance.schema import AIVDM_OUT_NODE, SENSOR_PARAMETERS
 
-DEFAULTS = SensorConfig()
-#: sensor parameters: (name, description, lo, hi, unit); defaults from SensorConfig
-SENSOR_PARAMETERS = (
-    ('loss_probability', 'share of reports lost (Gilbert-Elliott chain)', 0.0, 0.99, ''),
-    ('mean_burst_length', 'mean number of reports lost in a row', 1.0, 1e6, 'reports'),
-    ('position_sigma_m', 'GNSS position noise per axis', 0.0, 1e4, 'm'),
-    ('sog_sigma_kn', 'SOG noise', 0.0, 100.0, 'kn'),
-    ('cog_sigma_deg', 'COG noise', 0.0, 180.0, 'deg'),
-    ('heading_sigma_deg', 'heading noise', 0.0, 180.0, 'deg'),
-    ('latency_s', 'reception delay', 0.0, 3600.0, 's'),
-    ('latency_jitter_s', 'reception delay spread: + U(0, jitter)', 0.0, 3600.0, 's'),
-    ('turn_threshold_deg_min', 'rate of turn from which a vessel is "changing course"', 0.0,
-     1e4, 'deg/min'),
-)
 VESSEL_KEYS = {'topic', 'mmsi', 'class', 'own', 'name', 'callsign', 'ship_type', 'length_m',
                'beam_m', 'antenna_x_m', 'antenna_y_m'}
 
@@ -80,23 +67,14 @@ def parse_udp(text):
 class AivdmOutNode(Node):
     def __init__(self):
         super().__init__('aivdm_out_node')
-        p = NodeParameters(self)
-        text = p.declare('vessels', '[]', 'JSON list of vessels: topic, mmsi and optional '
-                         'class, own, name, callsign, ship_type, length_m, beam_m, antenna_x_m, '
-                         'antenna_y_m', read_only=True)
-        udp = p.declare('udp', '127.0.0.1:10110', 'host:port to send the sentences to (empty: '
-                        'none)', read_only=True)
-        path = p.declare('file', '', 'file to append the sentences to (empty: none)',
-                         read_only=True)
-        lat0 = p.declare('origin_lat_deg', 0.0, 'geodetic origin of the ENU frame', lo=-89.0,
-                         hi=89.0, unit='deg', read_only=True)
-        lon0 = p.declare('origin_lon_deg', 0.0, 'geodetic origin of the ENU frame', lo=-180.0,
-                         hi=180.0, unit='deg', read_only=True)
-        seed = p.declare('seed', DEFAULTS.seed, 'seed of the sensor model (with each MMSI)',
-                         lo=0, hi=2**62, read_only=True)
-        cfg = {name: p.declare(name, float(getattr(DEFAULTS, name)), desc, lo=lo, hi=hi,
-                               unit=unit, read_only=True)
-               for name, desc, lo, hi, unit in SENSOR_PARAMETERS}
+        p = NodeParameters(self, AIVDM_OUT_NODE)
+        text = p.param('vessels')
+        udp = p.param('udp')
+        path = p.param('file')
+        lat0 = p.param('origin_lat_deg')
+        lon0 = p.param('origin_lon_deg')
+        seed = p.param('seed')
+        cfg = {name: p.param(name) for name, *_ in SENSOR_PARAMETERS}
         try:
             vessels = parse_vessels(text)
         except ValueError as exc:

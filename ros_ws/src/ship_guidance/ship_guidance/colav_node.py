@@ -51,14 +51,13 @@ Bad input (counted, warned about with the count, throttled; the node keeps its s
 import time
 
 from nav_msgs.msg import OccupancyGrid, Odometry
-from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension, UInt64MultiArray
 from visualization_msgs.msg import MarkerArray
 
 from ship_guidance import colav_io
-from ship_guidance.colav_methods import METHODS, make_colav
+from ship_guidance.colav_methods import make_colav
 from ship_guidance.colav_params import ColavParams
 from ship_guidance.land_mask import LandMask
 from ship_guidance.own_ship_prediction import OwnShipModel
@@ -69,113 +68,30 @@ from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED, STREAM, STREAM_KEPT, stream_with_depth
 from ship_sim.ros.run import run_node
+from ship_guidance.schema import COLAV_NODE, LISTS, OWN_SHIP_KEYS, SCALARS
 
-DEFAULTS = ColavParams()
-SHIP = OwnShipModel()
 # A lockstep target's queue: the target may publish many steps before the own ship starts or
 # once its gate has stopped waiting for the own ship (vessel_node's lockstep_follower_window),
 # and a decision may use any of them (the depth takes no part in QoS matching).
 LOCKSTEP_TARGET = stream_with_depth(colav_io.MAX_SAMPLES_PER_TARGET)
-# (name, default, description, lo, hi, unit) of the scalar ColavParams / OwnShipModel keys.
-SCALARS = (
-    ('d_safe_m', DEFAULTS.d_safe_m, 'safe passing distance r_min', 1.0, 1e5, 'm'),
-    ('near_miss_m', DEFAULTS.near_miss_m, 'near-miss radius r_nm (evaluation)', 1.0, 1e5, 'm'),
-    ('collision_m', DEFAULTS.collision_m, 'collision radius r_col: last resort below it', 1.0,
-     1e5, 'm'),
-    ('threat_m', DEFAULTS.threat_m, 'a target is a threat within this of the nominal '
-     'prediction', 1.0, 1e5, 'm'),
-    ('d_close_m', DEFAULTS.d_close_m, 'COLREGs side rules apply to passes closer than this', 1.0,
-     1e5, 'm'),
-    ('horizon_s', DEFAULTS.horizon_s, 'prediction horizon', 1.0, 7200.0, 's'),
-    ('dt_s', DEFAULTS.dt_s, 'prediction step', 0.1, 600.0, 's'),
-    ('w_collision', DEFAULTS.w_collision, 'collision-risk weight', 0.0, 1e9, ''),
-    ('relative_speed_floor', DEFAULTS.relative_speed_floor, 'floor of v_rel / U', 0.0, 10.0, ''),
-    ('risk_time_exponent', DEFAULTS.risk_time_exponent, 'p of the risk', 0.0, 10.0, ''),
-    ('risk_distance_exponent', DEFAULTS.risk_distance_exponent, 'q of the risk', 0.0, 10.0, ''),
-    ('w_wrong_side', DEFAULTS.w_wrong_side, 'Rule 14/15 wrong-side penalty', 0.0, 1e9, ''),
-    ('w_port_turn', DEFAULTS.w_port_turn, 'port-turn penalty (Rules 14, 15, 17(c))', 0.0, 1e9, ''),
-    ('w_not_apparent', DEFAULTS.w_not_apparent, 'Rule 8(b) not-apparent penalty', 0.0, 1e9, ''),
-    ('w_grounding', DEFAULTS.w_grounding, 'SB-MPC grounding weight (with chart_topic)', 0.0, 1e9,
-     ''),
-    ('grounding_clearance_m', DEFAULTS.grounding_clearance_m, 'distance kept from charted land '
-     '(with chart_topic)', 0.0, 1e5, 'm'),
-    ('apparent_course_change_deg', 30.0, 'apparent course change (Rule 8(b))', 0.0, 180.0, 'deg'),
-    ('apparent_speed_ratio', DEFAULTS.apparent_speed_ratio, 'apparent speed reduction (Rule '
-     '8(b)): predicted speed at the closest point at most this x nominal', 0.0, 1.0, ''),
-    ('w_course_starboard', DEFAULTS.w_course_starboard, 'starboard deviation weight', 0.0, 1e9, ''),
-    ('w_course_port', DEFAULTS.w_course_port, 'port deviation weight', 0.0, 1e9, ''),
-    ('w_speed', DEFAULTS.w_speed, 'speed reduction weight', 0.0, 1e9, ''),
-    ('w_change_course_starboard', DEFAULTS.w_change_course_starboard, 'change to starboard '
-     'weight', 0.0, 1e9, ''),
-    ('w_change_course_port', DEFAULTS.w_change_course_port, 'change to port weight', 0.0, 1e9, ''),
-    ('w_change_speed', DEFAULTS.w_change_speed, 'speed change weight', 0.0, 1e9, ''),
-    ('stand_on_dcpa_m', DEFAULTS.stand_on_dcpa_m, 'Rule 17(a)(ii): a stand-on ship acts when '
-     'the nominal passes closer than this ...', 0.0, 1e5, 'm'),
-    ('stand_on_act_time_s', DEFAULTS.stand_on_act_time_s, '... with the closest point this near '
-     '(the give-way ship is late)', 0.0, 7200.0, 's'),
-    ('uncertainty_k', DEFAULTS.uncertainty_k, 'a target\'s safe distance is d_safe_m + this x '
-     'its position sigma (sqrt of the largest eigenvalue of its pose covariance)', 0.0, 100.0,
-     ''),
-    ('course_time_constant_s', SHIP.course_time_constant_s, 'own-ship model: Nomoto T, the '
-     'turn rate\'s lag', 1e-3, 1e4, 's'),
-    ('max_turn_rate', float(SHIP.max_turn_rate), 'own-ship model: turn-rate cap', 1e-6, 10.0, 'rad/s'),
-    ('heading_loop_omega_n', SHIP.heading_loop_omega_n, 'own-ship model: natural frequency '
-     'of the heading autopilot', 1e-6, 10.0, 'rad/s'),
-    ('heading_loop_zeta', SHIP.heading_loop_zeta, 'own-ship model: damping of the heading '
-     'autopilot', 1e-3, 10.0, ''),
-    ('speed_time_constant_s', SHIP.speed_time_constant_s, 'own-ship model: speed lag', 1e-3, 1e5,
-     's'),
-    ('stop_turn_authority', SHIP.stop_turn_authority, 'own-ship model: turn authority with '
-     'the shaft stopped (1: rudder independent of the shaft)', 0.0, 1.0, ''),
-    ('speed_at_factor_one_mps', 0.0, 'own-ship model: speed at factor 1 (0: current speed)', 0.0,
-     100.0, 'm/s'),
-    ('turn_speed_loss_s', SHIP.turn_speed_loss_s, 'own-ship model: speed lost in a turn, k in '
-     'u_dot = (u_c - u) / T_u - k u r^2 (0: none)', 0.0, 1e4, 's'),
-)
-LISTS = (('course_offsets_deg', [float(v) for v in range(-90, 91, 15)],
-          'course offsets from the nominal (deg, + starboard; must hold 0)'),
-         ('speed_factors', [1.0, 0.5, 0.0], 'speed multipliers in [0, 1] (must hold 1)'),
-         ('target_topics', [''], 'Odometry topics of full vessels stepping in lockstep with '
-          'this one (waited for at each decision); empty strings are ignored'))
 
 
 class ColavRosNode(Node):
     def __init__(self):
         super().__init__('colav_node')
-        p = NodeParameters(self)
-        method = p.declare('method', 'sbmpc', 'decision method', choices=tuple(METHODS),
-                           read_only=True)
-        period = p.declare('decision_period_s', 1.0, 'sim time between decisions', lo=1e-3,
-                           hi=3600.0, unit='s', read_only=True)
-        self.targets_topic = p.declare('targets_topic', 'targets', 'topic of many targets, each '
-                                       'named by child_frame_id (relative: in this namespace; '
-                                       "'': none)", read_only=True)
-        self.sync_topic = p.declare('targets_sync_topic', '', 'announcements [stamp_ns, count] '
-                                    "of the targets_topic's steps (ais_node's targets_sync with "
-                                    "publish_on_clock): lockstep decisions wait until every "
-                                    "target up to their stamp has come ('': none)",
-                                    read_only=True)
-        stale = p.declare('target_stale_s', 30.0, 'a target state older than this (sim time) is '
-                          'not used', lo=0.0, hi=1e5, unit='s', read_only=True)
-        max_targets = p.declare('max_targets', colav_io.DEFAULT_MAX_TARGETS, 'live targets '
-                                'considered at most; beyond, the farthest from the own ship are '
-                                'left out (bounds the cost of a decision)', lo=1, hi=100000,
-                                read_only=True)
-        self.wait_timeout = p.declare('lockstep_target_timeout_s', 10.0, 'wall time a decision '
-                                      'waits for a silent lockstep target before going on '
-                                      'without it', lo=0.01, hi=1e4, unit='s', read_only=True)
-        self.pairing = p.declare('pairing', 'sequence', 'sequence: the n-th odom with the n-th '
-                                 'heading_ref, lockstep targets waited for (lockstep); latest: '
-                                 'each odom with the last heading_ref, no waiting (realtime)',
-                                 choices=('sequence', 'latest'), read_only=True)
-        self.has_shaft = p.declare('has_shaft', True, 'own ship has a speed (shaft) command',
-                                   read_only=True)
-        chart_topic = p.declare('chart_topic', '', 'nav_msgs/OccupancyGrid of the chart (ENU '
-                                "map frame, unrotated, latched; cells >= 50 are land): SB-MPC's "
-                                "grounding cost ('': none)", read_only=True)
-        values = {name: p.declare(name, default, desc, lo=lo, hi=hi, unit=unit, read_only=True)
-                  for name, default, desc, lo, hi, unit in SCALARS}
-        lists = {name: self._declare_list(name, default, desc) for name, default, desc in LISTS}
+        p = NodeParameters(self, COLAV_NODE)
+        method = p.param('method')
+        period = p.param('decision_period_s')
+        self.targets_topic = p.param('targets_topic')
+        self.sync_topic = p.param('targets_sync_topic')
+        stale = p.param('target_stale_s')
+        max_targets = p.param('max_targets')
+        self.wait_timeout = p.param('lockstep_target_timeout_s')
+        self.pairing = p.param('pairing')
+        self.has_shaft = p.param('has_shaft')
+        chart_topic = p.param('chart_topic')
+        values = {name: p.param(name) for name, *_ in SCALARS}
+        lists = {name: p.param(name) for name, *_ in LISTS}
         topics = [t for t in lists.pop('target_topics') if t.strip()]
         try:
             params = ColavParams.from_dict({k: v for k, v in {**values, **lists}.items()
@@ -225,11 +141,6 @@ class ColavRosNode(Node):
         self.create_timer(0.2, self._drain, clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.get_logger().info(f'colav {method}: decision every {period:g} s, d_safe '
                                f'{params.d_safe_m:g} m, lockstep targets {topics or "none"}')
-
-    def _declare_list(self, name, default, description):
-        desc = ParameterDescriptor(description=description, read_only=True)
-        value = self.declare_parameter(name, default, desc).value
-        return list(value)
 
     # --- inputs ---------------------------------------------------------------------------
 
@@ -390,11 +301,6 @@ def _finite(x):
 def _stamp_ns(msg):
     s = msg.header.stamp
     return s.sec * colav_io.NS_PER_S + s.nanosec
-
-
-OWN_SHIP_KEYS = ('course_time_constant_s', 'max_turn_rate', 'heading_loop_omega_n',
-                 'heading_loop_zeta', 'speed_time_constant_s', 'stop_turn_authority',
-                 'speed_at_factor_one_mps', 'turn_speed_loss_s')
 
 
 def main(args=None):

@@ -60,10 +60,8 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from std_msgs.msg import Bool, Float64, String
 
-from ship_guidance.follower import (AIMS, FALLBACK, FOLLOW, MAX_SPEED_CORRECTION, SPACING_KI,
-                                    SPACING_KP, TRACK_MAX_SAMPLES, FollowerGuidance,
+from ship_guidance.follower import (FALLBACK, FOLLOW, TRACK_MAX_SAMPLES, FollowerGuidance,
                                     PredecessorTrack, speed_to_shaft)
-from ship_guidance.node_defaults import FOLLOWER_DEFAULTS
 from ship_guidance.path import Line, Route
 from ship_guidance.ros.odom_gate import OdomGate
 from ship_guidance.ros.outputs import GuidancePublishers
@@ -72,8 +70,8 @@ from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED, STREAM, stream_with_depth
 from ship_sim.ros.run import run_node
+from ship_guidance.schema import FOLLOWER_NODE
 
-STEPPING_MODES = ('realtime', 'lockstep')
 #: The predecessor's odometry as STREAM, but queued as deep as the track: in lockstep the
 #: predecessor runs ahead as fast as it can, and a keep-last queue of 100 overwrote samples not
 #: yet taken whenever this process fell that many steps behind on a loaded machine.
@@ -88,70 +86,32 @@ THROTTLE = 10.0
 class FollowerNode(Node):
     def __init__(self):
         super().__init__('follower_node')
-        p = self.params = NodeParameters(self)
-        ro = dict(read_only=True)
-        self.pred_topic = p.declare('predecessor_odom_topic', '/vessel_0/odom',
-                                    "the predecessor's odometry topic", check=_topic_check, **ro)
-        spacing = p.declare('spacing_m', 800.0, 'set along-path gap to the predecessor (the '
-                            "document's d2 at equilibrium)", lo=1e-3, hi=1e6, unit='m', **ro)
-        d_min = p.declare('min_lookahead_m', FOLLOWER_DEFAULTS['min_lookahead_m'],
-                          'smallest look-ahead used when the gap '
-                          'shrinks (must be above the stability limit)', lo=1e-3, hi=1e6,
-                          unit='m', **ro)
-        d_max = p.declare('max_lookahead_m', FOLLOWER_DEFAULTS['max_lookahead_m'],
-                          'largest look-ahead used when far behind '
-                          '(0: no cap)', lo=0.0, hi=1e7, unit='m', **ro)
-        d_fb = p.declare('lookahead_m', FOLLOWER_DEFAULTS['lookahead_m'],
-                         'route LOS look-ahead (as guidance_node), used '
-                         'while the predecessor is stale', lo=1e-3, hi=1e6, unit='m', **ro)
-        acc = p.declare('acceptance_radius_m', 0.0, 'waypoint acceptance circle at corners (0: '
-                        'switch at the corner normal)', lo=0.0, hi=1e6, unit='m', **ro)
-        timeout = p.declare('predecessor_timeout_s', 5.0, 'predecessor odometry older than this '
-                            '(sim time) -> route_fallback', lo=1e-3, hi=1e5, unit='s', **ro)
-        self.stepping = p.declare('stepping_mode', 'realtime', 'lockstep: wait for the '
-                                  "predecessor's sample at the own time (deterministic)",
-                                  choices=STEPPING_MODES, **ro)
-        self.wait_s = p.declare('predecessor_wait_s', 2.0, 'lockstep: longest wall-time wait '
-                                'for the predecessor per step', lo=0.0, hi=600.0, unit='s', **ro)
-        kp = p.declare('spacing_kp', SPACING_KP, 'gap PI: proportional gain', lo=0.0, hi=10.0,
-                       unit='1/s', **ro)
-        ki = p.declare('spacing_ki', SPACING_KI, 'gap PI: integral gain (kp^2/4 is critically '
-                       'damped)', lo=0.0, hi=10.0, unit='1/s^2', **ro)
-        dumax = p.declare('max_speed_correction', MAX_SPEED_CORRECTION, 'bound of the PI '
-                          "correction around the predecessor's speed", lo=0.0, hi=50.0,
-                          unit='m/s', **ro)
-        self.shaft_control = p.declare('shaft_control', False, 'publish shaft_cmd (models with '
-                                       'a shaft: tanker, container)', **ro)
-        self.n_nom = p.declare('shaft_nominal_rpm', 0.0, 'shaft speed giving '
-                               'speed_at_nominal_rpm (needed with shaft_control)', lo=0.0,
-                               hi=1e4, unit='rpm', **ro)
-        self.u_nom = p.declare('speed_at_nominal_rpm', 0.0, 'steady speed at shaft_nominal_rpm '
-                               '(needed with shaft_control)', lo=0.0, hi=100.0, unit='m/s', **ro)
-        self.n_min = p.declare('shaft_min_rpm', 1.0, 'lower clip of shaft_cmd', lo=-1e4, hi=1e4,
-                               unit='rpm', **ro)
-        self.n_max = p.declare('shaft_max_rpm', 1e4, 'upper clip of shaft_cmd', lo=-1e4, hi=1e4,
-                               unit='rpm', **ro)
-        zeta = p.declare('autopilot_zeta', 0.0, 'damping of the paired autopilot, for the '
-                         'stability check (0: no check)', lo=0.0, hi=10.0, **ro)
-        omega = p.declare('autopilot_omega_n', 0.0, 'natural frequency of the paired autopilot '
-                          '(0: no check)', lo=0.0, hi=100.0, unit='rad/s', **ro)
-        speed = p.declare('speed', 0.0, 'vessel speed for the stability check (0: no check)',
-                          lo=0.0, hi=100.0, unit='m/s', **ro)
-        allow = p.declare('allow_unstable', False, 'accept look-aheads below the stability '
-                          'limit', **ro)
-        aim = p.declare('aim', 'predecessor', "steer at the predecessor (Angelopoulos 2011 eq. 31) or "
-                        'ILOS toward the path with look-ahead = gap (ship_guidance.follower)',
-                        choices=AIMS, **ro)
-        sigma = p.declare('integral_gain', FOLLOWER_DEFAULTS['integral_gain'],
-                          'integral action on the own cross-track error '
-                          '(Borhaug ILOS gain sigma; 0: none, Angelopoulos\'s law)', lo=0.0,
-                          hi=100.0, unit='m/s', **ro)
-        lead = p.declare('curvature_lead', False, 'lead the heading command by 2 zeta U kappa '
-                         '/ omega_n on curves (needs autopilot_zeta, autopilot_omega_n, speed)',
-                         **ro)
-        max_speed = p.declare('max_plausible_speed', 50.0, 'odometry (own or predecessor) '
-                              'implying a faster move than this since the previous sample is '
-                              'refused as an outlier', lo=1e-3, hi=1e4, unit='m/s', **ro)
+        p = self.params = NodeParameters(self, FOLLOWER_NODE)
+        self.pred_topic = p.param('predecessor_odom_topic')
+        spacing = p.param('spacing_m')
+        d_min = p.param('min_lookahead_m')
+        d_max = p.param('max_lookahead_m')
+        d_fb = p.param('lookahead_m')
+        acc = p.param('acceptance_radius_m')
+        timeout = p.param('predecessor_timeout_s')
+        self.stepping = p.param('stepping_mode')
+        self.wait_s = p.param('predecessor_wait_s')
+        kp = p.param('spacing_kp')
+        ki = p.param('spacing_ki')
+        dumax = p.param('max_speed_correction')
+        self.shaft_control = p.param('shaft_control')
+        self.n_nom = p.param('shaft_nominal_rpm')
+        self.u_nom = p.param('speed_at_nominal_rpm')
+        self.n_min = p.param('shaft_min_rpm')
+        self.n_max = p.param('shaft_max_rpm')
+        zeta = p.param('autopilot_zeta')
+        omega = p.param('autopilot_omega_n')
+        speed = p.param('speed')
+        allow = p.param('allow_unstable')
+        aim = p.param('aim')
+        sigma = p.param('integral_gain')
+        lead = p.param('curvature_lead')
+        max_speed = p.param('max_plausible_speed')
         if self.shaft_control and not (self.n_nom > 0.0 and self.u_nom > 0.0):
             raise ParameterError('shaft_nominal_rpm', message='shaft_control needs '
                                  'shaft_nominal_rpm and speed_at_nominal_rpm > 0 (got '
@@ -339,10 +299,6 @@ class FollowerNode(Node):
         elif out.mode == FALLBACK and min(t - self.t_first, t - self.mode_since) > THROTTLE:
             log.warning(f'still in route_fallback at t = {t:.1f} s: {out.reason}',
                         throttle_duration_sec=THROTTLE)
-
-
-def _topic_check(name):
-    return None if name.strip() else 'a non-empty topic name'
 
 
 def main(args=None):

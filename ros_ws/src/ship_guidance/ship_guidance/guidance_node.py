@@ -35,12 +35,10 @@ reported: a course experiment ends at its duration.
 """
 
 from nav_msgs.msg import Odometry, Path
-from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.node import Node
 from std_msgs.msg import Bool, Float64MultiArray, MultiArrayDimension
 
-from ship_guidance.guidance import LAWS, Guidance, course_schedule_for
-from ship_guidance.node_defaults import GUIDANCE_DEFAULTS
+from ship_guidance.guidance import Guidance, course_schedule_for
 from ship_guidance.ros.odom_gate import OdomGate
 from ship_guidance.ros.outputs import GuidancePublishers
 from ship_guidance.ros.path_msgs import accept_route
@@ -48,51 +46,28 @@ from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED, STREAM
 from ship_sim.ros.run import run_node
+from ship_guidance.schema import GUIDANCE_NODE
 
 class GuidanceNode(Node):
     def __init__(self):
         super().__init__('guidance_node')
-        p = self.params = NodeParameters(self)
-        self.law = p.declare('law', GUIDANCE_DEFAULTS['law'],
-                             'guidance law (course: follow course_schedule_deg)',
-                             choices=LAWS, read_only=True)
+        p = self.params = NodeParameters(self, GUIDANCE_NODE)
+        self.law = p.param('law')
         self.schedule = self._declare_course_schedule()
-        self.lookahead_m = p.declare('lookahead_m', GUIDANCE_DEFAULTS['lookahead_m'],
-                                     'LOS look-ahead distance', lo=1e-3,
-                                     hi=1e6, unit='m', read_only=True)
-        self.lookahead_l = p.declare('lookahead_ship_lengths', 0.0,
-                                     'look-ahead in ship lengths (0: use lookahead_m)', lo=0.0,
-                                     hi=1e3, read_only=True)
-        self.ship_length = p.declare('ship_length_m', 0.0, 'ship length for *_ship_lengths',
-                                     lo=0.0, hi=1e4, unit='m', read_only=True)
-        acc_m = p.declare('acceptance_radius_m', 0.0, 'waypoint acceptance circle radius at '
-                          'corners (0: switch when passing the corner normal)', lo=0.0, hi=1e6,
-                          unit='m', read_only=True)
-        acc_l = p.declare('acceptance_radius_ship_lengths', 0.0, 'acceptance radius in ship '
-                          'lengths (0: use acceptance_radius_m)', lo=0.0, hi=1e3, read_only=True)
-        self.sigma = p.declare('integral_gain', GUIDANCE_DEFAULTS['integral_gain'],
-                               'ILOS integral gain sigma', lo=1e-6,
-                               hi=1e3, unit='m/s', read_only=True)
-        zeta = p.declare('autopilot_zeta', 0.0, 'damping of the paired autopilot, for the '
-                         'stability check (0: no check)', lo=0.0, hi=10.0, read_only=True)
-        omega = p.declare('autopilot_omega_n', 0.0, 'natural frequency of the paired autopilot '
-                          '(0: no check)', lo=0.0, hi=100.0, unit='rad/s', read_only=True)
-        speed = p.declare('speed', 0.0, 'vessel speed for the stability check (0: no check)',
-                          lo=0.0, hi=100.0, unit='m/s', read_only=True)
-        self.allow_unstable = p.declare('allow_unstable', False, 'accept a look-ahead below the '
-                                        'stability limit', read_only=True)
-        self.want_path_state = p.declare(
-            'publish_path_state', False, 'also publish path_state, the path-relative state of the '
-            'learned steering policy (autopilot controller: policy)', read_only=True)
-        self.curvature_lead = p.declare('curvature_lead', False, 'lead the heading command by '
-                                        '2 zeta U kappa / omega_n on curves (needs the autopilot '
-                                        'parameters of the stability check)', read_only=True)
-        self.arc_los_point = p.declare('arc_los_point', False, 'on circular arcs steer at the '
-                                       'point of the circle one look-ahead ahead (Lee 2004 eq. '
-                                       '4.24; law los, without curvature_lead)', read_only=True)
-        max_speed = p.declare('max_plausible_speed', 50.0, 'odometry implying a faster move '
-                              'than this since the previous sample is refused as an outlier',
-                              lo=1e-3, hi=1e4, unit='m/s', read_only=True)
+        self.lookahead_m = p.param('lookahead_m')
+        self.lookahead_l = p.param('lookahead_ship_lengths')
+        self.ship_length = p.param('ship_length_m')
+        acc_m = p.param('acceptance_radius_m')
+        acc_l = p.param('acceptance_radius_ship_lengths')
+        self.sigma = p.param('integral_gain')
+        zeta = p.param('autopilot_zeta')
+        omega = p.param('autopilot_omega_n')
+        speed = p.param('speed')
+        self.allow_unstable = p.param('allow_unstable')
+        self.want_path_state = p.param('publish_path_state')
+        self.curvature_lead = p.param('curvature_lead')
+        self.arc_los_point = p.param('arc_los_point')
+        max_speed = p.param('max_plausible_speed')
         uses_lengths = self.lookahead_l > 0.0 or acc_l > 0.0
         if uses_lengths and self.ship_length <= 0.0:
             raise ParameterError('ship_length_m', self.ship_length,
@@ -128,13 +103,9 @@ class GuidanceNode(Node):
         self.n_bad_odom = 0
 
     def _declare_course_schedule(self):
-        """(times, courses) for the course law, None otherwise. A list parameter (not
-        NodeParameters, which takes scalars), dynamically typed so integers are accepted too."""
-        desc = ParameterDescriptor(
-            description='law course: [t0, course0_deg, t1, course1_deg, ...], sim time (s) and '
-            'NED course (deg, clockwise from north) from that time on', dynamic_typing=True,
-            read_only=True)
-        values = self.declare_parameter('course_schedule_deg', [], desc).value
+        """(times, courses) for the course law, None otherwise. A list parameter, dynamically
+        typed (its default is empty) so integers are accepted too."""
+        values = self.params.param('course_schedule_deg')
         try:
             return course_schedule_for(self.law, values)
         except (TypeError, ValueError) as exc:

@@ -36,15 +36,16 @@ from sensor_msgs.msg import NavSatFix
 from std_msgs.msg import Float64
 from visualization_msgs.msg import MarkerArray
 
-from ship_guidance.nav_display import DEFAULT_DISPLAY_RATE_HZ, DEFAULT_ORIGIN_DEG, Throttle, Trail
+from ship_guidance.nav_display import Throttle, Trail
 from ship_guidance.ros.nav_display_msgs import display_markers, navsat_fix, route_marker
 from ship_sim.frames import psi_to_yaw
-from ship_sim.models import MODEL_NAMES, make_model
+from ship_sim.models import make_model
 from ship_sim.ros import odometry_cdr as cdr
 from ship_sim.ros.conversions import base_link_frame, odometry_to_ned, time_to_msg
 from ship_sim.ros.params import NodeParameters
 from ship_sim.ros.qos import DISPLAY, LATCHED, STREAM
 from ship_sim.ros.run import run_node
+from ship_guidance.schema import NAV_DISPLAY_NODE
 
 _STAMP = struct.Struct('<iI')   # builtin_interfaces/Time at the start of the CDR body
 
@@ -52,30 +53,17 @@ _STAMP = struct.Struct('<iI')   # builtin_interfaces/Time at the start of the CD
 class NavDisplayNode(Node):
     def __init__(self):
         super().__init__('nav_display_node')
-        p = NodeParameters(self)
-        model = p.declare('model', 'mariner', 'ship model whose length the hull outline has',
-                          choices=MODEL_NAMES, read_only=True)
-        length = p.declare('length_m', 0.0, 'hull length (0: the model\'s length between '
-                           'perpendiculars)', lo=0.0, hi=1e4, unit='m', read_only=True)
-        rate = p.declare('display_rate_hz', DEFAULT_DISPLAY_RATE_HZ, 'fix and markers per second of sim time',
-                         lo=0.01, hi=100.0, unit='Hz', read_only=True)
-        trail_s = p.declare('trail_length_s', 600.0, 'sim time the wake trail covers', lo=0.0,
-                            hi=1e6, unit='s', read_only=True)
-        trail_dt = p.declare('trail_period_s', 5.0, 'sim time between wake trail points (the '
-                             'trail is sent when it gains one)', lo=0.01, hi=3600.0, unit='s',
-                             read_only=True)
-        route_dt = p.declare('route_period_s', 10.0, 'sim time between two frames that carry '
-                             'the route (a viewer that connects late gets it within that)',
-                             lo=0.01, hi=3600.0, unit='s', read_only=True)
-        self.lat0 = p.declare('origin_lat_deg', DEFAULT_ORIGIN_DEG[0], 'geodetic origin of the '
-                              'ENU frame: latitude', lo=-89.0, hi=89.0, unit='deg', read_only=True)
-        self.lon0 = p.declare('origin_lon_deg', DEFAULT_ORIGIN_DEG[1], 'geodetic origin of the '
-                              'ENU frame: longitude', lo=-180.0, hi=360.0, unit='deg', read_only=True)
-        self.odom_topic = p.declare('odom_topic', 'odom_display', 'odometry input: '
-                                    'odom_display (vessel_node display_every, qos DISPLAY) or '
-                                    'a per-step stream (qos STREAM)', read_only=True)
-        wait_route = p.declare('wait_for_route', True, 'subscribe odometry only once the route '
-                               'has come (every frame then shows it)', read_only=True)
+        p = NodeParameters(self, NAV_DISPLAY_NODE)
+        model = p.param('model')
+        length = p.param('length_m')
+        rate = p.param('display_rate_hz')
+        trail_s = p.param('trail_length_s')
+        trail_dt = p.param('trail_period_s')
+        route_dt = p.param('route_period_s')
+        self.lat0 = p.param('origin_lat_deg')
+        self.lon0 = p.param('origin_lon_deg')
+        self.odom_topic = p.param('odom_topic')
+        wait_route = p.param('wait_for_route')
         self.length = length if length > 0.0 else float(make_model(model).length)
         self.throttle = Throttle(rate)
         self.trail_throttle = Throttle(1.0 / trail_dt)

@@ -32,46 +32,28 @@ from rclpy.node import Node
 
 from ship_guidance.ais import KNOT, AisTracker
 from ship_guidance.ais_node import UDP_MAX_DATAGRAMS, UDP_POLL_BUDGET_S, UDP_POLL_S, child_frame
+from ship_guidance.schema import TRACKER_NODE
 from ship_guidance.tracker import AisReport, Tracker, TrackerConfig, odometry_covariances
 from ship_sim.ros.conversions import make_odometry
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import STREAM
 from ship_sim.ros.run import run_node
 
-DEFAULTS = TrackerConfig()
-
-
 class TrackerNode(Node):
     def __init__(self):
         super().__init__('tracker_node')
-        p = NodeParameters(self)
-        port = p.declare('udp_port', 0, 'UDP port to receive AIS NMEA on', lo=0, hi=65535,
-                         read_only=True)
-        address = p.declare('udp_address', '127.0.0.1', 'local address to bind the UDP port '
-                            'to (0.0.0.0: every interface)', read_only=True)
-        lat0 = p.declare('origin_lat_deg', 0.0, 'geodetic origin of the local ENU frame',
-                         lo=-89.0, hi=89.0, unit='deg', read_only=True)
-        lon0 = p.declare('origin_lon_deg', 0.0, 'geodetic origin of the local ENU frame',
-                         lo=-180.0, hi=180.0, unit='deg', read_only=True)
-        period = p.declare('publish_period_s', 1.0, 'period of the track publication, on the '
-                           'node clock', lo=1e-3, hi=3600.0, unit='s', read_only=True)
+        p = NodeParameters(self, TRACKER_NODE)
+        port = p.param('udp_port')
+        address = p.param('udp_address')
+        lat0 = p.param('origin_lat_deg')
+        lon0 = p.param('origin_lon_deg')
+        period = p.param('publish_period_s')
         config = TrackerConfig(
-            process_noise=p.declare('process_noise', DEFAULTS.process_noise, 'acceleration '
-                                    'power spectral density q of the nearly-constant-velocity '
-                                    'model', lo=0.0, hi=100.0, unit='m^2/s^3', read_only=True),
-            position_sigma_m=p.declare('position_sigma_m', DEFAULTS.position_sigma_m, 'AIS '
-                                       'position noise per axis', lo=0.01, hi=1e4, unit='m',
-                                       read_only=True),
-            sog_sigma_mps=KNOT * p.declare('sog_sigma_kn', DEFAULTS.sog_sigma_mps / KNOT,
-                                           'AIS SOG noise', lo=0.0, hi=100.0, unit='kn',
-                                           read_only=True),
-            cog_sigma_rad=math.radians(p.declare(
-                'cog_sigma_deg', math.degrees(DEFAULTS.cog_sigma_rad), 'AIS COG noise', lo=0.0,
-                hi=180.0, unit='deg', read_only=True)),
-            reprocess_window_s=p.declare('reprocess_window_s', DEFAULTS.reprocess_window_s,
-                                         'a report up to this much older than its track\'s '
-                                         'newest is retrodicted; older ones are dropped',
-                                         lo=0.0, hi=3600.0, unit='s', read_only=True))
+            process_noise=p.param('process_noise'),
+            position_sigma_m=p.param('position_sigma_m'),
+            sog_sigma_mps=KNOT * p.param('sog_sigma_kn'),
+            cog_sigma_rad=math.radians(p.param('cog_sigma_deg')),
+            reprocess_window_s=p.param('reprocess_window_s'))
         if not port:
             raise ParameterError('udp_port', message='give the UDP port AIS arrives on '
                                  '(udp_port)')

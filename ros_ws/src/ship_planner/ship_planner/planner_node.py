@@ -59,10 +59,10 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 
 from ship_guidance.ros.path_msgs import route_to_path_msg
-from ship_planner.chart import (DEFAULT_MAX_CELLS, IMAGE_EXTENSIONS, PROVIDERS, ChartError, chart_from_file,
+from ship_planner.chart import (IMAGE_EXTENSIONS, ChartError, chart_from_file,
                                 enc_chart, shoreline_chart)
 from ship_planner.fillets import suggest_fillet_radius
-from ship_planner.optimal_route import DEFAULT_ENERGY_WEIGHT, PlannerConfig, plan_route, route_yaml_text
+from ship_planner.optimal_route import PlannerConfig, plan_route, route_yaml_text
 from ship_planner.ros.chart_msgs import chart_to_occupancy_grid
 from ship_planner.route_loader import RouteError
 from ship_planner.yaml_route_reader import load_route_yaml
@@ -70,25 +70,12 @@ from ship_sim.frames import enu_to_ned_xy
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED
 from ship_sim.ros.run import finish, run_node, stop_requested
-
-NAN = float('nan')
-POINTS_FRAMES = ('wgs84', 'enu')
-BOX_KEYS = ('box_lat_min_deg', 'box_lat_max_deg', 'box_lon_min_deg', 'box_lon_max_deg')
-
-
-def optional_range(lo, hi, what):
-    """check for a float parameter where nan means 'not given', else lo <= value <= hi."""
-    def check(value):
-        if math.isnan(value) or lo <= value <= hi:
-            return None
-        return f'{what} in [{lo:g}, {hi:g}], or nan for not given'
-    return check
-
+from ship_planner.schema import BOX_KEYS, PLANNER_NODE
 
 class PlannerNode(Node):
     def __init__(self):
         super().__init__('planner_node')
-        self.params = NodeParameters(self)
+        self.params = NodeParameters(self, PLANNER_NODE)
         self._t0 = time.perf_counter()
         self._p = self._declare_all()
         self.pub = self.create_publisher(Path, 'route', LATCHED)
@@ -128,59 +115,7 @@ class PlannerNode(Node):
 
     # ---- parameters ----------------------------------------------------------------------------
     def _declare_all(self):
-        d = self.params.declare
-        ro = {'read_only': True}
-        p = {}
-        p['chart_file'] = d('chart_file', '', "chart file: S-57 ENC cell (.000) or an image (dark land); "
-                            "'' for the shoreline of the box", **ro)
-        p['shoreline'] = d('shoreline', 'gshhg', 'shoreline data for the box', choices=PROVIDERS, **ro)
-        for key, (lo, hi) in zip(BOX_KEYS, ((-80.0, 80.0), (-80.0, 80.0), (-180.0, 180.0), (-180.0, 180.0))):
-            p[key] = d(key, NAN, f'chart box {key[4:-4].replace("_", " ")} (nan: not given)', unit='deg',
-                       check=optional_range(lo, hi, 'degrees'), allow_nonfinite=True, **ro)
-        p['origin_lat_deg'] = d('origin_lat_deg', NAN, "latitude of the 'map' origin (nan: box centre)", unit='deg',
-                                check=optional_range(-80.0, 80.0, 'degrees'), allow_nonfinite=True, **ro)
-        p['origin_lon_deg'] = d('origin_lon_deg', NAN, "longitude of the 'map' origin (nan: box centre)",
-                                unit='deg', check=optional_range(-180.0, 180.0, 'degrees'), allow_nonfinite=True,
-                                **ro)
-        p['points_frame'] = d('points_frame', 'wgs84', 'how start and goal are given: wgs84 (lat/lon deg) or '
-                              "enu (metres east/north of the origin)", choices=POINTS_FRAMES, **ro)
-        for end in ('start', 'goal'):
-            for axis, lim, what in (('lat_deg', 80.0, 'latitude'), ('lon_deg', 180.0, 'longitude')):
-                p[f'{end}_{axis}'] = d(f'{end}_{axis}', NAN, f'{end} {what} (points_frame wgs84)',
-                                       unit='deg', check=optional_range(-lim, lim, 'degrees'),
-                                       allow_nonfinite=True, **ro)
-            for axis, what in (('x_m', 'east'), ('y_m', 'north')):
-                p[f'{end}_{axis}'] = d(f'{end}_{axis}', NAN, f'{end} {what} of the origin (points_frame enu)',
-                                       unit='m', check=optional_range(-1e6, 1e6, 'metres'), allow_nonfinite=True,
-                                       **ro)
-        p['resolution_m'] = d('resolution_m', 75.0, 'chart cell size', lo=1.0, hi=1e4, unit='m', **ro)
-        p['max_cells'] = d('max_cells', DEFAULT_MAX_CELLS, 'largest raster allowed (cells)', lo=4, hi=10**9, **ro)
-        p['draft_m'] = d('draft_m', 0.0, 'ship draft: ENC depth areas shallower are blocked (0: ignore depths)',
-                         lo=0.0, hi=100.0, unit='m', **ro)
-        p['cache_dir'] = d('cache_dir', '', "shoreline raster cache folder ('': $SHIPNAV_CACHE or "
-                           '~/.cache/shipnav)', **ro)
-        p['use_cache'] = d('use_cache', True, 'reuse a cached shoreline raster', **ro)
-        p['clearance_m'] = d('clearance_m', 200.0, 'distance kept from land', lo=0.0, hi=1e5, unit='m', **ro)
-        p['turning_diameter_m'] = d('turning_diameter_m', 0.0, 'vessel turning diameter: fillet radius = D '
-                                    '(0: no fillets unless fillet_radius_m)', lo=0.0, hi=1e5, unit='m', **ro)
-        p['fillet_radius_m'] = d('fillet_radius_m', 0.0, 'fillet radius, used instead of turning_diameter_m '
-                                 'when > 0', lo=0.0, hi=1e5, unit='m', **ro)
-        p['min_fillet_radius_m'] = d('min_fillet_radius_m', 0.0, 'smallest radius a tight corner may fall back to '
-                                     '(0: half the fillet radius)', lo=0.0, hi=1e5, unit='m', **ro)
-        p['energy_weight'] = d('energy_weight', DEFAULT_ENERGY_WEIGHT, 'metres of sailing worth one radian of '
-                               'course change', lo=0.0, hi=1e6, unit='m/rad', **ro)
-        p['candidates'] = d('candidates', 3, 'distinct centre-line routes to optimise', lo=1, hi=20, **ro)
-        p['max_lines'] = d('max_lines', PlannerConfig.max_lines, 'crossing lines (GA genes) per candidate',
-                           lo=1, hi=200, **ro)
-        p['population'] = d('population', PlannerConfig.population, 'GA population', lo=4, hi=10000, **ro)
-        p['generations'] = d('generations', PlannerConfig.generations, 'GA generations (at most)', lo=1,
-                             hi=100000, **ro)
-        p['seed'] = d('seed', 1, 'GA random seed', lo=0, hi=2**31 - 1, **ro)
-        p['refine'] = d('refine', True, "local pattern search on the GA's best", **ro)
-        p['route_file_out'] = d('route_file_out', '', "route YAML file to write ('': none)", **ro)
-        p['route_name'] = d('route_name', 'planned_route', 'route name (in the log and the route file)', **ro)
-        p['max_arc_step_m'] = d('max_arc_step_m', 25.0, 'longest sub-arc between Path poses', lo=0.1, hi=1e4,
-                                unit='m', **ro)
+        p = self.params.declare_schema()
         self._check_combinations(p)
         return p
 

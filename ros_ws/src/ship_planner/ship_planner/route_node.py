@@ -26,8 +26,8 @@ from ship_planner.route_loader import RouteError, load_route
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import LATCHED
 from ship_sim.ros.run import run_node
+from ship_planner.schema import ROUTE_NODE
 
-DEFAULT_ROUTE = 'example_enu.yaml'
 #: Sub-arcs of the Path turn by at most this much (rad), so plots of small-radius arcs stay round.
 MAX_ARC_TURN = 0.1
 
@@ -55,18 +55,13 @@ def resolve_route_file(name):
 class RouteNode(Node):
     def __init__(self):
         super().__init__('route_node')
-        self.params = NodeParameters(self)
+        self.params = NodeParameters(self, ROUTE_NODE)
         p = self.params
-        p.declare('length_unit_m', 0.0, 'metres per unit of a .wpt table (0: its own unit)',
-                  lo=0.0, hi=1e5, unit='m', on_change=lambda _v: self._publish())
-        p.declare('max_arc_step_m', 25.0, 'longest sub-arc between Path poses', lo=0.1, hi=1e4,
-                  unit='m', on_change=lambda _v: self._publish())
+        p.param('length_unit_m', on_change=lambda _v: self._publish())
+        p.param('max_arc_step_m', on_change=lambda _v: self._publish())
         # Declared last: its check reads the route with the parameters above.
-        p.declare('route_file', DEFAULT_ROUTE, 'route file (.yaml or .wpt)',
-                  check=self._check_route_file, allowed='a readable, valid route file',
-                  on_change=lambda _v: self._publish())
-        watch = p.declare('watch_period_s', 1.0, 'file change check period (0: off)', lo=0.0,
-                          hi=3600.0, unit='s', read_only=True)
+        p.param('route_file', check=self._check_route_file, on_change=lambda _v: self._publish())
+        watch = p.param('watch_period_s')
         self.pub = self.create_publisher(Path, 'route', LATCHED)
         self._mtime = None          # mtime of the file of the published route (None: none yet)
         self._seen_mtime = None     # mtime last looked at by the watcher (good or refused)

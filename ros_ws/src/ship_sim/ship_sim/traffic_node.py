@@ -26,29 +26,17 @@ from ship_sim.ros.params import NodeParameters
 from ship_sim.ros.qos import CLOCK_STEPS, STREAM
 from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
+from ship_sim.schema import TRAFFIC_NODE
 
 _NS_PER_S = 1_000_000_000
-
-
-def _check_targets(text):
-    try:
-        parse_targets(text)
-    except ValueError as exc:
-        return str(exc)
-    return None
 
 
 class TrafficNode(Node):
     def __init__(self):
         super().__init__('traffic_node')
-        p = self.params = NodeParameters(self)
-        text = p.declare('targets', '[]', 'light targets as JSON: a list of {name, x_m, y_m, '
-                         'course_deg, speed_mps} or {name, waypoints: [[t_s, x_m, y_m], ...]} '
-                         '(ENU; course clockwise from north)', check=_check_targets,
-                         allowed='a JSON list of light targets', read_only=True)
-        wait = p.declare('wait_subscribers', 0, 'subscribers every target topic must have '
-                         'before ~/ready turns true (the launcher waits for it in lockstep)',
-                         lo=0, hi=1000, read_only=True)
+        p = self.params = NodeParameters(self, TRAFFIC_NODE)
+        text = p.param('targets')
+        wait = p.param('wait_subscribers')
         self.traffic = parse_targets(text)
         # /clock first: once the odom publishers are visible, the clock subscription exists.
         self._clock_sub = self.create_subscription(ClockMsg, '/clock', self._on_clock,

@@ -68,9 +68,9 @@ from rosgraph_msgs.msg import Clock as ClockMsg
 from std_msgs.msg import Bool, Float64, UInt64
 
 from ship_sim.current import OceanCurrent
-from ship_sim.environment.wind import COEFFICIENTS, WindField
+from ship_sim.environment.wind import WindField
 from ship_sim.frames import yaw_to_psi
-from ship_sim.models import MODEL_NAMES, ModelStateError, make_model
+from ship_sim.models import ModelStateError, make_model
 from ship_sim.pacing import LockstepPacer, RealtimePacer, StepGate
 from ship_sim.ros.conversions import base_link_frame, fill_odometry, time_to_msg
 from ship_sim.ros.params import NodeParameters, ParameterError
@@ -79,16 +79,17 @@ from ship_sim.ros.run import finish, run_node, wait_for_acks
 from ship_sim.ros.waves import WaveOdometry, declare_waves
 from ship_sim.simulator import VesselSimulator
 from ship_sim.speed_factor import scaled_shaft
+from ship_sim.schema import VESSEL_NODE
 
 # Node parameter -> model constructor keyword, per model. 0 / '' means "model default" and is
 # not passed; a non-default value for a model without that keyword is refused.
 MODEL_KWARGS = {
-    'mariner': {'U0': 'U0'},
-    'tanker': {'depth': 'h'},
+    'mariner': {'nominal_speed_mps': 'U0'},
+    'tanker': {'water_depth_m': 'h'},
     'container': {},
-    'nomoto1': {'preset': 'preset', 'U0': 'U'},
-    'nomoto2': {'preset': 'preset', 'U0': 'U'},
-    'nps_auv2': {'U0': 'U'},
+    'nomoto1': {'preset': 'preset', 'nominal_speed_mps': 'U'},
+    'nomoto2': {'preset': 'preset', 'nominal_speed_mps': 'U'},
+    'nps_auv2': {'nominal_speed_mps': 'U'},
 }
 
 
@@ -122,112 +123,43 @@ class VesselNode(Node):
 
     # -- parameters and the simulator ---------------------------------------------------------
     def _declare_and_build(self):
-        p = self.params = NodeParameters(self)
-        model = p.declare('model', 'mariner', 'plant model', choices=MODEL_NAMES, read_only=True)
+        p = self.params = NodeParameters(self, VESSEL_NODE)
+        model = p.param('model')
         given = {
-            'preset': p.declare('preset', '', "model preset ('' = the model's default; nomoto1/"
-                                'nomoto2: mariner or tanker)', read_only=True),
-            'U0': p.declare('U0', 0.0, 'nominal speed of the model (mariner U0, nomoto/nps_auv2 '
-                            "U); 0 = the model's default", lo=0.0, hi=30.0, unit='m/s',
-                            read_only=True),
-            'depth': p.declare('depth', 0.0, "water depth (tanker h >= 18.5 m); 0 = the model's "
-                               'default (deep water)', lo=0.0, hi=1e4, unit='m', read_only=True),
+            'preset': p.param('preset'),
+            'nominal_speed_mps': p.param('nominal_speed_mps'),
+            'water_depth_m': p.param('water_depth_m'),
         }
-        rmax = p.declare('rudder_max_deg', 0.0, "rudder angle limit override; 0 = the model's",
-                         lo=0.0, hi=90.0, unit='deg', read_only=True)
-        rrate = p.declare('rudder_rate_max_deg', 0.0, "rudder rate limit override; 0 = the "
-                          "model's", lo=0.0, hi=1e3, unit='deg/s', read_only=True)
-        x0 = p.declare('initial_x', 0.0, 'start position east (ENU x)', lo=-1e7, hi=1e7,
-                       unit='m', read_only=True)
-        y0 = p.declare('initial_y', 0.0, 'start position north (ENU y)', lo=-1e7, hi=1e7,
-                       unit='m', read_only=True)
-        yaw0 = p.declare('initial_yaw_deg', 90.0, 'start heading as ENU yaw (counter-clockwise '
-                         'from east; 90 = heading north)', lo=-360.0, hi=360.0, unit='deg',
-                         read_only=True)
-        speed0 = p.declare('initial_speed', 0.0, "start speed through the water; 0 = the model's "
-                           'straight-running trim (MSS ships cannot start at rest)', lo=0.0,
-                           hi=30.0, unit='m/s', read_only=True)
-        shaft = p.declare('shaft_rpm', 0.0, 'shaft speed command held until a shaft_cmd comes '
-                          "(models with a shaft); 0 = the model's nominal", lo=-1e3, hi=1e3,
-                          unit='rpm', read_only=True)
-        dt = p.declare('dt', 0.1, 'integration step', lo=1e-4, hi=1.0, unit='s', read_only=True)
-        rate = p.declare('publish_rate', 10.0, 'steps per sim second: odom, rudder and /clock '
-                         'are published (and in lockstep a command is awaited) once per step; '
-                         '1/publish_rate must be a whole multiple of dt', lo=0.01, hi=1000.0,
-                         unit='Hz', read_only=True,
-                         check=lambda r: _substeps_problem(r, dt))
-        self.mode = p.declare('stepping_mode', 'realtime', 'realtime: wall-clock paced; '
-                              'lockstep: advance only when the step\'s rudder_cmd has come',
-                              choices=('realtime', 'lockstep'), read_only=True)
-        self.speedup = p.declare('speedup', 1.0, 'realtime: sim seconds per wall second',
-                                 lo=0.01, hi=1e4, on_change=self._set_speedup)
-        self.lockstep_timeout = p.declare(
-            'lockstep_timeout', 5.0, 'lockstep: wall time to wait for a step\'s rudder_cmd; then '
-            'warn and hold the previous command for that step (0 = wait forever)', lo=0.0,
-            hi=3600.0, unit='s', on_change=self._set_lockstep_timeout)
-        self.start_timeout = p.declare(
-            'lockstep_start_timeout', 30.0, 'lockstep: wall time to wait for an odom subscriber '
-            'and a rudder_cmd publisher before step 0 (then start anyway, with a warning)',
-            lo=0.0, hi=3600.0, unit='s', read_only=True)
-        self.max_timeouts = p.declare(
-            'lockstep_max_timeouts', 10, 'lockstep: consecutive steps without their rudder_cmd '
-            'after which the run ends with an error (exit code 1; 0 = never end)', lo=0,
-            hi=10**6, read_only=True)
-        self.record_topic = p.declare(
-            'lockstep_record_topic', '', 'lockstep: topic (std_msgs/UInt64) on which a recorder '
-            'acknowledges the steps it holds; the node waits for it before step 0 and then runs '
-            'at most lockstep_record_window steps ahead of it, so the recording loses nothing '
-            "('' = no recorder takes part)", read_only=True)
-        self.record_window = p.declare(
-            'lockstep_record_window', 4, 'lockstep: steps the simulator may run ahead of the '
-            "recorder's acknowledgement (below the /clock queue depth of 10)", lo=0, hi=8,
-            read_only=True)
-        self.follower_topics = p.declare(
-            'lockstep_follower_odom_topics', '', "lockstep: comma-separated odom topics of this "
-            "vessel's platoon followers; the node runs at most lockstep_follower_window steps "
-            "ahead of the slowest, so its odom queue never overwrites a sample a follower has not "
-            "taken ('' = none)", read_only=True)
-        self.follower_window = p.declare(
-            'lockstep_follower_window', 50, 'lockstep: steps the simulator may run ahead of its '
-            'slowest follower (below the odom queue depth of 100)', lo=1, hi=90, read_only=True)
-        self.command_timeout = p.declare(
-            'command_timeout_s', 5.0, 'realtime: sim time without a rudder_cmd after which the '
-            'rudder is centred, with a warning, until commands come again (0 = hold the last '
-            'command for ever)', lo=0.0, hi=1e6, unit='s', read_only=True)
-        self.min_odom_subs = p.declare(
-            'lockstep_odom_subscribers', 1, 'lockstep: odom subscribers to wait for before step '
-            '0 (e.g. 2 when guidance and autopilot both follow odom)', lo=1, hi=1000,
-            read_only=True)
-        self.display_every = p.declare(
-            'display_every', 0, 'also publish every n-th step\'s odom on odom_display (0 = '
-            'never): nav_display_node\'s input, reliable + transient_local with a deep history '
-            '(qos.DISPLAY), so the display gets the same frames on every run whatever its lag, '
-            'and one callback per frame instead of one per step', lo=0, hi=10**6,
-            read_only=True)
-        self.clock_master = p.declare('clock_master', True, 'publish /clock (exactly one node '
-                                      'of a graph does)', read_only=True)
-        self.max_steps = p.declare('max_steps', 0, 'end the run cleanly after this many steps '
-                                   '(0 = run until stopped; lockstep: once the last step is answered and '
-                                   'recorded)', lo=0, hi=10**12, read_only=True)
-        self.speed_factor_input = p.declare(
-            'speed_factor_input', False, 'subscribe speed_factor_cmd (colav_node): the shaft '
-            'runs at factor x the shaft command (models with a shaft; lockstep: each step waits '
-            'for its factor)', read_only=True)
-        c_speed = p.declare('current_speed', 0.0, 'ocean current mean speed', lo=0.0, hi=10.0,
-                            unit='m/s', read_only=True)
-        c_dir = p.declare('current_direction_deg', 0.0, 'direction the current flows towards, '
-                          'clockwise from north (0 = northwards, 90 = eastwards)', lo=-360.0,
-                          hi=360.0, unit='deg', read_only=True)
-        c_sd = p.declare('current_speed_sd', 0.0, 'current variability: stationary standard '
-                         'deviation of the speed (Gauss-Markov; 0 = constant)', lo=0.0, hi=5.0,
-                         unit='m/s', read_only=True)
-        c_dir_sd = p.declare('current_direction_sd_deg', 0.0, 'current variability: stationary '
-                             'standard deviation of the direction (0 = constant)', lo=0.0,
-                             hi=180.0, unit='deg', read_only=True)
-        c_tc = p.declare('current_time_constant', 600.0, 'time constant of the current\'s '
-                         'Gauss-Markov variations', lo=1.0, hi=1e6, unit='s', read_only=True)
-        c_seed = p.declare('current_seed', 0, 'random seed of the current variations (same '
-                           'seed, same current)', lo=0, hi=2**31 - 1, read_only=True)
+        rmax = p.param('rudder_max_deg')
+        rrate = p.param('rudder_rate_max_deg')
+        x0 = p.param('initial_x')
+        y0 = p.param('initial_y')
+        yaw0 = p.param('initial_yaw_deg')
+        speed0 = p.param('initial_speed')
+        shaft = p.param('shaft_rpm')
+        dt = p.param('dt')
+        rate = p.param('publish_rate', check=lambda r: _substeps_problem(r, dt))
+        self.mode = p.param('stepping_mode')
+        self.speedup = p.param('speedup', on_change=self._set_speedup)
+        self.lockstep_timeout = p.param('lockstep_timeout', on_change=self._set_lockstep_timeout)
+        self.start_timeout = p.param('lockstep_start_timeout')
+        self.max_timeouts = p.param('lockstep_max_timeouts')
+        self.record_topic = p.param('lockstep_record_topic')
+        self.record_window = p.param('lockstep_record_window')
+        self.follower_topics = p.param('lockstep_follower_odom_topics')
+        self.follower_window = p.param('lockstep_follower_window')
+        self.command_timeout = p.param('command_timeout_s')
+        self.min_odom_subs = p.param('lockstep_odom_subscribers')
+        self.display_every = p.param('display_every')
+        self.clock_master = p.param('clock_master')
+        self.max_steps = p.param('max_steps')
+        self.speed_factor_input = p.param('speed_factor_input')
+        c_speed = p.param('current_speed')
+        c_dir = p.param('current_direction_deg')
+        c_sd = p.param('current_speed_sd')
+        c_dir_sd = p.param('current_direction_sd_deg')
+        c_tc = p.param('current_time_constant')
+        c_seed = p.param('current_seed')
         self._wind, self._wind_coefficients = _declare_wind(p)
 
         # Model.
@@ -237,7 +169,7 @@ class VesselNode(Node):
             if not value:
                 continue
             if pname not in table:
-                takes = ', '.join(table) or 'none of preset, U0, depth'
+                takes = ', '.join(table) or 'none of preset, nominal_speed_mps, water_depth_m'
                 raise ParameterError(pname, value, f"the default (0 or '') for model {model!r}, "
                                      f'which takes: {takes}')
             kwargs[table[pname]] = value
@@ -582,21 +514,12 @@ class VesselNode(Node):
 
 def _declare_wind(p):
     """Declare the wind_* parameters; return (WindField or None when calm, coefficients)."""
-    speed = p.declare('wind_speed', 0.0, 'mean wind speed (0 and no gusts = no wind)', lo=0.0,
-                      hi=WindField.MAX_SPEED, unit='m/s', read_only=True)
-    direction = p.declare('wind_direction_deg', 0.0, 'direction the wind blows FROM, clockwise '
-                          'from north (meteorological: 0 = a north wind, blowing southwards)',
-                          lo=-360.0, hi=360.0, unit='deg', read_only=True)
-    gust_sd = p.declare('wind_gust_sd', 0.0, 'gusts: stationary standard deviation of the wind '
-                        'speed (Gauss-Markov; 0 = steady)', lo=0.0, hi=30.0, unit='m/s',
-                        read_only=True)
-    tc = p.declare('wind_time_constant', 60.0, "time constant of the gusts' Gauss-Markov "
-                   'process', lo=0.1, hi=1e6, unit='s', read_only=True)
-    seed = p.declare('wind_seed', 0, 'random seed of the gusts (same seed, same wind)', lo=0,
-                     hi=2**31 - 1, read_only=True)
-    coefficients = p.declare('wind_coefficients', 'blendermann94', 'wind load coefficients: '
-                             'Blendermann 1994 (with roll) or Isherwood 1972',
-                             choices=COEFFICIENTS, read_only=True)
+    speed = p.param('wind_speed')
+    direction = p.param('wind_direction_deg')
+    gust_sd = p.param('wind_gust_sd')
+    tc = p.param('wind_time_constant')
+    seed = p.param('wind_seed')
+    coefficients = p.param('wind_coefficients')
     if speed == 0.0 and gust_sd == 0.0:
         return None, coefficients
     return WindField(speed, math.radians(direction), gust_sd=gust_sd, time_constant=tc,

@@ -35,6 +35,8 @@ from ship_sim.environment.wave_rao import WaveResponse, load_rao_table
 MODEL_RAO = {'container': ('s175', False), 'mariner': ('s175', True), 'tanker': ('s175', True),
              'nomoto1': ('s175', True), 'nomoto2': ('s175', True)}
 RHO = 1025.0
+#: spectrum parameter value (vessel_node's waves_spectrum) -> SeaState.spectrum
+SPECTRUM_NAMES = {'jonswap': 'JONSWAP', 'modified_pm': 'Modified PM', 'torsethaugen': 'Torsethaugen'}
 
 
 def pm_peak_frequency(hs):

@@ -1,8 +1,15 @@
 """Declaring and validating ROS parameters, the same way in every node of the project.
 
-Usage inside a node's constructor::
+Every node declares from its parameter schema (ship_sim.param_schema; the tables are in each
+package's ``schema.py``)::
 
-    self.params = NodeParameters(self)
+    self.params = NodeParameters(self, VESSEL_NODE)
+    dt = self.params.param('dt')                     # default, range, description: the schema's
+    self.params.param('speedup', on_change=self._set_speedup)
+    values = self.params.declare_schema()            # or all of them, in the schema's order
+
+``declare`` is the underlying call, for a parameter given by hand::
+
     dt = self.params.declare('dt', 0.1, 'integration step (s)', lo=1e-3, hi=1.0, read_only=True)
     mode = self.params.declare('stepping_mode', 'realtime', 'how the sim is paced',
                                choices=('realtime', 'lockstep'), read_only=True)
@@ -31,6 +38,9 @@ from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescri
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
 
+from ship_sim.param_schema import allowed_text as _allowed_text
+from ship_sim.param_schema import one_line, problem
+
 
 class ParameterError(Exception):
     """An invalid parameter value; str() is the one line to show the user."""
@@ -41,7 +51,7 @@ class ParameterError(Exception):
         self.allowed = allowed
         if message is None:
             message = f'parameter {name!r} = {value!r} is not allowed: {allowed}'
-        super().__init__(' '.join(str(message).split()))  # one line, whatever the source says
+        super().__init__(one_line(message))  # one line, whatever the source says
 
 
 class _Spec:
@@ -60,25 +70,12 @@ class _Spec:
         self.allow_nonfinite = allow_nonfinite
 
 
-def _allowed_text(kind, lo, hi, choices):
-    if choices is not None:
-        return 'one of ' + ', '.join(repr(c) for c in choices)
-    what = {float: 'a number', int: 'an integer', bool: 'true or false', str: 'a string'}.get(
-        kind, kind.__name__)
-    if lo is not None and hi is not None:
-        return f'{what} in [{lo}, {hi}]'
-    if lo is not None:
-        return f'{what} >= {lo}'
-    if hi is not None:
-        return f'{what} <= {hi}'
-    return what
-
-
 class NodeParameters:
     """The declared parameters of one node, with their checks (see the module docstring)."""
 
-    def __init__(self, node):
+    def __init__(self, node, schema=None):
         self._node = node
+        self.schema = schema
         self._specs = {}
         node.add_on_set_parameters_callback(self._on_set)
         node.add_post_set_parameters_callback(self._post_set)
@@ -131,6 +128,48 @@ class NodeParameters:
             self._refused = None
         return value
 
+    def param(self, name, *, check=None, on_change=None):
+        """Declare the schema's parameter ``name`` (ship_sim.param_schema.Param) and return its
+        start value: the same as declare() with the schema's default, description, unit, range,
+        choices and read_only. ``check``: the function of the Param's named check when the
+        schema's ``checks`` cannot hold it (it needs the node); on_change as in declare().
+        A value given under one of the Param's deprecated_names is used, with a warning."""
+        p = self.schema[name]
+        self._take_deprecated(p)
+        if p.check is not None and check is None:
+            check = self.schema.checks[p.check]   # KeyError: the node must give it
+        if p.is_list:
+            return self._declare_list(p)
+        return self.declare(name, p.default, p.description, lo=p.lo, hi=p.hi,
+                            choices=p.choices, check=check, allowed=p.allowed, unit=p.unit,
+                            read_only=p.read_only, on_change=on_change,
+                            allow_nonfinite=p.allow_nonfinite)
+
+    def declare_schema(self, checks=None, on_change=None):
+        """Declare every parameter of the schema, in its order; {name: start value}.
+        checks / on_change: {name: function} for param()."""
+        checks, on_change = checks or {}, on_change or {}
+        return {p.name: self.param(p.name, check=checks.get(p.name),
+                                   on_change=on_change.get(p.name))
+                for p in self.schema.params}
+
+    def _take_deprecated(self, p):
+        overrides = self._node._parameter_overrides
+        for old in p.deprecated_names:
+            if old in overrides:
+                self._node.get_logger().warning(
+                    f'parameter {old!r} is deprecated and will be removed: use {p.name!r}')
+                value = overrides.pop(old)
+                overrides.setdefault(p.name, value)
+
+    def _declare_list(self, p):
+        """An array parameter (rclpy types it from the default; an empty default has no type,
+        so it is declared dynamically typed and the node checks the elements)."""
+        descriptor = ParameterDescriptor(description=p.description, read_only=p.read_only,
+                                         dynamic_typing=not p.default)
+        value = self._node.declare_parameter(p.name, list(p.default), descriptor).value
+        return list(value) if p.default else value
+
     def value(self, name):
         """Current value of a declared parameter."""
         return self._node.get_parameter(name).value
@@ -148,30 +187,9 @@ class NodeParameters:
     @staticmethod
     def _problem(spec, value):
         """None if fine, else the 'allowed' text explaining what would be."""
-        kind = spec.kind
-        if kind is float and isinstance(value, int) and not isinstance(value, bool):
-            value = float(value)
-        if kind is bool:
-            ok_type = isinstance(value, bool)
-        elif kind is int:
-            ok_type = isinstance(value, int) and not isinstance(value, bool)
-        else:
-            ok_type = isinstance(value, kind)
-        if not ok_type:
-            return spec.allowed
-        if kind is float and not spec.allow_nonfinite and not math.isfinite(value):
-            return spec.allowed + ' (finite)'
-        if spec.choices is not None and value not in spec.choices:
-            return spec.allowed
-        if spec.lo is not None and value < spec.lo:
-            return spec.allowed
-        if spec.hi is not None and value > spec.hi:
-            return spec.allowed
-        if spec.check is not None:
-            extra = spec.check(value)
-            if extra:
-                return extra
-        return None
+        return problem(spec.kind, value, lo=spec.lo, hi=spec.hi, choices=spec.choices,
+                       check=spec.check, allowed=spec.allowed,
+                       allow_nonfinite=spec.allow_nonfinite)
 
     def _on_set(self, parameters):
         for p in parameters:
@@ -193,19 +211,6 @@ class NodeParameters:
             spec = self._specs.get(p.name)
             if spec is not None and spec.on_change is not None:
                 spec.on_change(p.value)
-
-
-def check_value(name, value, default, *, lo=None, hi=None, choices=None, check=None,
-                allowed=None, allow_nonfinite=False):
-    """None if ``value`` is a valid start value of a parameter declared with ``default`` and
-    these rules (NodeParameters.declare's), else the one-line refusal the node would give: the
-    same check, for programs (the launcher) that refuse a value before the node is started."""
-    kind = type(default)
-    if allowed is None:
-        allowed = _allowed_text(kind, lo, hi, choices)
-    spec = _Spec(name, kind, lo, hi, choices, check, allowed, None, allow_nonfinite)
-    bad = NodeParameters._problem(spec, value)
-    return None if bad is None else str(ParameterError(name, value, bad))
 
 
 def check_overrides(node):

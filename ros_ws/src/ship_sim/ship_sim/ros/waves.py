@@ -13,6 +13,7 @@ import math
 
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension
 
+from ship_sim.environment.sea_state import SPECTRUM_NAMES as SPECTRA
 from ship_sim.environment.sea_state import SeaState, ShipWaves, rao_table_for, superpose
 from ship_sim.environment.sea_state_relations import vw2hs
 from ship_sim.frames import psi_to_yaw
@@ -21,7 +22,6 @@ from ship_sim.ros.params import ParameterError
 from ship_sim.ros.qos import LATCHED
 
 #: parameter value -> ship_sim.environment spectrum name
-SPECTRA = {'jonswap': 'JONSWAP', 'modified_pm': 'Modified PM', 'torsethaugen': 'Torsethaugen'}
 SEA_STATE_LABELS = ('hs_m', 'tp_s', 'spectrum(0 jonswap 1 modified_pm 2 torsethaugen)', 'gamma',
                     'direction_rad(towards, cw from north)', 'spreading', 'n_frequencies',
                     'n_directions', 'omega_max_rad_s', 'seed')
@@ -29,30 +29,17 @@ SEA_STATE_LABELS = ('hs_m', 'tp_s', 'spectrum(0 jonswap 1 modified_pm 2 torsetha
 
 def declare_waves(p, model):
     """Declare the waves_* parameters on NodeParameters ``p``; the SeaState (None if calm)."""
-    hs = p.declare('waves_hs', 0.0, 'significant wave height (0 = calm sea; see also '
-                   'waves_wind_speed)', lo=0.0, hi=20.0, unit='m', read_only=True)
-    wind = p.declare('waves_wind_speed', 0.0, 'fully developed sea of this wind speed: Hs = '
-                     '0.21 V^2 / g (MSS vw2hs), Pierson-Moskowitz peak (0 = use waves_hs)',
-                     lo=0.0, hi=40.0, unit='m/s', read_only=True)
-    tp = p.declare('waves_tp', 0.0, 'peak period (0 = the Pierson-Moskowitz peak of the Hs)',
-                   lo=0.0, hi=30.0, unit='s', read_only=True)
-    spectrum = p.declare('waves_spectrum', 'jonswap', 'wave spectrum', choices=tuple(SPECTRA),
-                         read_only=True)
-    gamma = p.declare('waves_gamma', 3.3, 'JONSWAP peak enhancement (0 = DNV rule)', lo=0.0,
-                      hi=7.0, read_only=True)
-    direction = p.declare('waves_direction_deg', 0.0, 'main direction the waves travel '
-                          'towards, clockwise from north (as the current)', lo=-360.0,
-                          hi=360.0, unit='deg', read_only=True)
-    spreading = p.declare('waves_spreading', False, 'cos^2 directional spreading',
-                          read_only=True)
-    n_freq = p.declare('waves_n_frequencies', 100, 'wave components in frequency', lo=1,
-                       hi=2000, read_only=True)
-    n_dir = p.declare('waves_n_directions', 16, 'wave directions with spreading', lo=2, hi=100,
-                      read_only=True)
-    omega_max = p.declare('waves_omega_max', 3.0, 'highest wave frequency', lo=0.5, hi=6.0,
-                          unit='rad/s', read_only=True)
-    seed = p.declare('waves_seed', 0, 'random seed of the wave components (same seed, same '
-                     'waves)', lo=0, hi=2**31 - 1, read_only=True)
+    hs = p.param('waves_hs')
+    wind = p.param('waves_wind_speed')
+    tp = p.param('waves_tp')
+    spectrum = p.param('waves_spectrum')
+    gamma = p.param('waves_gamma')
+    direction = p.param('waves_direction_deg')
+    spreading = p.param('waves_spreading')
+    n_freq = p.param('waves_n_frequencies')
+    n_dir = p.param('waves_n_directions')
+    omega_max = p.param('waves_omega_max')
+    seed = p.param('waves_seed')
     if hs > 0.0 and wind > 0.0:
         raise ParameterError('waves_wind_speed', wind, '0 when waves_hs is given (one of them)')
     if wind > 0.0:

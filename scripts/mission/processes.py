@@ -126,8 +126,9 @@ def format_param(value):
             return '.nan'
         if math.isinf(value):
             return '.inf' if value > 0 else '-.inf'
-        text = repr(value)
-        return text if any(c in text for c in '.en') else text + '.0'
+        # a '.' in the mantissa, so that YAML 1.1 readers too take 1e-05 as a float (1.0e-05)
+        mantissa, e, exponent = repr(value).partition('e')
+        return mantissa + ('' if '.' in mantissa else '.0') + e + exponent
     if isinstance(value, (list, tuple)):
         return '[' + ', '.join(format_param(v) for v in value) + ']'
     text = str(value)

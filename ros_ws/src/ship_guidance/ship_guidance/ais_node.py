@@ -49,13 +49,11 @@ from ship_sim.ros.qos import CLOCK_STEPS, STREAM
 from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
 from ship_sim.safe_load import InputError, read_regular_file
+from ship_guidance.ros.udp import UDP_MAX_DATAGRAMS, UDP_POLL_BUDGET_S, UDP_POLL_S, udp_lines  # noqa: F401
 from ship_guidance.schema import AIS_NODE
 
 COUNT_NAMES = ('decoded', 'ignored', 'pending_fragments', 'targets') + BAD_REASONS
 SYNC_NAMES = ('stamp_ns', 'targets')
-UDP_POLL_S = 0.02          # wall-clock period of the UDP poll
-UDP_MAX_DATAGRAMS = 500    # datagrams one poll reads at most ...
-UDP_POLL_BUDGET_S = 0.01   # ... and wall time it works at most (half the poll period)
 LOG_PERIOD_S = 5.0         # wall time between two summaries of targets tracked / dropped
 LOG_LISTED = 5             # MMSIs named in a summary line
 #: Largest replay file: about 1.3 million sentences, a day of a busy port's receiver.
@@ -150,21 +148,8 @@ class AisNode(Node):
 
     def _poll_udp(self):
         t = self._now() - self.t_base
-        deadline = time.monotonic() + UDP_POLL_BUDGET_S
-        for _ in range(UDP_MAX_DATAGRAMS):
-            if time.monotonic() > deadline:
-                return
-            try:
-                data = self.sock.recv(65536)
-            except (BlockingIOError, InterruptedError):
-                return
-            except OSError as exc:
-                self.get_logger().warning(f'UDP receive failed: {exc}',
-                                          throttle_duration_sec=5.0)
-                return
-            for line in data.splitlines():
-                if line.strip():
-                    self._feed(line, t)
+        for line in udp_lines(self.sock, self.get_logger()):
+            self._feed(line, t)
 
     def _on_clock(self, msg):
         stamp_ns = msg.clock.sec * NS_PER_S + msg.clock.nanosec

@@ -24,14 +24,14 @@ Bad AIS input is counted and warned about (throttled); it never stops the node.
 """
 import math
 import socket
-import time
 
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 
 from ship_guidance.ais import KNOT, AisTracker
-from ship_guidance.ais_node import UDP_MAX_DATAGRAMS, UDP_POLL_BUDGET_S, UDP_POLL_S, child_frame
+from ship_guidance.ais_node import child_frame
+from ship_guidance.ros.udp import UDP_POLL_S, udp_lines
 from ship_guidance.schema import TRACKER_NODE
 from ship_guidance.tracker import AisReport, Tracker, TrackerConfig, odometry_covariances
 from ship_sim.ros.conversions import make_odometry
@@ -80,21 +80,8 @@ class TrackerNode(Node):
 
     def _poll(self):
         t = self._now()
-        deadline = time.monotonic() + UDP_POLL_BUDGET_S
-        for _ in range(UDP_MAX_DATAGRAMS):
-            if time.monotonic() > deadline:
-                return
-            try:
-                data = self.sock.recv(65536)
-            except (BlockingIOError, InterruptedError):
-                return
-            except OSError as exc:
-                self.get_logger().warning(f'UDP receive failed: {exc}',
-                                          throttle_duration_sec=5.0)
-                return
-            for line in data.splitlines():
-                if line.strip():
-                    self._feed(line, t)
+        for line in udp_lines(self.sock, self.get_logger()):
+            self._feed(line, t)
 
     def _feed(self, line, t):
         """Decode one line; a new position report goes to the tracker."""

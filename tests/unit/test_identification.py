@@ -109,7 +109,7 @@ def test_config_files_cover_all_models_and_gains_follow_the_design():
         K, T, U, L = nm['K'], nm['T'], nm['speed_mps'], nm['length_m']
         assert nm['a'] == pytest.approx(-1 / T, rel=1e-5)
         assert nm['b'] == pytest.approx(-K / T, rel=1e-5)
-        wn = design.OMEGA_N_ND[name] * U / L
+        wn = design.omega_n_nd(name) * U / L
         assert g['omega_n'] == pytest.approx(wn, rel=1e-5)
         # Angelopoulos 2011 eq. (20) with a = -1/T, b = -K/T: k1 = wn^2 T / K, k2 = (2 zeta wn T - 1)/K.
         assert g['pd']['k1'] == pytest.approx(wn ** 2 * T / K, rel=1e-5)

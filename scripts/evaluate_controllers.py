@@ -78,13 +78,15 @@ from ship_planner.route_loader import load_route
 from ship_autopilot.wave_filter import WaveFilter
 from ship_sim.environment.sea_state import ShipWaves, rao_table_for
 from ship_sim.allocator import tune_allocator
-from ship_sim.models import make_model
+from ship_sim.models import cards, make_model
 from mission.conditions import (CONDITIONS, SEED, Condition, route_course, sea_state,
                                 wind_field)
 
 ROOT = Path(__file__).resolve().parent.parent
 
-MODELS = ('mariner', 'container', 'tanker')
+#: The ships with a shipped learned policy (their cards' ``policy``): the policy is one of
+#: the compared controllers.
+MODELS = tuple(c.name for c in cards() if c.policy)
 CURRENTS = (0.0, 0.9)
 CONTROLLERS = ('los', 'ilos', 'fuzzy_pid', 'los_lead', 'ilos_lead', 'policy')
 LABELS = {'los': 'LOS + PD', 'ilos': 'ILOS + PD', 'fuzzy_pid': 'LOS + fuzzy PID',

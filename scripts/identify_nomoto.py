@@ -21,11 +21,16 @@ import yaml
 
 from ship_autopilot import gains as design
 from ship_autopilot.identification import heading_prediction_rms, identify_nomoto
-from ship_sim.models import make_model
+from ship_sim.models import cards, make_model
 
 ROOT = Path(__file__).resolve().parents[1]
 
-DEFAULT_MODELS = ('mariner', 'tanker', 'container', 'nomoto1', 'nps_auv2')
+
+def default_models():
+    """The models whose cards ask for an identification (``identify``) and keep their gains
+    in the package data (a card with its own ``gain_tables`` is identified with --models and
+    --out-dir naming that folder)."""
+    return [c.name for c in cards() if c.identify and c.gain_tables is None]
 
 
 def identify(name, rudder, switch, h):
@@ -61,7 +66,7 @@ def _rounded(obj, digits=7):
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    p.add_argument('--models', nargs='+', default=list(DEFAULT_MODELS),
+    p.add_argument('--models', nargs='+', default=default_models(),
                    help='ship_sim registry names (default: %(default)s)')
     p.add_argument('--rudder-deg', type=float, default=10.0, help='zig-zag rudder (deg)')
     p.add_argument('--switch-deg', type=float, default=10.0, help='zig-zag switch heading (deg)')
@@ -84,7 +89,7 @@ def main(argv=None):
         try:
             e = identify(name, rudder, switch, args.h)
             g = design.design_gains(e['K'], e['T'], e['speed_mps'], e['length_m'],
-                                    omega_n_nd=design.OMEGA_N_ND.get(name, 1.0))
+                                    omega_n_nd=design.omega_n_nd(name))
         except Exception as exc:  # noqa: BLE001 (report and go on with the other models)
             print(f'{name:10s} FAILED: {exc}')
             failed.append(name)

@@ -55,6 +55,7 @@ from ship_autopilot.learning.env import EnvConfig, PathFollowingBatch
 from ship_autopilot.learning.policy import policy_path, save_policy
 from ship_guidance.path_state import CLIP, OBS_DIM
 from ship_sim.allocator import tune_allocator
+from ship_sim.models import model_names
 from ship_sim.safe_load import load_json_file
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -416,7 +417,7 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     sub = p.add_subparsers(dest='cmd', required=True)
     t = sub.add_parser('train')
-    t.add_argument('--model', required=True, choices=('mariner', 'container', 'tanker'))
+    t.add_argument('--model', required=True, choices=model_names('mss'))
     t.add_argument('--schedule', default='transfer', choices=('transfer', 'scratch', 'continue'),
                    help='transfer: straight then curved; scratch: curved only; continue: '
                         'curved only from --init-from (more training of a finished run)')

@@ -45,7 +45,7 @@ from ship_autopilot.gains import build_autopilot, heading_loop_design
 from ship_autopilot.steering import HeadingSteering
 from ship_autopilot.wave_filter import WaveFilter
 from ship_sim.environment.sea_state import SeaState, ShipWaves, rao_table_for
-from ship_sim.models import make_model
+from ship_sim.models import make_model, model_names
 from ship_sim.simulator import VesselSimulator
 
 DT, SUB = 0.1, 1          # integration step and steps per control step (10 Hz, as the nodes)
@@ -226,7 +226,7 @@ def main():
     from mission.cli_args import OneLineParser, number
     ap = OneLineParser(description=__doc__.split('\n')[0])
     ap.add_argument('--quick', action='store_true', help='1200 s runs, the Mariner only')
-    ap.add_argument('--models', nargs='+', default=['mariner', 'container', 'tanker'])
+    ap.add_argument('--models', nargs='+', default=list(model_names('mss')))
     ap.add_argument('--duration', type=number(above=0.0, hi=1e6), default=3600.0, help='s per run')
     ap.add_argument('--out', type=Path, default=Path('runs/wave_filter'))
     ap.add_argument('--seeds', type=int, nargs='+', default=[1, 2, 3, 4, 5],

@@ -11,12 +11,12 @@ Goal (issue 2): >= 1 000 000 vessel-steps/s at N = 10 000.
 import numpy as np
 
 from ship_sim.integrators import rk4_step
-from ship_sim.models import make_model
+from ship_sim.models import make_model, model_names
 
 from . import common
 
 H = 0.1
-MODELS = ('mariner', 'tanker', 'container')
+MODELS = model_names('mss')
 SIZES = (1, 100, 10_000)
 GOAL_N = 10_000
 GOAL_RATE = 1_000_000.0

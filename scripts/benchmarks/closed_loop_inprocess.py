@@ -56,18 +56,18 @@ def build_vessel(scenario, spec):
     from ship_planner.route_loader import load_route
     from ship_sim.current import OceanCurrent
     from ship_sim.frames import yaw_to_psi
-    from ship_sim.models import make_model
+    from ship_sim.models import card
     from ship_sim.simulator import VesselSimulator
 
     from ship_sim.schema import VESSEL_NODE
-    from ship_sim.vessel_node import MODEL_KWARGS
 
     route = load_route(spec.route_file).route
     x, y, yaw = start_pose(spec, route)
-    table = MODEL_KWARGS[spec.model]
+    vessel_card = card(spec.model)
+    table = vessel_card.node_kwargs
     vessel_params = VESSEL_NODE.current_names(spec.vessel_params)
-    model = make_model(spec.model, **{table[k]: v for k, v in vessel_params.items()
-                                      if k in table and v})
+    model = vessel_card.make(**{table[k]: v for k, v in vessel_params.items()
+                                if k in table and v})
     cur = spec.current
     current = (OceanCurrent(cur.get('speed_mps', 0.0), math.radians(cur.get('direction_deg', 0.0)))
                if cur else None)

@@ -8,11 +8,12 @@ of a one-vessel step (Blendermann).
 import math
 
 from ship_sim.environment.wind import WindField
+from ship_sim.models import model_names
 from ship_sim.simulator import BatchSimulator, VesselSimulator
 
 from . import common
 
-SHIPS = ('mariner', 'tanker', 'container')
+SHIPS = model_names('wind')
 N_BATCH = 10_000
 GOAL_RATIO = 2.0
 

@@ -31,12 +31,15 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from ship_sim.models import model_names
+
 #: Longest sim time of a run (s). The nominal meeting is at 1200 s, but a ship that has given
 #: way or stood on meets some targets later (closest approaches up to 1800 s) and then needs
 #: time to regain its route, so a run ends at the first moment ``RunEnd`` is satisfied and
 #: this generous limit only stops a run that never gets there (reported as ``limit``).
 LIMIT_S = 4000.0
-SHIPS = ('mariner', 'tanker', 'container')
+#: The benchmark's own ships: the MSS ship models (vessel cards labelled 'mss').
+SHIPS = model_names('mss')
 METHODS = ('sbmpc', 'vo')
 #: Guidance of every run: LOS (no integral: a cross-track integral winds up against the
 #: avoidance offset), the look-ahead a few ship lengths.

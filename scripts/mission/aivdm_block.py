@@ -14,7 +14,7 @@
 
 Every vessel, traffic vessel and light target is sent; the first vessel of `vessels:` is the
 own ship (AIVDO), all others AIVDM. A full vessel's length and beam are its model's overall
-length and beam where the model has them (ship_sim.environment.wind.WIND_PROFILES), else its
+length and beam where the model's card has them (ship_sim.models.card), else its
 length between perpendiculars and no beam; its ship type 70 (cargo). A light target has no
 dimensions unless `static` gives them.
 """
@@ -37,12 +37,11 @@ def _fail(scenario, key, what):
 
 
 def _model_dimensions(model):
-    from ship_sim.environment.wind import WIND_PROFILES
-    from ship_sim.models import make_model
-    w = WIND_PROFILES.get(model)
-    if w is not None:
-        return w.Loa, w.B
-    return float(make_model(model).length), 0.0
+    from ship_sim.models import card
+    c = card(model)
+    if c.Loa is not None and c.beam is not None:
+        return c.Loa, c.beam
+    return c.Lpp, 0.0
 
 
 def aivdm_parameters(scenario, run):

@@ -48,10 +48,10 @@ def check_wind(block, path, where):
 
 def check_wind_model(spec, path):
     """ScenarioError if a VesselSpec has a wind (speed or gusts) but its model no wind loads."""
-    from ship_sim.environment.wind import WIND_PROFILES
+    from ship_sim.models import model_names
     windy = spec.wind.get('speed_mps', 0.0) > 0.0 or spec.wind.get('gust_sd_mps', 0.0) > 0.0
-    need(not windy or spec.model in WIND_PROFILES, path, f'{spec.namespace}.wind',
-         f"model {spec.model!r} has no wind loads (only {', '.join(WIND_PROFILES)}); give "
+    need(not windy or spec.model in model_names('wind'), path, f'{spec.namespace}.wind',
+         f"model {spec.model!r} has no wind loads (only {', '.join(model_names('wind'))}); give "
          'this vessel wind: {speed_mps: 0.0}')
 
 

@@ -16,7 +16,7 @@ import pytest
 from ship_autopilot import gains as design
 from ship_autopilot.identification import (fit_nomoto, heading_prediction_rms,
                                            identify_nomoto, zigzag_manoeuvre)
-from ship_sim.models import make_model
+from ship_sim.models import cards, make_model
 
 ROOT = Path(__file__).resolve().parents[2]
 DEG = math.pi / 180.0
@@ -103,13 +103,13 @@ def test_fit_refuses_bad_data():
 
 # -- the generated config files ----------------------------------------------------------------
 def test_config_files_cover_all_models_and_gains_follow_the_design():
-    for name in ('mariner', 'tanker', 'container', 'nomoto1', 'nps_auv2'):
+    for name in [c.name for c in cards() if c.identify]:
         nm = design.nomoto_gains(name)
         g = design.autopilot_gains(name)
         K, T, U, L = nm['K'], nm['T'], nm['speed_mps'], nm['length_m']
         assert nm['a'] == pytest.approx(-1 / T, rel=1e-5)
         assert nm['b'] == pytest.approx(-K / T, rel=1e-5)
-        wn = design.OMEGA_N_ND[name] * U / L
+        wn = design.omega_n_nd(name) * U / L
         assert g['omega_n'] == pytest.approx(wn, rel=1e-5)
         # Angelopoulos 2011 eq. (20) with a = -1/T, b = -K/T: k1 = wn^2 T / K, k2 = (2 zeta wn T - 1)/K.
         assert g['pd']['k1'] == pytest.approx(wn ** 2 * T / K, rel=1e-5)

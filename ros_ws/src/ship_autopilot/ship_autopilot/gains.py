@@ -12,13 +12,8 @@ identified K, T and writes ship_autopilot/data/autopilot_gains.yaml):
   stiff"; it is inside Fossen's (2011) recommended 0.8..1.0.
 - wn is chosen nondimensionally, wn' = wn L / U (time in ship lengths travelled, the natural
   time scale of steering; K' = K L/U, T' = T U/L are the usual nondimensional Nomoto gains):
-  * nps_auv2: wn' = 3.0, the value Simakis 1992 selects for the NPS AUV II (it reproduces the
-    thesis's gains k1, k2' from its a', b');
-  * the ships (mariner, tanker, container, nomoto1): wn' = 1.0, the closed-loop frequency
-    usual for ship autopilots; it satisfies Fossen's bandwidth rule 1/T < wn for the identified
-    T of every ship and gives k1 of order 1 (one degree of rudder per degree of heading error),
-    so the PD stays inside the rudder and rudder-rate limits for small errors, which a larger
-    wn' would not.
+  each model's card (ship_sim.models.card) states its wn' (``omega_n_nd``) and why
+  (``omega_n_nd_reason``): 1.0 for the ships, 3.0 for the NPS AUV II (Simakis 1992).
 - Fuzzy PID (Lee 2004 Ch. 5, ship_autopilot.fuzzy_pid): its linearisation at the origin is the
   PID K_P = k1, K_D = k2 (the PD above near zero error), K_I = k1 wn / 10 (Fossen's rule of
   thumb for the integral of a PID autopilot: integral time 10/wn, well below the closed-loop
@@ -31,9 +26,10 @@ identified K, T and writes ship_autopilot/data/autopilot_gains.yaml):
   it limits the overshoot the integral adds to large course changes, and any offset the rudder
   can hold leaves a PD error well inside the band (k1 is of order 1).
 
-Files (data YAML read by this module; the autopilot node chooses one model's entry):
-- data/nomoto_gains.yaml: identified K, T, a, b per model with the manoeuvre used.
-- data/autopilot_gains.yaml: the design choices above and the resulting gains per model.
+Files (data YAML read by this module; the autopilot node chooses one model's entry), in the
+folder the model's card names (``gain_tables``; by default this package's data/):
+- nomoto_gains.yaml: identified K, T, a, b per model with the manoeuvre used.
+- autopilot_gains.yaml: the design choices above and the resulting gains per model.
 """
 from dataclasses import dataclass
 from pathlib import Path
@@ -48,9 +44,6 @@ from .rudder import RudderLimiter
 
 #: Default damping ratio (Simakis 1992 Ch. III).
 ZETA = 0.8
-#: Nondimensional natural frequency wn L / U per model (see the module docstring).
-OMEGA_N_ND = {'nps_auv2': 3.0, 'mariner': 1.0, 'tanker': 1.0, 'container': 1.0,
-              'nomoto1': 1.0, 'nomoto2': 1.0}
 #: Integral gain of the fuzzy PID's linearisation: K_I = K_P * wn * KI_FACTOR.
 KI_FACTOR = 0.1
 #: Heading error (deg) where the fuzzy PID's error input reaches the edge of its universe.
@@ -66,9 +59,21 @@ CONTROLLERS = ('pd', 'fuzzy_pid')
 DATA_DIR = Path(__file__).resolve().parent / 'data'
 
 
-def config_dir():
-    """Folder of the gain tables (package data; scripts/identify_nomoto.py writes them)."""
+def config_dir(model=None):
+    """Folder of the gain tables of ``model`` (its card's ``gain_tables``), or of the shipped
+    models (package data; scripts/identify_nomoto.py writes them)."""
+    if model is not None:
+        from ship_sim.models import card
+        folder = card(model).gain_tables
+        if folder is not None:
+            return Path(folder)
     return DATA_DIR
+
+
+def omega_n_nd(model):
+    """The nondimensional closed-loop natural frequency wn L / U of ``model`` (its card)."""
+    from ship_sim.models import card
+    return float(card(model).omega_n_nd)
 
 
 def design_gains(K, T, speed, length, omega_n_nd=1.0, zeta=ZETA, ki_factor=KI_FACTOR,
@@ -107,14 +112,14 @@ def load_yaml(path):
 
 
 def nomoto_gains(model, path=None):
-    """Identified {K, T, a, b, ...} of ``model`` from data/nomoto_gains.yaml (or ``path``)."""
-    data = load_yaml(path or config_dir() / 'nomoto_gains.yaml')
+    """Identified {K, T, a, b, ...} of ``model`` from its nomoto_gains.yaml (or ``path``)."""
+    data = load_yaml(path or config_dir(model) / 'nomoto_gains.yaml')
     return _entry(data, model, path or 'nomoto_gains.yaml')
 
 
 def autopilot_gains(model, path=None):
-    """Designed gains of ``model`` from data/autopilot_gains.yaml (or ``path``)."""
-    data = load_yaml(path or config_dir() / 'autopilot_gains.yaml')
+    """Designed gains of ``model`` from its autopilot_gains.yaml (or ``path``)."""
+    data = load_yaml(path or config_dir(model) / 'autopilot_gains.yaml')
     return _entry(data, model, path or 'autopilot_gains.yaml')
 
 

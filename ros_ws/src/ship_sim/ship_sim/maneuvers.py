@@ -165,10 +165,8 @@ def steady_turn(model, rudder, shaft=None, h=0.1, chunk_s=200.0, rel_tol=1e-6, t
 
 
 def _speed(model, x):
-    """Speed through the water (m/s); constant-speed models have no ``speed`` of their own."""
-    if hasattr(model, 'speed'):
-        return np.squeeze(model.speed(np.asarray(x)[None]))
-    return np.hypot(x[model.IU], x[model.IV])
+    """Speed through the water (m/s) of one state."""
+    return float(model.speed(np.asarray(x)))
 
 
 def zigzag(model, rudder, switch_heading, shaft=None, h=0.1, t_end=700.0):

@@ -6,7 +6,7 @@ them and the launcher checks scenario values against them before anything starts
 from ship_sim.environment.sea_state import SPECTRUM_NAMES
 from ship_sim.environment.wind import COEFFICIENTS, WindField
 from ship_sim.light_traffic import parse_targets
-from ship_sim.models import MODEL_NAMES
+from ship_sim import models
 from ship_sim.param_schema import NodeSchema, Param
 
 
@@ -19,9 +19,19 @@ def light_targets_problem(text):
     return None
 
 
+def registered_model_problem(name):
+    """None if ``name`` is a registered vessel card, looked up when asked (cards may be
+    registered after this module is imported), else what is allowed."""
+    if name in models.MODEL_NAMES:
+        return None
+    return 'one of ' + ', '.join(repr(n) for n in models.MODEL_NAMES)
+
+
 VESSEL_NODE = NodeSchema('ship_sim', 'vessel_node', summary='the plant: a ship model, its '
                          'environment and the simulation clock', params=(
-    Param.of('model', 'mariner', 'plant model', choices=MODEL_NAMES, read_only=True),
+    Param.of('model', 'mariner', 'plant model: the name of a registered vessel card (mariner, '
+        'tanker, container, nomoto1, nomoto2, nps_auv2, and any card added by SHIPNAV_EXTRA_CARDS)',
+        read_only=True, check='registered_model'),
     Param.of('preset', '', "model preset ('' = the model's default; nomoto1/"
         'nomoto2: mariner or tanker)', read_only=True),
     Param.of('nominal_speed_mps', 0.0, 'nominal speed of the model (mariner U0, nomoto/nps_auv2 '
@@ -127,7 +137,7 @@ VESSEL_NODE = NodeSchema('ship_sim', 'vessel_node', summary='the plant: a ship m
     Param.of('waves_omega_max', 3.0, 'highest wave frequency', lo=0.5, hi=6.0, unit='rad/s', read_only=True),
     Param.of('waves_seed', 0, 'random seed of the wave components (same seed, same '
         'waves)', lo=0, hi=2**31 - 1, read_only=True),
-))
+), checks={'registered_model': registered_model_problem})
 # publish_rate's 'substeps_of_dt' needs dt's value: vessel_node gives it.
 
 TRAFFIC_NODE = NodeSchema('ship_sim', 'traffic_node', summary='light targets on straight '

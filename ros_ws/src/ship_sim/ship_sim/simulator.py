@@ -42,7 +42,7 @@ import numpy as np
 from .environment.wind import wind_disturbance, wind_loads, wind_profile
 from .frames import wrap_angle
 from .integrators import rk4_step
-from .models import VesselModel, make_model
+from .models import VesselModel, make_model, model_names
 
 
 def _model_from(model, model_params):
@@ -91,7 +91,7 @@ class _SimulatorCore:
         if wind is not None:
             if not m.takes_external_loads:
                 raise ValueError(f'wind: model {m.name!r} takes no external loads; use one of '
-                                 'mariner, tanker, container')
+                                 f"{', '.join(model_names('wind'))}")
             self.wind_profile = wind_profile(m.name)
             wind_loads(self.wind_profile, 1.0, 0.0, wind_coefficients)   # checks the name
 

@@ -70,7 +70,7 @@ from std_msgs.msg import Bool, Float64, UInt64
 from ship_sim.current import OceanCurrent
 from ship_sim.environment.wind import WindField
 from ship_sim.frames import yaw_to_psi
-from ship_sim.models import ModelStateError, make_model
+from ship_sim.models import ModelStateError, card, model_names
 from ship_sim.pacing import LockstepPacer, RealtimePacer, StepGate
 from ship_sim.ros.conversions import base_link_frame, fill_odometry, time_to_msg
 from ship_sim.ros.params import NodeParameters, ParameterError
@@ -80,18 +80,6 @@ from ship_sim.ros.waves import WaveOdometry, declare_waves
 from ship_sim.simulator import VesselSimulator
 from ship_sim.speed_factor import scaled_shaft
 from ship_sim.schema import VESSEL_NODE
-
-# Node parameter -> model constructor keyword, per model. 0 / '' means "model default" and is
-# not passed; a non-default value for a model without that keyword is refused.
-MODEL_KWARGS = {
-    'mariner': {'nominal_speed_mps': 'U0'},
-    'tanker': {'water_depth_m': 'h'},
-    'container': {},
-    'nomoto1': {'preset': 'preset', 'nominal_speed_mps': 'U'},
-    'nomoto2': {'preset': 'preset', 'nominal_speed_mps': 'U'},
-    'nps_auv2': {'nominal_speed_mps': 'U'},
-}
-
 
 class VesselNode(Node):
     def __init__(self):
@@ -162,8 +150,11 @@ class VesselNode(Node):
         c_seed = p.param('current_seed')
         self._wind, self._wind_coefficients = _declare_wind(p)
 
-        # Model.
-        table = MODEL_KWARGS[model]
+        # Model: the card says which node parameters its constructor takes. 0 / '' means
+        # "model default" and is not passed; a non-default value for a model without that
+        # keyword is refused.
+        vessel_card = card(model)
+        table = vessel_card.node_kwargs
         kwargs = {}
         for pname, value in given.items():
             if not value:
@@ -178,7 +169,7 @@ class VesselNode(Node):
         if rrate:
             kwargs['rudder_rate_max'] = math.radians(rrate)
         try:
-            m = make_model(model, **kwargs)
+            m = vessel_card.make(**kwargs)
         except (ValueError, TypeError) as exc:
             raise ParameterError('model', message=f'model {model!r} with {kwargs}: {exc}') from None
 
@@ -223,9 +214,9 @@ class VesselNode(Node):
         """VesselSimulator keywords for the wind; ParameterError if the model cannot take it."""
         if self._wind is None:
             return {}
-        if not model.takes_external_loads:
+        if not card(model.name).has_wind:
             raise ParameterError('wind_speed', message=f'wind needs a model with wind loads '
-                                 f'(mariner, tanker, container), not {model.name!r}; set '
+                                 f"({', '.join(model_names('wind'))}), not {model.name!r}; set "
                                  'wind_speed and wind_gust_sd to 0')
         return {'wind': self._wind, 'wind_coefficients': self._wind_coefficients}
 

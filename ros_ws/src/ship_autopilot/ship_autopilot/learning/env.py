@@ -66,15 +66,11 @@ import numpy as np
 from ship_guidance.path import Line, Route
 from ship_guidance.path_state import CLIP, OBS_DIM, PathFeatures, default_scales, normalise
 from ship_sim.environment.wind import wind_disturbance, wind_profile
-from ship_sim.models import make_model
+from ship_sim.models import card, make_model
 
 from .reward import gaussian_reward, rudder_change_penalty
 
 MODES = ('straight', 'curved')
-
-#: Nominal curve per ship (amplitude m, wavelength m), as scenarios/routes/curved_path_*_000.yaml.
-NOMINAL_CURVES = {'mariner': (500.0, 4000.0), 'container': (250.0, 4000.0),
-                  'tanker': (250.0, 5000.0)}
 
 
 @dataclass(frozen=True)
@@ -112,7 +108,8 @@ class EnvConfig:
 def make_curve_pool(model_name, speed, config, rng):
     """``config.n_routes`` sine Routes (NED) for ``model_name`` (see the module docstring)."""
     from ship_guidance.curves import sine_route  # only curved mode samples a curve
-    amp0, wave0 = NOMINAL_CURVES.get(model_name, (500.0, 4000.0))
+    # The card's nominal curve (amplitude m, wavelength m); the Mariner's if it states none.
+    amp0, wave0 = card(model_name).nominal_curve or card('mariner').nominal_curve
     r_min0 = wave0 ** 2 / (4 * math.pi ** 2 * amp0)
     length = speed * config.episode_s + config.route_margin + config.start_along_max
     routes = []

@@ -47,8 +47,10 @@ class PolicyError(ValueError):
 
 
 def policy_path(model):
-    """Path of the shipped policy of ``model``."""
-    return POLICY_DIR / f'{model}.npz'
+    """Path of the shipped policy of ``model``: its card's ``policy`` file, else where a new
+    one is saved (``<model>.npz``; name it on the card to ship it)."""
+    from ship_sim.models import card
+    return POLICY_DIR / (card(model).policy or f'{model}.npz')
 
 
 def weights_hash(weights):

@@ -31,12 +31,22 @@ from ship_sim.environment.sea_state_relations import G, hs2vw, vw2hs
 from ship_sim.environment.wave_directional import SPECTRA, wave_directional_spectrum
 from ship_sim.environment.wave_rao import WaveResponse, load_rao_table
 
-#: model name -> (RAO vessel, scale to the model's length?)
-MODEL_RAO = {'container': ('s175', False), 'mariner': ('s175', True), 'tanker': ('s175', True),
-             'nomoto1': ('s175', True), 'nomoto2': ('s175', True)}
 RHO = 1025.0
 #: spectrum parameter value (vessel_node's waves_spectrum) -> SeaState.spectrum
 SPECTRUM_NAMES = {'jonswap': 'JONSWAP', 'modified_pm': 'Modified PM', 'torsethaugen': 'Torsethaugen'}
+
+
+def __getattr__(name):
+    # MODEL_RAO: model name -> (RAO vessel, scale to the model's length?) of the registered
+    # cards (read at each access, so a card registered later is included).
+    if name == 'MODEL_RAO':
+        return _model_rao()
+    raise AttributeError(f'module {__name__!r} has no attribute {name!r}')
+
+
+def _model_rao():
+    from ship_sim.models import cards
+    return {c.name: c.rao for c in cards() if c.has_waves}
 
 
 def pm_peak_frequency(hs):
@@ -108,11 +118,12 @@ class SeaState:
 
 
 def rao_table_for(model_name, length, kind='motion'):
-    """The RAO table used for a plant model (MODEL_RAO), scaled to ``length`` (m) if needed."""
-    if model_name not in MODEL_RAO:
+    """The RAO table of a plant model (its card's ``rao``), scaled to ``length`` (m) if needed."""
+    rao = _model_rao()
+    if model_name not in rao:
         raise ValueError(f'no wave RAOs for model {model_name!r} (models with waves: '
-                         f'{", ".join(MODEL_RAO)})')
-    vessel, scaled = MODEL_RAO[model_name]
+                         f'{", ".join(rao)})')
+    vessel, scaled = rao[model_name]
     table = load_rao_table(vessel, kind)
     return table.froude_scaled(length) if scaled and length != table.length else table
 

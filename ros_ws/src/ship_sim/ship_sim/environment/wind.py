@@ -30,61 +30,39 @@ leaves every model exactly as it was (the difference is 0.0), and the loads grow
 from zero wind speed.
 """
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from ..current import _param, gauss_markov_step, random_source
 from ..models.math_backends import ARRAY_OPS, FLOAT_OPS
+from .wind_profile import WindProfile  # noqa: F401 (re-exported)
 from .wind_coefficients import (blendermann94_roll, blendermann94_terms, blendermann_row,
                                 isherwood72)
 
 COEFFICIENTS = ('blendermann94', 'isherwood72')
 
 
-@dataclass(frozen=True)
-class WindProfile:
-    """Above-water geometry of a ship for the wind coefficients (m, m^2; README table)."""
-
-    Loa: float      # length overall
-    B: float        # beam
-    ALw: float      # lateral projected area
-    AFw: float      # frontal projected area
-    A_SS: float     # lateral projected area of the superstructure (Isherwood)
-    S: float        # perimeter of the lateral projection, without waterline and masts
-    C: float        # distance from the bow to the centroid of ALw
-    M: int          # number of distinct mast / king-post groups (Isherwood)
-    sH: float       # height of the centroid of ALw above the waterline (Blendermann)
-    sL: float       # longitudinal position of the centroid of ALw from midships, + forward
-    blendermann_type: int   # 1..17, wind_coefficients.BLENDERMANN_TYPES
-    source: str
+def _wind_cards():
+    from ..models import cards
+    return {c.name: c.wind for c in cards() if c.has_wind}
 
 
-#: Stated estimates for the three MSS ships (how each number is derived: README "Wind and
-#: waves"). Only Lpp, beam, draft and mass are given by MSS; the rest are estimates.
-WIND_PROFILES = {
-    'mariner': WindProfile(Loa=171.8, B=23.2, ALw=1500.0, AFw=310.0, A_SS=450.0, S=210.0,
-                           C=88.0, M=4, sH=5.3, sL=-2.0, blendermann_type=2,
-                           source='Mariner class C4-S-1a: Loa and beam of the class; areas '
-                                  'estimated'),
-    'tanker': WindProfile(Loa=320.0, B=47.17, ALw=2500.0, AFw=850.0, A_SS=700.0, S=370.0,
-                          C=198.0, M=1, sH=6.4, sL=-38.0, blendermann_type=15,
-                          source='Esso 190 000 dwt tanker: beam from SIMtanker.m; Loa and '
-                                 'areas estimated'),
-    'container': WindProfile(Loa=183.0, B=25.4, ALw=2100.0, AFw=450.0, A_SS=800.0, S=220.0,
-                             C=95.0, M=1, sH=6.1, sL=-3.5, blendermann_type=4,
-                             source='S-175 container ship: beam from container.m; Loa and '
-                                    'areas estimated'),
-}
+def __getattr__(name):
+    # WIND_PROFILES: model name -> WindProfile of the registered cards (read at each access, so
+    # a card registered later is included); the profiles themselves live on the cards.
+    if name == 'WIND_PROFILES':
+        return _wind_cards()
+    raise AttributeError(f'module {__name__!r} has no attribute {name!r}')
 
 
 def wind_profile(model_name):
     """The WindProfile of a plant model by name; ValueError naming the models that have one."""
+    profiles = _wind_cards()
     try:
-        return WIND_PROFILES[model_name]
+        return profiles[model_name]
     except KeyError:
         raise ValueError(f'wind: model {model_name!r} has no wind profile; allowed: '
-                         f"{', '.join(WIND_PROFILES)}") from None
+                         f"{', '.join(profiles)}") from None
 
 
 class WindField:

@@ -88,6 +88,11 @@ class VesselModel(ABC):
         """Total surge speed through the water (m/s)."""
         return np.asarray(x)[..., self.IU]
 
+    def speed(self, x):
+        """Speed through the water U = sqrt(surge^2 + v^2) (m/s), as MSS returns it; every
+        model has both in its state (the sweeps and the learning environment ask for it)."""
+        return np.hypot(self.surge_speed(x), np.asarray(x)[..., self.IV])
+
     @abstractmethod
     def initial_state(self, speed=None, north=0.0, east=0.0, psi=0.0, shaft=None):
         """State for straight running at ``speed`` (m/s, model default if None) at a pose (NED)."""

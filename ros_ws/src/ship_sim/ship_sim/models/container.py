@@ -24,6 +24,8 @@ system of container.m: forces / (1/2 rho L^2 U^2), moments / (1/2 rho L^3 U^2), 
 """
 import math
 
+from ..environment.wind_profile import WindProfile
+from .card import SHIP_OMEGA_N_ND_REASON, VesselCard
 from .mss_ship import MssShip, rudder_servo
 
 L = 175.0                       # length between perpendiculars (m)
@@ -188,3 +190,17 @@ class Container(MssShip):
         self._require(surge > 0.0, 'surge velocity u must be > 0 m/s (and U > 0)', surge)
         n = x[..., self.IN]
         self._require(n > 0.0, 'shaft speed n must be > 0 rpm (container.m errors)', n)
+
+
+#: Above-water geometry for the wind loads (README "Wind and waves"; estimates but the beam).
+WIND = WindProfile(Loa=183.0, B=25.4, ALw=2100.0, AFw=450.0, A_SS=800.0, S=220.0, C=95.0, M=1,
+                   sH=6.1, sL=-3.5, blendermann_type=4,
+                   source='S-175 container ship: beam from container.m; Loa and areas '
+                          'estimated')
+
+# The S-175 is this ship: its RAO table needs no scaling.
+CARD = VesselCard(
+    name='container', model=Container, node_kwargs={}, kinds={'ship', 'mss'},
+    Loa=WIND.Loa, beam=WIND.B, wind=WIND, rao=('s175', False),
+    omega_n_nd=1.0, omega_n_nd_reason=SHIP_OMEGA_N_ND_REASON,
+    nominal_curve=(250.0, 4000.0), policy='container.npz')

@@ -25,6 +25,8 @@ K is ignored (3 DOF).
 """
 import math
 
+from ..environment.wind_profile import WindProfile
+from .card import SHIP_OMEGA_N_ND_REASON, VesselCard
 from .mss_ship import MssShip, rudder_servo
 
 L = 160.93           # length between perpendiculars (m)
@@ -145,3 +147,16 @@ class Mariner(MssShip):
     def _check_domain(self, x, u):
         U = self.speed(x)
         self._require(U > 0.0, 'speed U = sqrt((U0+u)^2+v^2) must be > 0 m/s', U)
+
+
+#: Above-water geometry for the wind loads (how each number is derived: README "Wind and
+#: waves"; only Lpp, beam, draft and mass are given by MSS, the rest are estimates).
+WIND = WindProfile(Loa=171.8, B=23.2, ALw=1500.0, AFw=310.0, A_SS=450.0, S=210.0, C=88.0, M=4,
+                   sH=5.3, sL=-2.0, blendermann_type=2,
+                   source='Mariner class C4-S-1a: Loa and beam of the class; areas estimated')
+
+CARD = VesselCard(
+    name='mariner', model=Mariner, node_kwargs={'nominal_speed_mps': 'U0'}, kinds={'ship', 'mss'},
+    Loa=WIND.Loa, beam=WIND.B, wind=WIND, rao=('s175', True),
+    omega_n_nd=1.0, omega_n_nd_reason=SHIP_OMEGA_N_ND_REASON,
+    nominal_curve=(500.0, 4000.0), policy='mariner.npz')

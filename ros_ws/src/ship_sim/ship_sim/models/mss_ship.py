@@ -135,10 +135,6 @@ class MssShip(VesselModel):
             return np.array([float(c) for c in cols])
         return np.stack(np.broadcast_arrays(*cols), axis=-1)
 
-    def speed(self, x):
-        """Total speed through the water U = sqrt(surge^2 + v^2) (m/s), as MSS returns it."""
-        return np.hypot(self.surge_speed(x), np.asarray(x)[..., self.IV])
-
     def initial_state(self, speed=None, north=0.0, east=0.0, psi=0.0, shaft=None):
         """Straight running at a pose (NED, rad): v = r = 0, rudder 0, surge trim (subclass)."""
         x = np.zeros(self.n_states)

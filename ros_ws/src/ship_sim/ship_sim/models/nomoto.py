@@ -15,6 +15,7 @@ corrected), and the servo: ros_ws/src/ship_sim/doc/nomoto.md.
 """
 import numpy as np
 
+from .card import SHIP_OMEGA_N_ND_REASON, VesselCard
 from .constant_speed import ConstantSpeedModel, check_param
 
 # Preset values: Table 2.2 of Lee 2004 in the unified rudder sign (doc/nomoto.md).
@@ -175,3 +176,11 @@ class Nomoto2(_NomotoBase):
         xdot[..., 6] = delta_dot
         self._kinematics(x, xdot)
         return xdot
+
+
+# Waves: the S-175 RAOs Froude-scaled to the preset's length.
+CARDS = tuple(
+    VesselCard(name=cls.name, model=cls, node_kwargs={'preset': 'preset', 'nominal_speed_mps': 'U'},
+               kinds={'ship', 'nomoto'}, rao=('s175', True), omega_n_nd=1.0,
+               omega_n_nd_reason=SHIP_OMEGA_N_ND_REASON)
+    for cls in (Nomoto1, Nomoto2))

@@ -33,6 +33,7 @@ actual rudder like every other model.
 """
 import numpy as np
 
+from .card import VesselCard
 from .constant_speed import ConstantSpeedModel, check_param
 
 FT = 0.3048  # m per ft
@@ -144,3 +145,10 @@ class NpsAuv2(ConstantSpeedModel):
         a_n, b_n = self.nondimensional_nomoto_ab()
         w = self.U / self.length
         return a_n * w, b_n * w * w
+
+
+CARD = VesselCard(
+    name='nps_auv2', model=NpsAuv2, node_kwargs={'nominal_speed_mps': 'U'}, kinds={'auv'},
+    omega_n_nd=3.0,
+    omega_n_nd_reason='the value Simakis 1992 selects for the NPS AUV II (it reproduces the '
+                      "thesis's gains k1, k2' from its a', b')")

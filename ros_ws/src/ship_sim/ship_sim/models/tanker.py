@@ -30,6 +30,8 @@ SIMtanker.m states. K is ignored (3 DOF).
 """
 import math
 
+from ..environment.wind_profile import WindProfile
+from .card import SHIP_OMEGA_N_ND_REASON, VesselCard
 from .mss_ship import MssShip, rudder_servo
 
 L = 304.8          # length between perpendiculars (m)
@@ -160,3 +162,16 @@ class Tanker(MssShip):
         if u is not None:
             h = u[..., 2]
             self._require(h >= H_MIN, f'water depth h must be >= {H_MIN} m', h)
+
+
+#: Above-water geometry for the wind loads (README "Wind and waves"; estimates but the beam).
+WIND = WindProfile(Loa=320.0, B=47.17, ALw=2500.0, AFw=850.0, A_SS=700.0, S=370.0, C=198.0, M=1,
+                   sH=6.4, sL=-38.0, blendermann_type=15,
+                   source='Esso 190 000 dwt tanker: beam from SIMtanker.m; Loa and areas '
+                          'estimated')
+
+CARD = VesselCard(
+    name='tanker', model=Tanker, node_kwargs={'water_depth_m': 'h'}, kinds={'ship', 'mss'},
+    Loa=WIND.Loa, beam=WIND.B, wind=WIND, rao=('s175', True),
+    omega_n_nd=1.0, omega_n_nd_reason=SHIP_OMEGA_N_ND_REASON,
+    nominal_curve=(250.0, 5000.0), policy='tanker.npz')

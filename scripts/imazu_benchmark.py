@@ -305,7 +305,7 @@ def summarise(per_run, results, args, walls):
 
 def markdown_tables(summary, cases):
     """Markdown: the totals per ship and method, then per case 'min distance m / rule score /
-    back on route s' in each ship/method column (what the README's Imazu table shows)."""
+    back on route s' in each ship/method column (what the Imazu table of doc/results/imazu.md shows)."""
     groups = summary['groups']
     lines = ['| ship / method | runs | collisions (hull contact) | near misses (ship domain) | '
              'below r_min | min distance m | rule score (all) | rule score (cases 1-4) | '

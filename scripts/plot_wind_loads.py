@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Plot the wind loads of the three MSS ships against the relative wind angle (README "Wind and
-waves"): surge and sway force, roll and yaw moment at a given relative wind speed, Blendermann
+"""Plot the wind loads of the three MSS ships against the relative wind angle (doc/results/
+wind_waves.md): surge and sway force, roll and yaw moment at a given relative wind speed, Blendermann
 1994 (the ship's type) and Isherwood 1972, from ship_sim.environment.wind with each ship's
 stated geometry (WIND_PROFILES).
 

@@ -37,7 +37,7 @@ def main(argv=None):
                     help="the bag's MCAP chunk compression (default: the scenario's "
                     "bag_compression, else zstd)")
     ap.add_argument('--live', action='store_true', help='serve the topics to Foxglove / '
-                    'Lichtblick while the run goes (scripts/live_view.py; README Live view)')
+                    'Lichtblick while the run goes (scripts/live_view.py; doc/guide/live_view.md)')
     ap.add_argument('--live-port', type=integer(0, 65535), default=8765,
                     help='port of --live (127.0.0.1)')
     ap.add_argument('--live-nice', type=integer(0, 19), default=10, help='CPU niceness of --live once '

@@ -3,8 +3,8 @@
 Cumulative Gaussian reward per curved-path episode for LOS + PD, ILOS + PD, LOS + fuzzy PID,
 the tuned LOS + fast PD + turn-rate lead, and the shipped DDPG policies, on the three MSS ships
 at current 0 and 0.9 m/s, from the same fixed start states. The full run (5 starts, 1000 s) takes
-~10 min on two cores; ``--quick`` runs 1 start for 300 s (a smoke run: its numbers are not the
-README's). The goal line is the issue's: the learned policy's reward is at least the best
+~10 min on two cores; ``--quick`` runs 1 start for 300 s (a smoke run: its numbers are not
+the results page's). The goal line is the issue's: the learned policy's reward is at least the best
 classical controller's, per ship and current. The evaluation's own JSON and Markdown go to
 bench/results/controllers.{json,md,html} next to bench.json.
 """
@@ -46,5 +46,5 @@ def run(quick=False):
     return {'title': f'Table I of Martinsen and Lekkas 2018: cumulative Gaussian reward, {n_starts} start(s), '
                      f'{duration:g} s episodes (sum at 0.1 s)',
             'columns': columns, 'rows': rows, 'goals': goals, 'failed': failed,
-            'notes': ['quick run: 1 start, 300 s; not comparable to the README table'] if quick
+            'notes': ['quick run: 1 start, 300 s; not comparable to the doc/results/wind_waves.md'] if quick
             else [], 'results': results}

@@ -1,5 +1,5 @@
 """Two-ship encounter figures from a run's bag: closest approach, the side it was passed on and
-the own ship's alteration (what the collision-avoidance test and README report).
+the own ship's alteration (what the collision-avoidance test and doc/results/encounters.md report).
 
 - ``min_distance``: the smallest range between the two odometry tracks, at the own stamps (in
   lockstep both step on the same stamps; otherwise the target is interpolated), its time, and

@@ -46,7 +46,7 @@ metadata.yaml says ``compression_format: ''`` and ``compression_mode: ''``, as r
 writes it for MCAP chunk compression (its file and message modes are something else).
 
 Executor: rclpy's EventsExecutor (several times the callback rate of SingleThreadedExecutor;
-README Performance), driven by ``spin_once`` because its ``spin()`` in this Jazzy wheel
+doc/results/performance.md), driven by ``spin_once`` because its ``spin()`` in this Jazzy wheel
 never fires timers and ignores SIGINT.
 
 Lockstep acknowledgements (``acks``, ``--ack``): the recorder can take part in the lockstep

@@ -188,7 +188,7 @@ def episode_chunks(episodes, chunk_size):
 #: Largest automatic chunk, in episode-seconds (2000 episodes of 1000 s, 20 M vessel-steps):
 #: the batched loop pays numpy's per-call cost once per step for the whole batch, so a step
 #: costs about the same wall time from 1 to a few hundred vessels and the cost per vessel-step
-#: falls until N ~ 2000 (README, Performance). Memory stays O(N): a few MB.
+#: falls until N ~ 2000 (doc/results/performance.md). Memory stays O(N): a few MB.
 CHUNK_EPISODE_SECONDS = 2_000_000
 
 

@@ -362,7 +362,7 @@ def run_twice_complete(launch, scenario, duration_s, wall_timeout_s=240.0, colav
 
     The two runs go one after the other. Started together, a light target's step-0 odom was once
     lost while both graphs came up (colav then decided without it after 10 s: a known start-up
-    race, see the README's Known limits), which the repeat check must not trip on."""
+    race, see doc/known_limits.md), which the repeat check must not trip on."""
     runs, metrics = zip(*(run_complete(launch, scenario, duration_s, wall_timeout_s)
                           for _ in range(2)))
     assert metrics[0]['vessels'] == metrics[1]['vessels']

@@ -42,7 +42,7 @@ REPORT_PERIOD_S = 6.0
 # The run must hold the closest approach and the opening after it. Head-on from R0 = 4000 m at
 # U = 7.7175 m/s each, the own course altered by theta: the relative velocity's part along the
 # line of sight is U (1 + cos theta) of |v_rel|^2 = 4 U^2 cos^2(theta / 2), so the closest point
-# comes at R0 / (2 U) = 259 s whatever theta, plus the time the turn takes (README's run:
+# comes at R0 / (2 U) = 259 s whatever theta, plus the time the turn takes (doc/results/encounters.md's run:
 # 267 s). 320 s leaves about a minute of opening range; the waypoint target's second leg starts
 # at 200 s, so both legs are checked (after its last waypoint, at 400 s: tests/unit/
 # test_light_traffic.py).

@@ -27,7 +27,7 @@ SCENARIO = REPO_ROOT / 'scenarios' / 'crossing_light_target_mariner.yaml'
 OWN, TARGET = 'vessel_0', 'target_1'
 # The run must hold the closest approach and the own ship reaching the target's track (the
 # passing-astern check). Both at U = 7.7175 m/s, left alone they meet at 300 s; the own ship,
-# altered by theta to starboard, passes nearest before that (README's run: 243 s). It reaches
+# altered by theta to starboard, passes nearest before that (doc/results/encounters.md's run: 243 s). It reaches
 # the target's track (x = 2315 m) about when the avoiding course ends (~370 s there): once they
 # open, when the range passes colav threat_m (1852 m), sqrt(threat_m^2 - d^2) / v_rel after the
 # closest point, with v_rel = 2 U sin(45 deg + theta / 2) for courses 90 deg + theta apart:

@@ -5,7 +5,7 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
 LAYOUT = REPO / 'scripts' / 'live_view_layout.json'
-#: Per-vessel topics the nodes publish (README Topics): the layout may name only these.
+#: Per-vessel topics the nodes publish (doc/guide/topics.md): the layout may name only these.
 PUBLISHED = {'odom', 'route', 'rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_error',
              'heading', 'fix', 'nav_markers', 'colav_markers'}
 

@@ -27,7 +27,7 @@ Subclasses implement ``_initial_state()`` (dict of state names -> values) and
 commits the new state only where the input was valid. A subclass whose ``_law`` also works
 on Python floats sets ``scalar_law = True``: one vessel's valid update then runs on floats
 (same arithmetic without numpy's per-call overhead, which dominates one vessel's update;
-it runs every control step in the node; figures in the README, Performance).
+it runs every control step in the node; figures in the doc/results/performance.md).
 """
 import math
 

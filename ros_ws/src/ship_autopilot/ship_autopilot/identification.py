@@ -24,7 +24,7 @@ What to expect: K and T of a real ship depend on the manoeuvre. A first-order fi
 frequencies the zig-zag excites (periods of 1-3 minutes for the ships), not the low-frequency
 limit T = T1 + T2 - T3 of a second-order Nomoto model (Lee 2004 Table 2.2), and a nonlinear
 hull gives a different fit for each zig-zag amplitude (the MSS mariner's yaw damping grows with
-the yaw rate). The fitted values are in the README (Identified Nomoto models).
+the yaw rate). The fitted values are in the doc/results/nomoto.md.
 
 Simulation: the model's own MSS RK4 step (``model.step`` when the model has it, else
 ship_sim.integrators.rk4_step on ``model.rhs``), input held over each step.

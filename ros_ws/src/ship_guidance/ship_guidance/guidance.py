@@ -37,7 +37,7 @@ How the route is followed:
 - Optional turn-rate lead (``curvature_lead``, needs the autopilot's zeta, omega_n and the
   speed; LOS / ILOS): psi_c += (2 zeta U / omega_n) kappa(s). On an arc the heading loop lags
   a turning command by 2 zeta r / omega_n (its velocity error); the lead cancels it (its effect
-  on the flagship route: README, Flagship scenario).
+  on the flagship route: doc/results/flagship.md).
 
 - Optional LOS point on turning circles (``arc_los_point``, law 'los' only; Lee 2004, Ch. 4,
   eq. 4.24): on an arc leg the command is the bearing of the point of the circle one

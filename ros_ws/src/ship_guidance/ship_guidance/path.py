@@ -57,7 +57,7 @@ MAX_ROUTE_SAMPLES = 100_000
 DEFAULT_WINDOW = 500.0
 #: ``Route.project`` searches up to this many legs on Python floats, more with numpy: the
 #: float loop's cost grows with the legs, the vectorised search has a fixed overhead that
-#: dominates for few legs (crossover measured, README Performance).
+#: dominates for few legs (crossover measured, doc/results/performance.md).
 FEW_LEGS = 16
 
 

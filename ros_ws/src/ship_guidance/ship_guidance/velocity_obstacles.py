@@ -24,7 +24,7 @@ intrusion into the cones); among equals the least cost. Ranking by the first ent
 instead (the choice before) is blind once the own ship is inside some target's d_safe: every
 straight line then starts inside that cone, every entry time is 0, and the tie went to the
 first scenario, the nominal, whatever it did to the other targets (Imazu cases 12, 13 and 17 on
-the Mariner, README). The shared last-resort check applies after either choice.
+the Mariner, doc/results/imazu.md). The shared last-resort check applies after either choice.
 """
 import numpy as np
 

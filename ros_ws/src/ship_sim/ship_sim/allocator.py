@@ -20,7 +20,7 @@ given back. Setting them also turns glibc's own adjustment off, so a figure no l
 on what ran before. The price is memory: a process keeps up to ``TRIM_THRESHOLD`` of freed
 heap it would otherwise return. This was chosen over preallocated work buffers (``out=``
 arguments) in every batched module: it covers every path, present and future, with the same
-effect on the faults and the time (README, Performance), and leaves the arithmetic untouched.
+effect on the faults and the time (doc/results/performance.md), and leaves the arithmetic untouched.
 
 Not glibc (macOS, musl), or thresholds the user set (``MALLOC_MMAP_THRESHOLD_``,
 ``MALLOC_TRIM_THRESHOLD_``, or ``glibc.malloc`` tunables in ``GLIBC_TUNABLES``): nothing is

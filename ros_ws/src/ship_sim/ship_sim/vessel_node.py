@@ -56,7 +56,7 @@ the answer to the last step too; lockstep_timeout bounds that wait).
 
 Executor: run_node spins with rclpy.experimental.EventsExecutor, which runs the lockstep loop
 several times faster than SingleThreadedExecutor (the measured round trips and the cost of a
-simulator step are in the README and `make bench`).
+simulator step are in doc/results/performance.md and `make bench`).
 """
 import math
 

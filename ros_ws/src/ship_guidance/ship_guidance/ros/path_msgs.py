@@ -14,7 +14,7 @@ coordinates within ship_guidance.path.MAX_COORDINATE_M of the origin. The nodes 
 route raw: the pose count is read from the serialized bytes before anything else, so an
 oversized Path costs microseconds, and the poses of an accepted one are read with numpy
 straight from the bytes (rclpy's conversion builds one Python object per pose, far slower;
-README Performance).
+doc/results/performance.md).
 """
 import struct
 

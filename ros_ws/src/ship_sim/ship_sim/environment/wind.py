@@ -14,7 +14,7 @@ V_rw = sqrt(u_rw^2 + v_rw^2) and gamma_rw = -atan2(v_rw, u_rw) (0 = wind from ah
 port: the sway force is then positive, to starboard).
 
 Loads (``wind_loads``): (X, Y, K, N) in the body frame from the ship's ``WindProfile``
-(projected areas and lengths, README "Wind and waves") and the coefficients of
+(projected areas and lengths, doc/results/wind_waves.md) and the coefficients of
 ship_sim.environment.wind_coefficients:
 - 'blendermann94' (default; the ship's Blendermann type; gives the roll moment K): evaluated at
   |gamma_rw| and mirrored (Y, K, N odd in gamma_rw, X even). This knowingly departs from MSS,

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class WindProfile:
-    """Above-water geometry of a ship for the wind coefficients (m, m^2; README table)."""
+    """Above-water geometry of a ship for the wind coefficients (m, m^2; doc/results/wind_waves.md)."""
 
     Loa: float      # length overall
     B: float        # beam

@@ -129,7 +129,7 @@ class Container(MssShip):
         Tm = ops.where(n > 0.3, 5.65 / n, 18.83)
         n_dot = 1 / Tm * (n_c - n) * 60
 
-        # Powers as products: numpy's pow with a negative base is far slower (README Performance).
+        # Powers as products: numpy's pow with a negative base is far slower (doc/results/performance.md).
         v2, r2, phi2 = v * v, r * r, phi * phi
         v3, r3 = v2 * v, r2 * r
 
@@ -192,7 +192,7 @@ class Container(MssShip):
         self._require(n > 0.0, 'shaft speed n must be > 0 rpm (container.m errors)', n)
 
 
-#: Above-water geometry for the wind loads (README "Wind and waves"; estimates but the beam).
+#: Above-water geometry for the wind loads (doc/results/wind_waves.md; estimates but the beam).
 WIND = WindProfile(Loa=183.0, B=25.4, ALw=2100.0, AFw=450.0, A_SS=800.0, S=220.0, C=95.0, M=1,
                    sH=6.1, sL=-3.5, blendermann_type=4,
                    source='S-175 container ship: beam from container.m; Loa and areas '

@@ -6,7 +6,7 @@ evaluated with
 
 - ``FLOAT_OPS``: Python floats and the ``math`` module. This is the single-vessel fast path:
   numpy's per-call overhead on a 0-d value dominates a 7-state model, while plain float
-  arithmetic is far cheaper per operation (README Performance).
+  arithmetic is far cheaper per operation (doc/results/performance.md).
 - ``ARRAY_OPS``: numpy arrays with any leading batch shape (thousands of vessels at once).
 
 ``sat`` is the symmetric saturation MSS codes as ``if abs(a) >= lim, a = sign(a)*lim; end``

@@ -164,7 +164,7 @@ class Tanker(MssShip):
             self._require(h >= H_MIN, f'water depth h must be >= {H_MIN} m', h)
 
 
-#: Above-water geometry for the wind loads (README "Wind and waves"; estimates but the beam).
+#: Above-water geometry for the wind loads (doc/results/wind_waves.md; estimates but the beam).
 WIND = WindProfile(Loa=320.0, B=47.17, ALw=2500.0, AFw=850.0, A_SS=700.0, S=370.0, C=198.0, M=1,
                    sH=6.4, sL=-38.0, blendermann_type=15,
                    source='Esso 190 000 dwt tanker: beam from SIMtanker.m; Loa and areas '

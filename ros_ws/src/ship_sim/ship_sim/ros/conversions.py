@@ -15,7 +15,7 @@ one message object instead of building a new tree of Python objects each time.
 ``odometry_to_ned`` also reads a serialized Odometry (``bytes``, what a subscription created
 with ``raw=True`` hands over) straight from its CDR bytes: the nodes that follow odom every
 step skip rclpy's conversion into nested Python message objects, the largest per-step cost
-of the guidance and autopilot nodes otherwise (README Performance).
+of the guidance and autopilot nodes otherwise (doc/results/performance.md).
 The byte layout is in ``odometry_cdr`` (shared with the bag reader); any encoding other than
 XCDR1 little endian is deserialised by rclpy.
 """

@@ -26,8 +26,8 @@ Exit codes:
 - the node's own code: a node that ends itself calls ``finish(node, code)``.
 
 Executor: EventsExecutor (rclpy.experimental, Jazzy) by default; it spins the lockstep
-vessel/echo loop several times faster than SingleThreadedExecutor (numbers in the README,
-Performance).
+vessel/echo loop several times faster than SingleThreadedExecutor (numbers in
+doc/results/performance.md).
 The environment variable SHIPNAV_EXECUTOR=single|events overrides the choice, for benchmarks.
 """
 import os

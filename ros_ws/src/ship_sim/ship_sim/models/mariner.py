@@ -149,7 +149,8 @@ class Mariner(MssShip):
         self._require(U > 0.0, 'speed U = sqrt((U0+u)^2+v^2) must be > 0 m/s', U)
 
 
-#: Above-water geometry for the wind loads (how each number is derived: doc/results/wind_waves.md; only Lpp, beam, draft and mass are given by MSS, the rest are estimates).
+#: Above-water geometry for the wind loads (how each number is derived: doc/results/wind_waves.md;
+#: only Lpp, beam, draft and mass are given by MSS, the rest are estimates).
 WIND = WindProfile(Loa=171.8, B=23.2, ALw=1500.0, AFw=310.0, A_SS=450.0, S=210.0, C=88.0, M=4,
                    sH=5.3, sL=-2.0, blendermann_type=2,
                    source='Mariner class C4-S-1a: Loa and beam of the class; areas estimated')

@@ -125,8 +125,10 @@ def run_ray(chunks, on_rows, address=None, workers=None, max_retries=DEFAULT_RET
     try:
         from ray.util.scheduling_strategies import NodeAffinitySchedulingStrategy
         chunk_task, starts_actor = _ray_remotes()
-        # On the driver's node, which outlives the sweep; any node if that one has gone.
-        here = NodeAffinitySchedulingStrategy(ray.get_runtime_context().get_node_id(), soft=True)
+        # On the driver's node, which lives as long as the driver (a soft affinity lets Ray put
+        # it on another node, which may be the one that dies).
+        here = NodeAffinitySchedulingStrategy(ray.get_runtime_context().get_node_id(),
+                                              soft=False)
         starts = starts_actor.options(scheduling_strategy=here).remote()
         task = chunk_task.options(max_retries=max_retries)
         pending = [task.remote(k, c, starts) for k, c in enumerate(chunks)]

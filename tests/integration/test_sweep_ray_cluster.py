@@ -13,6 +13,9 @@ shut down, even on failure; Ray needs no ROS domain.
 - One worker node, removed for good: no CPU is left for the pending chunks, the sweep stops
   with one line naming the missing episodes and --resume and keeps the finished rows; with a
   new node, --resume completes the same table.
+- Two worker nodes and no retries (the backend's max_retries set to 0): the removed node's
+  chunk fails for good, the sweep stops with one line, keeps the finished rows, and --resume
+  on the node left completes the same table.
 """
 import json
 import os
@@ -187,3 +190,41 @@ def test_a_node_lost_for_good_keeps_the_rows_and_resume_completes(cluster, sweep
     assert (out / 'results.csv').read_text() == local_table
     assert not partial.exists()
     print(f'cluster sweep, its only worker node removed: {errors[0]}')
+
+
+def test_a_chunk_whose_retries_all_fail_stops_the_sweep_in_one_line(cluster, sweep_file,
+                                                                    tmp_path, capsys,
+                                                                    monkeypatch):
+    path, local_table = sweep_file
+    real = backends.run_ray
+
+    def no_retries(chunks, on_rows, **kw):   # the node's death is then the chunk's last attempt
+        return real(chunks, on_rows, **kw, max_retries=0)
+    monkeypatch.setattr(backends, 'run_ray', no_retries)
+    c = cluster(2)
+    out = tmp_path / 'ray'
+    partial = out / results.PARTIAL_NAME
+    remover = NodeRemover(c, list(c.worker_nodes), partial)
+    remover.start()
+    code = sweep_cli.main([str(path), '--out', str(out), '--ray', c.address, *OPTS])
+    remover.join(timeout=5)
+    printed = capsys.readouterr()
+    assert remover.error is None, remover.error
+    assert remover.removed is not None, 'no worker node was seen running a chunk'
+    assert code == 1, printed.err
+    errors = [ln for ln in printed.err.splitlines() if ln.startswith('error')]
+    assert len(errors) == 1 and 'Traceback' not in printed.err
+    kept = sorted(json.loads(ln)['episode'] for ln in partial.read_text().splitlines()[1:])
+    missing = [k for k in range(N_EPISODES) if k not in kept]
+    assert len(kept) >= remover.rows_before and missing
+    assert 'a chunk failed on Ray' in errors[0] and '--resume' in errors[0]
+    assert (f'{len(missing)} of {N_EPISODES} episodes without a row: '
+            f'{results.episode_ranges(missing)}') in errors[0]
+
+    monkeypatch.setattr(backends, 'run_ray', real)   # the remaining node finishes the sweep
+    code = sweep_cli.main([str(path), '--out', str(out), '--ray', c.address, '--resume', *OPTS])
+    printed = capsys.readouterr()
+    assert code == 0, printed.err
+    assert json.loads((out / 'run.json').read_text())['resumed_rows'] == len(kept)
+    assert (out / 'results.csv').read_text() == local_table
+    print(f'cluster sweep, a chunk without retries on a removed node: {errors[0]}')

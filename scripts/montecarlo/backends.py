@@ -11,11 +11,12 @@ episode index whatever the completion order.
   every core). A worker that dies breaks the pool; the chunks without a result are submitted
   again to a new pool, at most ``max_retries`` times. Starts are counted in shared memory.
 - ``run_ray``: one Ray task per chunk (``num_cpus=1``, ``max_retries``: Ray reruns a task whose
-  worker process or node died), collected with ``ray.wait`` as they finish. Starts are counted
-  by a small actor on the driver's node (``_Starts``), since Ray does not tell a driver that it
-  retried a task (its state API needs the dashboard). A cluster left without a CPU (its worker
-  nodes lost for good) cannot run the chunks still pending, which Ray would wait for forever:
-  after ``NO_CPU_WAIT_S`` without one the sweep stops (SweepRunError). ``address`` is
+  worker process or node died), collected with ``ray.wait`` as they finish. Each attempt
+  writes a key into the cluster's key-value store (the head's GCS) as it starts, since Ray
+  does not tell a driver that it retried a task (its state API needs the dashboard). A
+  cluster left without a CPU (its worker nodes lost for good) cannot run the chunks still
+  pending, which Ray would wait for forever: after ``NO_CPU_WAIT_S`` without one the sweep
+  stops (SweepRunError). ``address`` is
   'auto' (the cluster of ``ray start`` on this machine), ``ray://host:10001`` or
   ``host:6379``, or None for a private local instance of ``workers`` CPUs (started and shut
   down here). Every node needs this repository at the same path and its .venv (``make
@@ -25,6 +26,7 @@ import concurrent.futures as cf
 import multiprocessing as mp
 import os
 import time
+import uuid
 
 from .episodes import run_chunk
 
@@ -73,29 +75,42 @@ def run_local(chunks, on_rows, workers=None, max_retries=DEFAULT_RETRIES):
                                     f'{len(todo)} chunks not run') from None
 
 
-def _ray_remotes():
-    """(the chunk task, the start-counting actor class), defined once Ray is imported."""
+#: Namespace of the start records in the Ray cluster's key-value store (on its head, the GCS).
+_KV_NAMESPACE = 'shipnav_sweep'
+
+
+def _ray_task():
     import ray
 
-    @ray.remote(num_cpus=0)
-    class _Starts:
-        def __init__(self):
-            self.starts = {}
-
-        def start(self, k):
-            self.starts[k] = self.starts.get(k, 0) + 1
-
-        def reruns(self):
-            return sorted(k for k, n in self.starts.items() if n > 1)
-
     @ray.remote(num_cpus=1)
-    def chunk_task(k, chunk, starts):
+    def chunk_task(run_id, k, chunk):
+        # A key per attempt, written before the work so that an attempt lost with its worker
+        # or node is counted. The store's put is a direct call to the head: a ray.get here (an
+        # actor keeping count) would lend this task's CPU to another chunk while it waits.
+        from ray.experimental import internal_kv
         try:
-            ray.get(starts.start.remote(k))   # before the work, so a lost attempt is counted
-        except ray.exceptions.RayError:
-            pass   # the count is lost, not the chunk
+            internal_kv._internal_kv_put(f'{run_id}:{k}:{os.getpid()}:{time.time_ns()}', b'',
+                                         namespace=_KV_NAMESPACE)
+        except Exception:  # noqa: BLE001 (the count is lost, not the chunk)
+            pass
         return run_chunk(chunk)
-    return chunk_task, _Starts
+    return chunk_task
+
+
+def _ray_reruns(run_id):
+    """Indices of the chunks of ``run_id`` that started more than once (their records are
+    deleted), or None if the store cannot be read."""
+    from ray.experimental import internal_kv
+    try:
+        keys = internal_kv._internal_kv_list(f'{run_id}:', namespace=_KV_NAMESPACE)
+        internal_kv._internal_kv_del(f'{run_id}:', del_by_prefix=True, namespace=_KV_NAMESPACE)
+    except Exception:  # noqa: BLE001 (e.g. a Ray client connection without the store)
+        return None
+    starts = {}
+    for key in keys:
+        k = int(key.decode().split(':')[1])
+        starts[k] = starts.get(k, 0) + 1
+    return sorted(k for k, n in starts.items() if n > 1)
 
 
 def start_local_ray(num_cpus, attempts=2):
@@ -122,16 +137,10 @@ def run_ray(chunks, on_rows, address=None, workers=None, max_retries=DEFAULT_RET
         else:
             ray.init(address=address, log_to_driver=False, configure_logging=False)
         started = True
+    run_id, counted = uuid.uuid4().hex, False
     try:
-        from ray.util.scheduling_strategies import NodeAffinitySchedulingStrategy
-        chunk_task, starts_actor = _ray_remotes()
-        # On the driver's node, which lives as long as the driver (a soft affinity lets Ray put
-        # it on another node, which may be the one that dies).
-        here = NodeAffinitySchedulingStrategy(ray.get_runtime_context().get_node_id(),
-                                              soft=False)
-        starts = starts_actor.options(scheduling_strategy=here).remote()
-        task = chunk_task.options(max_retries=max_retries)
-        pending = [task.remote(k, c, starts) for k, c in enumerate(chunks)]
+        task = _ray_task().options(max_retries=max_retries)
+        pending = [task.remote(run_id, k, c) for k, c in enumerate(chunks)]
         no_cpu_since = None
         while pending:
             done, pending = ray.wait(pending, num_returns=1, timeout=_POLL_S)
@@ -151,10 +160,10 @@ def run_ray(chunks, on_rows, address=None, workers=None, max_retries=DEFAULT_RET
                 raise SweepRunError(f'a chunk failed on Ray: {type(exc).__name__}: '
                                     f'{str(exc).splitlines()[0]}') from None
             on_rows(rows)
-        try:
-            return ray.get(starts.reruns.remote(), timeout=60)
-        except ray.exceptions.RayError:
-            return None   # the counts were lost with the actor's node: reruns unknown
+        counted = True
+        return _ray_reruns(run_id)
     finally:
+        if not counted:   # the sweep failed: its start records go all the same
+            _ray_reruns(run_id)
         if started:
             ray.shutdown()

@@ -74,25 +74,24 @@ def cluster():
             c.shutdown()
 
 
-def _running_chunk(node):
-    """True while one of ``node``'s worker processes runs a sweep chunk (Ray titles a worker
-    process 'ray::<task name>' while it runs that task, 'ray::IDLE' otherwise)."""
+def _chunks_running(node):
+    """How many of ``node``'s worker processes run a sweep chunk (Ray titles a worker process
+    'ray::<task name>' while it runs that task, 'ray::IDLE' otherwise)."""
     from ray._private import ray_constants
     procs = node.all_processes.get(ray_constants.PROCESS_TYPE_RAYLET)
     if not procs:
-        return False
-    raylet = procs[0].process.pid
+        return 0
+    raylet, n = procs[0].process.pid, 0
     for pid in filter(str.isdigit, os.listdir('/proc')):
         try:
             with open(f'/proc/{pid}/stat') as f:
                 parent = int(f.read().rsplit(')', 1)[1].split()[1])
             if parent == raylet:
                 with open(f'/proc/{pid}/cmdline') as f:
-                    if f.read().startswith('ray::chunk_task'):
-                        return True
+                    n += f.read().startswith('ray::chunk_task')
         except (OSError, ValueError, IndexError):
             continue   # a process that ended while we looked
-    return False
+    return n
 
 
 def _rows(partial):
@@ -104,20 +103,23 @@ def _rows(partial):
 
 class NodeRemover(threading.Thread):
     """Removes the first of ``nodes`` seen running a chunk once ``partial`` holds a row (so
-    finished rows and pending chunks both exist); ``rows_before`` is what the file held."""
+    finished rows and pending chunks both exist); ``rows_before`` is what the file held,
+    ``most_at_once`` the most chunks seen running at once on one node until then."""
 
     def __init__(self, cluster, nodes, partial, deadline_s=60.0):
         super().__init__(daemon=True)
         self.cluster, self.nodes, self.partial = cluster, nodes, partial
         self.deadline = time.monotonic() + deadline_s
-        self.removed, self.rows_before, self.error = None, None, None
+        self.removed, self.rows_before, self.error, self.most_at_once = None, None, None, 0
 
     def run(self):
         try:
             while time.monotonic() < self.deadline and self.removed is None:
+                running = [_chunks_running(node) for node in self.nodes]
+                self.most_at_once = max(self.most_at_once, *running)
                 if _rows(self.partial) >= 1:
-                    for node in self.nodes:
-                        if _running_chunk(node):
+                    for node, n in zip(self.nodes, running):
+                        if n:
                             self.rows_before = _rows(self.partial)
                             self.cluster.remove_node(node)
                             self.removed = node
@@ -146,7 +148,9 @@ def test_a_node_removed_mid_sweep_costs_a_rerun_not_a_row(cluster, sweep_file, t
     assert len(c.worker_nodes) == 1
     assert (out / 'results.csv').read_text() == local_table      # byte for byte, nothing lost
     run = json.loads((out / 'run.json').read_text())
-    # The removed node had one CPU, so it ran exactly one chunk when it died: that one reran.
+    # A node of one CPU runs one chunk at a time (a task that waited on Ray inside would lend
+    # its CPU to a second one), so the removed node took one chunk with it: that one reran.
+    assert remover.most_at_once == 1
     assert run['rerun_chunks'] == 1 and run['chunks'] == N_EPISODES
     lines = [ln for ln in printed.out.splitlines() if ln.startswith('reruns:')]
     assert len(lines) == 1 and f'1 of {N_EPISODES} chunks ran again' in lines[0]

@@ -55,7 +55,7 @@ def run_sweep(sweep, backend='local', workers=None, chunk_size=None, address=Non
     (results.PartialRows); ``resume``: run only the episodes it lacks. A backend that fails
     raises SweepRunError naming the episodes without a row (those in ``partial`` are kept).
     The run's figures name the chunks that started more than once (``rerun_chunks``, their
-    episodes in ``rerun_episodes``; None when the backend lost its counts), see rerun_line."""
+    episodes in ``rerun_episodes``; None when the backend could not count), see rerun_line."""
     import os
     eps = expand(sweep, episodes)
     for axis, values in (where or {}).items():
@@ -133,8 +133,8 @@ def _lost(reason, eps, rows, partial):
 def rerun_line(run):
     """One line on the chunks a lost worker or node made run again, or None if none did."""
     if run['rerun_chunks'] is None:
-        return ('reruns: unknown (the counts were lost with a node); the table still has each '
-                'row once')
+        return ("reruns: unknown (the cluster's key-value store could not be read); the table "
+                'still has each row once')
     if not run['rerun_chunks']:
         return None
     return (f"reruns: {run['rerun_chunks']} of {run['chunks']} chunks ran again after a lost "

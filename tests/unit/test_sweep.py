@@ -269,6 +269,8 @@ def test_a_killed_worker_is_replaced_and_every_row_comes_once(reference_table, t
     assert 1 <= run['rerun_chunks'] <= 2
     line = rerun_line(run)
     assert f"{run['rerun_chunks']} of 8 chunks ran again" in line and '\n' not in line
+    assert rerun_line(dict(run, rerun_chunks=0)) is None              # nothing to say
+    assert 'unknown' in rerun_line(dict(run, rerun_chunks=None))     # counts not readable
 
 
 def test_cli_writes_table_summary_and_plots(tmp_path):

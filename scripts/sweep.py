@@ -18,7 +18,8 @@ runs only those), then results.csv (one row per episode), summary.md and
 summary.json (per grid cell: mean and 95 % confidence interval of each metric), plots
 (CDF of max cross-track per controller, or of min distance per colav method in an encounter
 sweep; metric against each random parameter), run.json
-(backend, workers, chunking, wall time, throughput), index.html (the summary table and every
+(backend, workers, chunking, chunks rerun after a lost worker or node, wall time,
+throughput), index.html (the summary table and every
 plot embedded, one self-contained page: mission.html_report.batch_page). Exit codes: 0 done, 1 a chunk failed,
 2 a bad sweep file or arguments.
 
@@ -38,7 +39,7 @@ os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')
 
 from montecarlo import results
 from montecarlo.backends import SweepRunError
-from montecarlo.driver import run_sweep
+from montecarlo.driver import rerun_line, run_sweep
 from mission.cli_args import OneLineParser, integer, number, out_folder
 from montecarlo.spec import MAX_EPISODES, PARAMETERS, REPO, SweepError, check_size, load
 from ship_sim.allocator import tune_allocator
@@ -149,6 +150,8 @@ def main(argv=None):
         print(f'interrupted; the finished rows are in {partial} (rerun with --resume)',
               file=sys.stderr)
         return 130
+    if rerun_line(run):
+        print(rerun_line(run), flush=True)
     kind = results.KINDS[sweep.kind]
     (out / 'results.csv').write_text(results.table_text(rows, sweep.columns(), kind.metrics))
     group_by = list(sweep.grid)

@@ -53,7 +53,9 @@ def run_sweep(sweep, backend='local', workers=None, chunk_size=None, address=Non
     {grid axis: value or list of values}: only those cells (episode indices and draws as in the
     whole sweep). ``partial``: a file that gets each chunk's rows as they arrive
     (results.PartialRows); ``resume``: run only the episodes it lacks. A backend that fails
-    raises SweepRunError naming the episodes without a row (those in ``partial`` are kept)."""
+    raises SweepRunError naming the episodes without a row (those in ``partial`` are kept).
+    The run's figures name the chunks that started more than once (``rerun_chunks``, their
+    episodes in ``rerun_episodes``; None when the backend could not count), see rerun_line."""
     import os
     eps = expand(sweep, episodes)
     for axis, values in (where or {}).items():
@@ -89,11 +91,12 @@ def run_sweep(sweep, backend='local', workers=None, chunk_size=None, address=Non
             bar.update(len(new), vessel_steps(new))
 
     t0 = time.monotonic()
+    reruns = []
     try:
         if backend == 'local' and chunks:
-            backends.run_local(chunks, on_rows, workers=n_workers)
+            reruns = backends.run_local(chunks, on_rows, workers=n_workers)
         elif chunks:
-            backends.run_ray(chunks, on_rows, address=address, workers=workers)
+            reruns = backends.run_ray(chunks, on_rows, address=address, workers=workers)
     except Exception as exc:  # noqa: BLE001 (any backend failure: say what is kept and lost)
         reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         if not isinstance(exc, backends.SweepRunError):
@@ -107,8 +110,12 @@ def run_sweep(sweep, backend='local', workers=None, chunk_size=None, address=Non
         raise backends.SweepRunError(_lost('the backend returned early', eps, rows, partial))
     out = [rows[k] for k in sorted(rows)]
     ran = [r for r in out if r['episode'] in {e['episode'] for e in todo}]
+    rerun = (None if reruns is None
+             else sorted(e['episode'] for k in reruns for e in chunks[k]))
     return out, {'episodes': len(out), 'resumed_rows': len(out) - len(ran),
                  'chunks': len(chunks), 'chunk_size': size,
+                 'rerun_chunks': None if reruns is None else len(reruns),
+                 'rerun_episodes': None if rerun is None else results.episode_ranges(rerun),
                  'workers': n_workers, 'backend': backend, 'wall_s': wall,
                  'episodes_per_s': len(ran) / wall, 'vessel_steps_per_s':
                  vessel_steps(ran) / wall}
@@ -121,3 +128,14 @@ def _lost(reason, eps, rows, partial):
             if partial is not None and rows else '')
     return (f'{reason}; {len(missing)} of {len(eps)} episodes without a row: '
             f'{results.episode_ranges(missing)}{kept}')
+
+
+def rerun_line(run):
+    """One line on the chunks a lost worker or node made run again, or None if none did."""
+    if run['rerun_chunks'] is None:
+        return ("reruns: unknown (the cluster's key-value store could not be read); the table "
+                'still has each row once')
+    if not run['rerun_chunks']:
+        return None
+    return (f"reruns: {run['rerun_chunks']} of {run['chunks']} chunks ran again after a lost "
+            f"worker process or node (episodes {run['rerun_episodes']}); each row is kept once")

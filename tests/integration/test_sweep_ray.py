@@ -4,10 +4,11 @@ A private local Ray instance of 2 CPUs is started by the test and shut down afte
 failure (no ROS graph: no domain needed). It must give the same table, byte for byte, as the
 local backend with one process; and a Ray worker process killed while running a chunk (the
 test-only SHIPNAV_SWEEP_FAIL_ONCE hook, os._exit in the worker) makes Ray rerun that task
-(max_retries) with every row still once. A tiny encounter sweep (montecarlo.encounters: Imazu
-runs with colav, 30 s each) and a tiny wind and waves sweep (a random wind direction: batches of
-one episode, each with its own gusts, sea and Gauss-Markov current from its seed) give the same
-table on Ray as locally too. Skipped, with the reason, only if Ray cannot start.
+(max_retries) with every row still once, and the run counts that one rerun chunk. A tiny
+encounter sweep (montecarlo.encounters: Imazu runs with colav, 30 s each) and a tiny wind and
+waves sweep (a random wind direction: batches of one episode, each with its own gusts, sea and
+Gauss-Markov current from its seed) give the same table on Ray as locally too. Skipped, with
+the reason, only if Ray cannot start.
 """
 import pytest
 
@@ -50,6 +51,7 @@ def test_ray_table_equals_local_and_a_killed_worker_is_retried(ray_local, monkey
     rows, run = run_sweep(sw, 'ray', workers=2, chunk_size=1, progress=False)
     assert ray_local.exists()                    # one worker process did die mid-sweep
     assert sorted(r['episode'] for r in rows) == list(range(6))
+    assert run['rerun_chunks'] == 1                 # its chunk, counted where it ran
     monkeypatch.delenv(mc_episodes.FAIL_ONCE_ENV)
     local, _ = run_sweep(sw, 'local', workers=1, chunk_size=6, progress=False)
     assert results.table_text(rows, sw.columns()) == results.table_text(local, sw.columns())

@@ -33,7 +33,7 @@ import evaluate_controllers as ec
 import sweep as sweep_cli
 from montecarlo import episodes as mc_episodes
 from montecarlo import encounters, results, spec
-from montecarlo.driver import run_sweep
+from montecarlo.driver import rerun_line, run_sweep
 from imazu.cases import load_cases
 from ship_guidance.cpa import velocity
 
@@ -251,6 +251,7 @@ def test_table_is_identical_for_any_workers_and_chunks(reference_table, workers,
     sw, text = reference_table
     rows, run = run_sweep(sw, 'local', workers=workers, chunk_size=chunk, progress=False)
     assert run['workers'] == workers
+    assert run['rerun_chunks'] == 0 and run['rerun_episodes'] == ''   # no worker was lost
     assert results.table_text(rows, sw.columns()) == text
 
 
@@ -259,10 +260,17 @@ def test_a_killed_worker_is_replaced_and_every_row_comes_once(reference_table, t
     sw, text = reference_table
     marker = tmp_path / 'failed_once'
     monkeypatch.setenv(mc_episodes.FAIL_ONCE_ENV, str(marker))
-    rows, _ = run_sweep(sw, 'local', workers=2, chunk_size=1, progress=False)
+    rows, run = run_sweep(sw, 'local', workers=2, chunk_size=1, progress=False)
     assert marker.exists()                      # a worker did die
     assert sorted(r['episode'] for r in rows) == list(range(8))
     assert results.table_text(rows, sw.columns()) == text
+    # The dead worker's chunk ran again; so did the other worker's if it was running when the
+    # broken pool was shut down: at most one chunk per worker, chunks of one episode.
+    assert 1 <= run['rerun_chunks'] <= 2
+    line = rerun_line(run)
+    assert f"{run['rerun_chunks']} of 8 chunks ran again" in line and '\n' not in line
+    assert rerun_line(dict(run, rerun_chunks=0)) is None              # nothing to say
+    assert 'unknown' in rerun_line(dict(run, rerun_chunks=None))     # counts not readable
 
 
 def test_cli_writes_table_summary_and_plots(tmp_path):
@@ -437,7 +445,7 @@ def test_a_backend_that_dies_keeps_its_rows_and_resume_completes_the_table(tmp_p
         if len(ran) == 1:
             real(chunks[:2], on_rows, **kw)
             raise RuntimeError('raylet died\nsecond line of a Ray traceback')
-        real(chunks, on_rows, **kw)
+        return real(chunks, on_rows, **kw)
     monkeypatch.setattr(backends, 'run_local', dies_after_two_chunks)
     out = tmp_path / 'broken'
     capsys.readouterr()

@@ -99,3 +99,4 @@ def wave_filter_sensitivity(data):
 # --- studies with their own module register their tables on import -----------------------
 from results_pages import mss_accuracy  # noqa: E402, F401
 from results_pages import string_stability  # noqa: E402, F401
+from results_pages import nomoto  # noqa: E402, F401

@@ -10,7 +10,7 @@ def models(data):
              'k2': data['gains'][name]['pd']['k2'], 'omega_n': data['gains'][name]['omega_n']}
             for name, e in data['models'].items()]
     return markdown_table([
-        ('model', 'model', ''), ('K (1/s)', 'K', '.4f'), ('T (s)', 'T', '.1f'),
+        ('model', 'model', ''), ('K (1/s)', 'K', '.4g'), ('T (s)', 'T', '.4g'),
         ('R^2', 'r_squared', '.3f'), ('heading predicted by the fit, RMS (deg)',
                                       'heading_rms_deg', '.3f'),
         ('rudder trim (deg)', 'rudder_trim_deg', '.3f'), ('speed (m/s)', 'speed_mps', '.2f'),

@@ -556,6 +556,8 @@ def main(argv=None):
            'policy_files': args.policy or 'ship_autopilot/data/policies/<model>.npz',
            'duration_s': duration, 'sim_dt_s': SIM_DT, 'starts': starts,
            'lookahead_ship_lengths': LOOKAHEAD_SHIP_LENGTHS, 'seed_table': SEED_TABLE,
+           'models': models, 'currents': list(CURRENTS),
+           'controllers': {c: LABELS[c] for c in controllers},
            'condition': {'name': args.condition,
                          'description': CONDITIONS[args.condition].describe(),
                          'wave_filter': args.wave_filter},

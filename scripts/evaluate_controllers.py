@@ -66,6 +66,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from results_pages.provenance import provenance
 
 from ship_autopilot.gains import autopilot_gains, build_autopilot, nomoto_gains
 from ship_autopilot.learning.env import (EnvConfig, PathFollowingBatch,
@@ -551,10 +552,14 @@ def main(argv=None):
     out = Path(args.out + ('' if args.condition == 'calm' else f'_{args.condition}')
                + ('_filter' if args.wave_filter else '') + ('_batched' if args.batched else ''))
     out.parent.mkdir(parents=True, exist_ok=True)
-    doc = {'source': 'Martinsen and Lekkas 2018 Table I layout (scripts/evaluate_controllers.py)',
+    # provenance: the results pages (doc/results/ddpg.md) render from this file's committed copy
+    doc = {'provenance': provenance(),
+           'source': 'Martinsen and Lekkas 2018 Table I layout (scripts/evaluate_controllers.py)',
            'policy_files': args.policy or 'ship_autopilot/data/policies/<model>.npz',
            'duration_s': duration, 'sim_dt_s': SIM_DT, 'starts': starts,
            'lookahead_ship_lengths': LOOKAHEAD_SHIP_LENGTHS, 'seed_table': SEED_TABLE,
+           'models': models, 'currents': list(CURRENTS),
+           'controllers': {c: LABELS[c] for c in controllers},
            'condition': {'name': args.condition,
                          'description': CONDITIONS[args.condition].describe(),
                          'wave_filter': args.wave_filter},

@@ -3,6 +3,7 @@
 
     scripts/identify_nomoto.py [--models mariner tanker ...] [--rudder-deg 10]
         [--switch-deg 10] [--h 0.1] [--out-dir ros_ws/src/ship_autopilot/ship_autopilot/data] [--dry-run]
+        [--results runs/nomoto/nomoto.json]
 
 For each model: a zig-zag (rudder/switch heading, first to starboard) from straight-running
 trim at the model's default speed, then an equation-error least-squares fit of
@@ -11,13 +12,21 @@ sign: positive turns to port, so K > 0 for a normal ship). Prints a table and wr
 <out-dir>/nomoto_gains.yaml (identified models, manoeuvre, fit quality) and
 <out-dir>/autopilot_gains.yaml (PD and fuzzy PID gains designed from them by
 ship_autopilot.gains). Exit codes: 0 done, 1 a model failed.
+
+``--results FILE`` writes a results file (JSON, with provenance) instead of the two YAML files,
+which stay as they are: the identified models and gains, and for context the linear
+second-order Mariner (Lee 2004 Table 2.2, ``nomoto2``) fitted on its own zig-zag and the
+Mariner at other zig-zag amplitudes. doc/results/nomoto.md renders from its committed copy,
+doc/results/data/nomoto.json.
 """
 import argparse
+import json
 import sys
 from pathlib import Path
 
 import numpy as np
 import yaml
+from results_pages.provenance import provenance
 
 from ship_autopilot import gains as design
 from ship_autopilot.identification import heading_prediction_rms, identify_nomoto
@@ -31,6 +40,10 @@ def default_models():
     in the package data (a card with its own ``gain_tables`` is identified with --models and
     --out-dir naming that folder)."""
     return [c.name for c in cards() if c.identify and c.gain_tables is None]
+#: --results context: the linear model whose low-frequency K, T a zig-zag fit is compared with,
+#: and the model and zig-zag amplitudes (rudder = switch heading, deg) of the amplitude study
+LINEAR_REFERENCE = 'nomoto2'
+AMPLITUDE_MODEL, AMPLITUDES_DEG = 'mariner', (5.0, 10.0, 20.0)
 
 
 def identify(name, rudder, switch, h):
@@ -55,6 +68,25 @@ def identify(name, rudder, switch, h):
     return entry
 
 
+def write_results(args, nomoto, gains):
+    rudder, switch = np.deg2rad(args.rudder_deg), np.deg2rad(args.switch_deg)
+    ref = make_model(LINEAR_REFERENCE)
+    linear = identify(LINEAR_REFERENCE, rudder, switch, args.h)
+    linear['low_frequency'] = {'K': ref.K, 'T': ref.T1 + ref.T2 - ref.T3,
+                               'T1': ref.T1, 'T2': ref.T2, 'T3': ref.T3}
+    amplitudes = {f'{a:g}/{a:g}': identify(AMPLITUDE_MODEL, np.deg2rad(a), np.deg2rad(a), args.h)
+                  for a in AMPLITUDES_DEG}
+    args.results.parent.mkdir(parents=True, exist_ok=True)
+    args.results.write_text(json.dumps({
+        'provenance': provenance(),
+        'settings': {'rudder_deg': args.rudder_deg, 'switch_deg': args.switch_deg, 'h_s': args.h},
+        'models': nomoto, 'gains': gains,
+        'linear_reference': {'model': LINEAR_REFERENCE, 'fit': linear},
+        'amplitudes': {'model': AMPLITUDE_MODEL, 'fits': amplitudes},
+    }, indent=1))
+    print(f'wrote {args.results} (the YAML files are unchanged)')
+
+
 def _rounded(obj, digits=7):
     """Floats to ``digits`` significant digits (readable, stable YAML), recursively."""
     if isinstance(obj, dict):
@@ -74,6 +106,8 @@ def main(argv=None):
     p.add_argument('--out-dir', type=Path, default=design.DATA_DIR,
                    help='where the two YAML files go (default: the package data dir)')
     p.add_argument('--dry-run', action='store_true', help='print the table, write nothing')
+    p.add_argument('--results', type=Path, metavar='FILE',
+                   help='write a results file (JSON) instead of the YAML files')
     args = p.parse_args(argv)
     for key in ('rudder_deg', 'switch_deg', 'h'):
         if not getattr(args, key) > 0:
@@ -100,6 +134,9 @@ def main(argv=None):
               f"{g['omega_n']:7.4f} {g['pd']['k1']:7.3f} {g['pd']['k2']:8.3f}")
 
     if args.dry_run or not nomoto:
+        return 1 if failed else 0
+    if args.results:
+        write_results(args, nomoto, gains)
         return 1 if failed else 0
     cmd = 'scripts/identify_nomoto.py ' + ' '.join(argv if argv is not None else sys.argv[1:])
     nomoto, gains = _rounded(nomoto), _rounded(gains)

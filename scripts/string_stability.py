@@ -17,7 +17,9 @@ Writes to --out:
   deviation |d_n - 1| per point; nps_auv2_gains.csv: Simakis 1992 Fig. 4, k1, k2 vs omega_n.
 - eigenvalue_path.csv: Angelopoulos 2011 Fig. 16, the eigenvalues of one vessel's matrix
   (eq. 30) as d1 runs from 4 d1* down to d1*/2, through d1*.
-- summary.md and summary.json: timing, the rows that differ and why, the NPS AUV II numbers.
+- summary.md and summary.json: timing, the rows that differ and why, the NPS AUV II numbers;
+  summary.json carries its provenance (doc/results/string_stability.md renders from its
+  committed copy, doc/results/data/string_stability.json).
 - PNGs: Angelopoulos 2011 Figures 9-11 (stability regions d2 vs d1), 12-15 (limits vs
   omega_n) and 16 (eigenvalue path), Simakis 1992 Figures 2, 3 (exact vs approximate limit),
   4 (gains vs omega_n), 5-8 (sensitivity) and 9-12 (sensitivity over zeta and omega_n, as
@@ -34,6 +36,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from results_pages.provenance import provenance
 
 from ship_guidance import string_stability as ss
 from ship_guidance import string_stability_table1 as table1_scan
@@ -565,6 +568,12 @@ def map_summary(maps, nominal, map_zetas, map_omegas, factors):
         iw = int(np.argmin(np.abs(np.asarray(map_omegas) - 3.0)))
         iz = int(np.argmin(np.abs(np.asarray(map_zetas) - 0.8)))
         dev = np.nanmax(np.abs(maps[name] - 1.0), axis=2)
+        stats[name]['slice_omega_n'] = {'omega_n': float(map_omegas[iw]),
+                                        'zetas': [float(z) for z in map_zetas],
+                                        'max_abs_dev': [float(v) for v in dev[:, iw]]}
+        stats[name]['slice_zeta'] = {'zeta': float(map_zetas[iz]),
+                                     'omegas': [float(w) for w in map_omegas],
+                                     'max_abs_dev': [float(v) for v in dev[iz]]}
         lines.append(f"- {name}: omega_n = {map_omegas[iw]:g}, zeta {map_zetas[0]:g}-"
                      f"{map_zetas[-1]:g}: {', '.join(f'{100 * v:.0f}' for v in dev[:, iw])} %; "
                      f"zeta = {map_zetas[iz]:g}, omega_n {map_omegas[0]:g}-{map_omegas[-1]:g}: "
@@ -653,13 +662,18 @@ def main(argv=None):
     iz8 = int(np.argmin(np.abs(zetas - 0.8)))
     path_lines = ['## Angelopoulos 2011 Fig. 16: eigenvalues as d1 -> d1*', '',
                   '| zeta | omega_n | d1* | at 2 d1* | at d1* | at d1*/2 |', '|---|---|---|---|---|---|']
+    path_points = []
     for (z, w), (lam, d_star) in paths.items():
         cells = []
+        point = {'zeta': z, 'omega_n': w, 'd1_star': float(d_star), 'at': {}}
         for q in (2.0, 1.0, 0.5):
             i = int(np.argmin(np.abs(ratios - q)))
             pair = lam[i][np.argmax(lam[i].imag)]
             real = lam[i][np.argmin(np.abs(lam[i].imag))]
             cells.append(f'{pair.real:+.4f} +- {pair.imag:.4f} i, {real.real:.4f}')
+            point['at'][f'{q:g}'] = {'pair_real': float(pair.real), 'pair_imag': float(pair.imag),
+                                     'real': float(real.real)}
+        path_points.append(point)
         path_lines.append(f'| {z:g} | {w:g} | {d_star:.4f} | ' + ' | '.join(cells) + ' |')
     extra = (['', '## Simakis 1992 Fig. 4: PD gains at omega_n = 3', '',
               f'k1 = {gains[0][iz8, i3]:.3f}, k2 = {gains[1][iz8, i3]:.3f} at zeta 0.8 '
@@ -667,14 +681,28 @@ def main(argv=None):
     (args.out / 'summary.md').write_text(
         summary_md(t1, omegas, zetas, exact, approx, checks, sens, nomoto, files)
         + '\n'.join(extra) + '\n')
+    classes = {}
+    for r in t1['rows']:
+        c = classes.setdefault(r['class'], {'rows': 0, 'equal_exact_boundary': 0,
+                                            'consistent_with_method': 0})
+        c['rows'] += 1
+        c['equal_exact_boundary'] += r['matches_exact']
+        c['consistent_with_method'] += r['consistent_with_method']
     (args.out / 'summary.json').write_text(json.dumps({
-        'table1': {k: t1[k] for k in ('timing', 'eig_equals_routh', 'missing', 'brute',
-                                      'd_star_max_err')},
+        'provenance': provenance(argv and [sys.argv[0], *argv]),
+        'table1': {**{k: t1[k] for k in ('timing', 'eig_equals_routh', 'missing', 'brute',
+                                         'd_star_max_err')},
+                   'printed_rows': len(t1['rows']),
+                   'scanned_rows': len(t1['rows']) + len(t1['missing']),
+                   'classes': classes},
         'table1_rows_differing': [r for r in t1['rows'] if not r['matches_exact']],
         'nps_auv2_checks': checks, 'nomoto_ab_nondim': nomoto,
+        'document_sensitivity': DOC_SENSITIVITY,
+        'document_map': {'max_abs_dev': DOC_MAP_MAX, 'most_below': DOC_MAP_MOST},
         'sensitivity_totals': {n: {'fixed': sens[n]['total_fixed'],
                                    'redesign': sens[n]['total_redesign']} for n in SENS_COEFFS},
         'sensitivity_map': map_stats,
+        'eigenvalue_path': path_points,
     }, indent=1, default=float))
 
     bad = [r for r in t1['rows'] if not r['consistent_with_method']]

@@ -94,3 +94,10 @@ def wave_filter_sensitivity(data):
         ('mean abs rudder rate (deg/s)', 'mean_abs_rudder_rate_deg_s', '.4f'),
         ('heading error RMS (deg)', 'heading_error_rms_deg', '.4f'),
     ], rows)
+
+
+# --- studies with their own module register their tables on import -----------------------
+from results_pages import mss_accuracy  # noqa: E402, F401
+from results_pages import string_stability  # noqa: E402, F401
+from results_pages import nomoto  # noqa: E402, F401
+from results_pages import table1  # noqa: E402, F401

@@ -5,6 +5,7 @@ delta piecewise constant: r = r_inf + (r0 - r_inf) exp(a t), r_inf = -(b delta +
 K, T given to ship_sim's Nomoto1; Simakis 1992's nondimensional reduction of the NPS AUV II
 (a' = -1.468, b' = -2.859, eq. 2.11); the PD design formulas of Angelopoulos 2011 eq. (20).
 """
+import json
 import math
 import subprocess
 import sys
@@ -134,3 +135,25 @@ def test_identify_script_dry_run():
     row = next(line for line in out.splitlines() if line.startswith('nomoto1'))
     K, T = (float(v) for v in row.split()[1:3])
     assert K == pytest.approx(0.185, rel=0.01) and T == pytest.approx(107.3, rel=0.01)
+
+
+def test_identify_script_results_file_leaves_the_gain_files_alone(tmp_path):
+    # --results writes a results file with provenance instead of the YAML files (the results
+    # page renders from it); nomoto1 is identified to its own K, T (Lee 2004 Table 4.1), and the
+    # linear reference's low-frequency limit is the preset's K and T1 + T2 - T3.
+    results = tmp_path / 'nomoto.json'
+    subprocess.run([sys.executable, str(ROOT / 'scripts' / 'identify_nomoto.py'), '--models',
+                    'nomoto1', '--out-dir', str(tmp_path / 'yaml'), '--results', str(results)],
+                   capture_output=True, text=True, timeout=120, check=True)
+    assert not (tmp_path / 'yaml').exists()
+    data = json.loads(results.read_text())
+    assert data['provenance']['command'].endswith(f'--results {results}')
+    assert data['models']['nomoto1']['K'] == pytest.approx(0.185, rel=0.01)
+    assert data['models']['nomoto1']['T'] == pytest.approx(118.0 + 7.8 - 18.5, rel=0.01)
+    lf = data['linear_reference']['fit']['low_frequency']
+    assert (lf['K'], lf['T']) == pytest.approx((0.185, 118.0 + 7.8 - 18.5))
+    # a zig-zag excites frequencies above the low-frequency limit: the fitted T is shorter
+    assert data['linear_reference']['fit']['T'] < lf['T']
+    # the nonlinear hull: larger zig-zags turn with a smaller effective gain
+    ks = [f['K'] for f in data['amplitudes']['fits'].values()]
+    assert ks == sorted(ks, reverse=True) and len(ks) == 3

@@ -65,3 +65,24 @@ def test_missing_file_table_or_provenance_are_refused(tmp_path):
 def test_cells_say_n_a_for_undefined_values():
     assert fmt(None, '.3f') == 'n/a' and fmt(float('nan'), '.1f') == 'n/a'
     assert markdown_table([('a', 'a', '.1f')], [{'a': 1.25}]) == '| a |\n|---|\n| 1.2 |\n'
+
+
+def test_table1_policy_is_compared_with_the_best_classical_loop_of_each_column():
+    from results_pages.studies import render
+
+    def r(g, e, rate):
+        return {'gaussian': g, 'mean_abs_e': e, 'rudder_rate_deg_s': rate}
+    data = {'models': ['mariner'], 'currents': [0.0, 0.9],
+            'controllers': {'los': 'LOS + PD', 'los_lead': 'lead', 'policy': 'DDPG'},
+            'results': {'mariner/0.0/los': r(100.0, 50.0, 0.1),
+                        'mariner/0.0/los_lead': r(400.0, 20.0, 0.2),
+                        'mariner/0.0/policy': r(1000.0, 5.0, 0.8),
+                        'mariner/0.9/los': r(300.0, 30.0, 0.1),
+                        'mariner/0.9/los_lead': {'error': 'diverged'},
+                        'mariner/0.9/policy': r(600.0, 10.0, 0.3)}}
+    text = render('table1', 'policy_vs_classical', data)
+    # 0 m/s: the lead loop is best (400): 1000 / 400, 20 / 5, 0.8 / 0.2; at 0.9 m/s the failed
+    # lead loop is left out and LOS is the best classical: 600 / 300, 30 / 10, 0.3 / 0.1
+    assert '| mariner 0 m/s | lead | 2.5 | 4.0 | 4.0 |' in text
+    assert '| mariner 0.9 m/s | LOS + PD | 2.0 | 3.0 | 3.0 |' in text
+    assert 'error' in render('table1', 'reward', {**data, 'seed_table': {}})

@@ -15,7 +15,8 @@ import pytest
 
 from ship_sim.environment.closed_form_wave_response import wave_response_345
 from ship_sim.environment.wave_directional import wave_directional_spectrum
-from ship_sim.environment.wave_rao import RaoTable, WaveResponse, load_rao_table, spheroid_rao
+from mss_accuracy import wave_response
+from ship_sim.environment.wave_rao import load_rao_table, spheroid_rao
 from ship_sim.environment.wave_spectra import (WaveSpectrumWarning, torset_spectrum,
                                                wave_spectrum)
 
@@ -89,25 +90,11 @@ def test_wave_directional_spectrum_equals_mss(case):
         _close(getattr(out, key), ref[key])
 
 
+# wave_response (scripts/mss_accuracy.py) builds the MSS scenario's table; it refuses a table
+# whose g differs from the scenario's
 def _scenarios(name):
     doc = _load(name)
     return doc, doc['cases']
-
-
-#: The force file's AUV scenario: spheroidRAO(vessel, 1.2, 0.3, 5, false) (its vessel_files).
-SPHEROID = {'spheroid_a1.2_b0.3_zn5': (1.2, 0.3, 5.0)}
-
-
-def _response(scenario, kind):
-    name = scenario['vessel']
-    table = spheroid_rao(*SPHEROID[name]) if name in SPHEROID else load_rao_table(name, kind)
-    n_w = scenario['n_w']
-    table = RaoTable(w=table.w[:n_w], headings=table.headings, amp=table.amp[:, :n_w],
-                     phase=table.phase[:, :n_w], g=table.g, length=table.length, kind=kind,
-                     vessel=table.vessel)
-    assert table.g == scenario['g']
-    return WaveResponse(table, scenario['Omega'], scenario['mu'], scenario['Amp'],
-                        scenario['randomPhases'])
 
 
 FORCE_DOC, FORCE = _scenarios('waveForceRAO')
@@ -116,7 +103,7 @@ MOTION_DOC, MOTION = _scenarios('waveMotionRAO')
 
 @pytest.mark.parametrize('case', FORCE, ids=[str(c['id']) for c in FORCE])
 def test_wave_force_rao_equals_mss(case):
-    resp = _response(FORCE_DOC['scenarios'][case['scenario']], 'force')
+    resp = wave_response(FORCE_DOC['scenarios'][case['scenario']], 'force')
     i = case['inputs']
     call = (i['t'], i['U'], i['psi'], i['beta_wave'])
     _close(resp.force(*call), case['outputs']['tau_wave1'])
@@ -125,7 +112,7 @@ def test_wave_force_rao_equals_mss(case):
 
 @pytest.mark.parametrize('case', MOTION, ids=[str(c['id']) for c in MOTION])
 def test_wave_motion_rao_equals_mss(case):
-    resp = _response(MOTION_DOC['scenarios'][case['scenario']], 'motion')
+    resp = wave_response(MOTION_DOC['scenarios'][case['scenario']], 'motion')
     i = case['inputs']
     eta, nu, nudot = resp.motion(i['t'], i['U'], i['psi'], i['beta_wave'])
     for ours, key in ((eta, 'eta_WF'), (nu, 'nu_WF'), (nudot, 'nudot_WF')):

@@ -99,7 +99,10 @@ def test_a_flood_of_target_names_leaves_every_odom_answered_and_sigint_clean(ros
         f'{len(io["cmd"])} of {steps} odoms answered\n' + node.report()
     assert len(io['cmd']) == steps and all(m.data == NOMINAL for m in io['cmd'].messages)
     counts = [n_targets(m) for m in io['decision'].messages]
-    assert counts and max(counts) == MAX_TARGETS, counts
+    # bounded: never more than MAX_TARGETS at a decision (how full it gets depends on how many
+    # names reached the node before each decision, which the load decides); full at some point,
+    # as the warning below says
+    assert counts and max(counts) <= MAX_TARGETS, counts
     assert node.wait_for_output(f'more than {MAX_TARGETS} live targets', timeout=5.0)
     node.popen.send_signal(signal.SIGINT)
     assert node.wait(timeout=5.0) == 0

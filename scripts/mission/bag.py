@@ -299,11 +299,13 @@ def read_bag(path, topics=None, namespaces=None, pair_by_sequence=True):
         # a recovered bag says so every time it is read, not only when it is recovered
         recovered = custom.get(bag_recovery.RECOVERED, recovered)
         source = custom.get('mission.time_source', 'sim')
+        lockstep = custom.get('mission.lockstep') == 'true'   # written by the recorder with acks
         to_sim = _wall_to_sim(datas.get('/clock'), stamps.get('/clock')) if source == 'wall' else None
         clock = _clock_values(datas['/clock']) if datas.get('/clock') else None
         vessels = {}
         for ns in found:
-            vessels[ns or '/'] = _vessel(ns, names, conns, datas, stamps, reader, to_sim, pair_by_sequence)
+            vessels[ns or '/'] = _vessel(ns, names, conns, datas, stamps, reader, to_sim, pair_by_sequence,
+                                         lockstep)
     finally:
         reader.close()
     return BagData(path=Path(path), topics=info, time_source=source, vessels=vessels, custom_data=custom,
@@ -333,7 +335,7 @@ def _log_times(stamps, to_sim):
     return to_sim(ns) if to_sim is not None else ns / NS_PER_S
 
 
-def _vessel(ns, names, conns, datas, stamps, reader, to_sim, pair_by_sequence):
+def _vessel(ns, names, conns, datas, stamps, reader, to_sim, pair_by_sequence, lockstep=False):
     topic = {key: f'{ns}/{rel}' for key, rel in names.items()}
     missing = [names[k] for k, t in topic.items() if t not in datas or not datas[t]]
     odom = decode_odometry(datas[topic['odom']])
@@ -344,7 +346,8 @@ def _vessel(ns, names, conns, datas, stamps, reader, to_sim, pair_by_sequence):
 
     def times(key):
         t = topic[key]
-        paired = paired_record(odom['t'], len(datas[t])) if pair_by_sequence else None
+        paired = (paired_record(odom['t'], len(datas[t]), cut_at_end=lockstep)
+                  if pair_by_sequence else None)
         if paired is not None:
             timing[names[key]] = 'odom sequence'
             return paired

@@ -431,7 +431,11 @@ class Recorder:
         self.time_source = time_source
         self.depth = int(depth)
         self.on_subscribe = on_subscribe or (lambda topic, msgtype: None)
-        self.writer = BagWriter(bag_path, custom_data={**(custom_data or {}), 'mission.time_source': time_source},
+        # mission.lockstep: the record loses nothing in its middle (the simulators wait for the
+        # acks), so the analysis may pair a record cut off at its end (ship_sim.pacing.paired_record)
+        lockstep = {'mission.lockstep': 'true'} if acks else {}
+        self.writer = BagWriter(bag_path, custom_data={**(custom_data or {}), **lockstep,
+                                                       'mission.time_source': time_source},
                                 compression=compression)
         self.tf = bool(tf)
         self.node = rclpy.node.Node(node_name, context=context)

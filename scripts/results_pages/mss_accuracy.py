@@ -1,6 +1,6 @@
 """Tables of the MSS accuracy study (scripts/mss_accuracy.py): doc/results/mss_models.md and the
 wave ports in doc/results/wind_waves.md."""
-from results_pages.studies import table
+from results_pages.registry import table
 from results_pages.tables import markdown_table
 
 

@@ -1,6 +1,6 @@
 """Tables of the Nomoto identification (scripts/identify_nomoto.py --results):
 doc/results/nomoto.md."""
-from results_pages.studies import table
+from results_pages.registry import table
 from results_pages.tables import markdown_table
 
 

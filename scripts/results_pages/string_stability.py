@@ -1,6 +1,6 @@
 """Tables of the string-stability study (scripts/string_stability.py, its summary.json):
 doc/results/string_stability.md."""
-from results_pages.studies import table
+from results_pages.registry import table
 from results_pages.tables import markdown_table
 
 #: Table 1 row classes (ship_guidance.string_stability_table1) in words; the explanations are

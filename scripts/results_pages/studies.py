@@ -4,26 +4,8 @@ A study registers its renderers in ``TABLES`` under its name; a renderer takes t
 file's dict and returns Markdown. Ratios and summaries a page states in words are tables here
 too, so that no number in the text is typed by hand.
 """
+from results_pages.registry import TABLES, render, table  # noqa: F401 (render: the API)
 from results_pages.tables import markdown_table
-
-TABLES = {}
-
-
-def table(study, name):
-    def register(fn):
-        TABLES[(study, name)] = fn
-        return fn
-    return register
-
-
-def render(study, name, data):
-    try:
-        fn = TABLES[(study, name)]
-    except KeyError:
-        known = ', '.join(f'{s}.{t}' for s, t in sorted(TABLES))
-        raise KeyError(f"no table '{study}.{name}' (known: {known})") from None
-    return fn(data)
-
 
 # --- wave filter (scripts/wave_filter_comparison.py) -------------------------------------
 

@@ -1,6 +1,6 @@
 """Table I of Martinsen and Lekkas 2018 for our controllers (scripts/evaluate_controllers.py):
 doc/results/ddpg.md."""
-from results_pages.studies import table
+from results_pages.registry import table
 from results_pages.tables import fmt
 
 

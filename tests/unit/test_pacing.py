@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from ship_sim.pacing import (LockstepPacer, RealtimePacer, SequencePairer, StepGate,
-                             paired_record)
+                             MAX_CUT_STEPS, paired_record)
 
 
 class FakeClock:
@@ -40,21 +40,27 @@ def test_pairer_skip_drops_the_late_partner_and_keeps_alignment():
     assert list(p.pairs()) == [(1, 'c1')]
 
 
-def test_paired_record_takes_a_record_cut_off_after_steps_the_recorder_missed():
-    # The answering node got the last odom, the recorder did not (the simulator stopped): the
-    # first messages pair exactly with the recorded stamps, the extra one takes the next step.
+def test_paired_record_takes_a_lockstep_record_cut_off_at_its_end():
     stamps = np.array([0.0, 0.1, 0.2, 0.30000000000000004])
-    got = paired_record(stamps, 5)
+    # the answering node got the last odom, the recorder did not: the extra message takes the
+    # next step's stamp, the others pair exactly
+    got = paired_record(stamps, 5, cut_at_end=True)
     assert np.array_equal(got[:4], stamps) and got[4] == stamps[3] + 0.1
-    # with a step missing in the stream the pairing cannot be recovered
-    assert paired_record(np.array([0.0, 0.1, 0.3]), 4) is None
+    # the recorder got the last odom, not its answer: the answers pair with the first stamps
+    assert np.array_equal(paired_record(stamps, 3, cut_at_end=True), stamps[:3])
+    # with a step missing in the stream, or cut by more than MAX_CUT_STEPS, no pairing
+    assert paired_record(np.array([0.0, 0.1, 0.3]), 4, cut_at_end=True) is None
+    long = np.arange(20) * 0.1
+    assert paired_record(long, 20 - MAX_CUT_STEPS - 1, cut_at_end=True) is None
+    assert paired_record(long, 20 + MAX_CUT_STEPS + 1, cut_at_end=True) is None
+    # not a lockstep record: a message may be missing anywhere, only equal counts pair
+    assert paired_record(stamps, 3) is None and paired_record(stamps, 5) is None
 
 
-def test_paired_record_when_the_counts_agree_and_never_with_fewer_messages():
+def test_paired_record_when_the_counts_agree():
     stamps = np.array([0.0, 0.1, 0.2])
     got = paired_record(stamps, 3)
     assert np.array_equal(got, stamps) and got is not stamps
-    assert paired_record(stamps, 2) is None
 
 
 # -- RealtimePacer ----------------------------------------------------------------------------

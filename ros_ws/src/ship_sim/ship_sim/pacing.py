@@ -96,23 +96,35 @@ class SequencePairer:
         self._floor += 1
 
 
-def paired_record(stamps, count):
+#: Most steps a record may be cut off at its end and still be paired (paired_record): the
+#: simulator stopped with its last steps in flight (lockstep keeps at most
+#: lockstep_record_window, 4, of them unacknowledged).
+MAX_CUT_STEPS = 4
+
+
+def paired_record(stamps, count, cut_at_end=False):
     """The pairing rule applied to a whole record: a topic with ``count`` messages recorded next
     to a stream with ``stamps`` was paired with it message by message, so message n takes
-    stamps[n] (a copy), when the counts agree. A topic with more messages than the stream, next
-    to a stream of evenly spaced stamps (no step missing), is the same record cut off: the
-    simulator was stopped after publishing steps the recorder did not get, which the answering
-    node did get, so the first messages pair exactly and the rest take the next steps' stamps.
-    None otherwise (a message lost, a partial record): then the pairing cannot be recovered."""
+    stamps[n] (a copy), when the counts agree.
+
+    With ``cut_at_end`` (a lockstep record, which loses nothing in its middle: the simulator
+    waits for the recorder) a record cut off at its end is paired too, when the stream's stamps
+    are evenly spaced and the counts differ by at most MAX_CUT_STEPS: the simulator was stopped with
+    its last steps in flight, so the recorder got an answer to an odom it did not get (the
+    extra messages take the next steps' stamps) or an odom whose answer it did not get (the
+    messages pair with the first stamps). None otherwise (a message lost, a partial record):
+    then the pairing cannot be recovered."""
     stamps = np.asarray(stamps)
     if count == len(stamps):
         return stamps.copy()
-    if count > len(stamps) >= 2:
-        step = np.diff(stamps)
-        if np.all(np.abs(step - step[0]) <= 1e-6 * max(abs(step[0]), 1e-9)) and step[0] > 0:
-            extra = stamps[-1] + step[0] * np.arange(1, count - len(stamps) + 1)
-            return np.concatenate([stamps, extra])
-    return None
+    if not cut_at_end or len(stamps) < 2 or abs(count - len(stamps)) > MAX_CUT_STEPS:
+        return None
+    step = np.diff(stamps)
+    if not (step[0] > 0 and np.all(np.abs(step - step[0]) <= 1e-6 * step[0])):
+        return None
+    if count < len(stamps):
+        return stamps[:count].copy()
+    return np.concatenate([stamps, stamps[-1] + step[0] * np.arange(1, count - len(stamps) + 1)])
 
 
 class RunningStats:

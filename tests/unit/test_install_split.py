@@ -136,12 +136,12 @@ def test_every_pin_is_exact_and_in_one_file():
 
 def test_sweep_with_ray_missing_names_the_make_target():
     code = '''
-        sys.path.insert(0, 'scripts')
         sys.argv = ['sweep.py', 'scenarios/sweeps/table1.yaml', '--ray', '--out', sys.argv[2]]
         import sweep
         sys.exit(sweep.main(sys.argv[1:]))
     '''
-    r = run_blocked(code, '/nonexistent/sweep-out')
+    r = run_blocked(code, '/nonexistent/sweep-out',
+                    env=dict(os.environ, PYTHONPATH=str(REPO / 'scripts')))
     assert r.returncode == 2, r.stderr[-2000:]
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and 'ray' in lines[0] and 'make venv-sweep' in lines[0], r.stderr

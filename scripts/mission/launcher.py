@@ -61,7 +61,11 @@ def record_ack_arg(namespace, clock_master, extra=()):
     """The recorder's --ack argument for one vessel: the topics it publishes or gets every step
     (``extra``: more per-step topics acknowledged with it, e.g. the light targets' odom)."""
     ns = f'/{namespace}'
-    topics = (['/clock'] if clock_master else []) + [f'{ns}/{t}' for t in ('odom', 'rudder', 'rudder_cmd')]
+    # the guidance's (or follower's) outputs too: every vessel publishes them once per step, and
+    # the recorder's first ack waits until it is subscribed to every covered topic, so it cannot
+    # join them after step 0 (seen under load: a recorder that subscribed them 126 s late)
+    per_step = ('odom', 'rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_error', 'progress')
+    topics = (['/clock'] if clock_master else []) + [f'{ns}/{t}' for t in per_step]
     return ['--ack', f'{ns}/{RECORD_ACK}=' + ','.join(topics + list(extra))]
 
 

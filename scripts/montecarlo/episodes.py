@@ -17,8 +17,9 @@ in the model's domain and within ``EnvConfig.terminate_cross_track`` of the path
 An episode whose state leaves the domain is a row with completed = 0 and no other metrics.
 
 Test-only hook: with SHIPNAV_SWEEP_FAIL_ONCE=<file>, the first chunk to start in any process
-creates <file> and kills its own process (``os._exit``), as a lost worker would; later chunks
-run normally. The backends' retry tests use it; never set it otherwise.
+creates <file> (the process id, then the chunk's episode indices) and kills its own process
+(``os._exit``), as a lost worker would; later chunks run normally. The backends' retry tests
+use it; never set it otherwise.
 """
 import math
 import os
@@ -56,7 +57,7 @@ def _route(key):
     return _ROUTES[key]
 
 
-def _maybe_fail_once():
+def _maybe_fail_once(chunk):
     marker = os.environ.get(FAIL_ONCE_ENV)
     if not marker:
         return
@@ -64,7 +65,8 @@ def _maybe_fail_once():
         fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
     except FileExistsError:
         return
-    os.write(fd, f'{os.getpid()}\n'.encode())
+    episodes = ' '.join(str(e['episode']) for e in chunk)
+    os.write(fd, f'{os.getpid()}\n{episodes}\n'.encode())
     os.close(fd)
     os._exit(17)
 
@@ -147,7 +149,7 @@ def run_chunk(chunk):
     """Rows (dicts: the episode's parameters and METRICS) for a list of episodes; encounter
     episodes (one sweep kind per chunk) by montecarlo.encounters."""
     tune_allocator()   # a Ray worker starts here, not in sweep.py's main (once per process)
-    _maybe_fail_once()
+    _maybe_fail_once(chunk)
     if 'encounter' in chunk[0]:
         from .encounters import run_encounter_chunk
         return run_encounter_chunk(chunk)

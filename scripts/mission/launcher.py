@@ -264,7 +264,8 @@ def node_parameters(scenario, spec, index, record):
         # guidance + autopilot (+ the recorder) (+ the followers) must all hear step 0.
         'lockstep_odom_subscribers': (odom_subscribers(scenario, spec, record)
         if scenario.platoon is None else scenario.platoon.odom_subscribers(spec.namespace, record))
-        + int(lockstep and scenario.live_port is not None),   # the live view's (start_viewers)
+        + int(lockstep and scenario.live_port is not None)    # the live view's (start_viewers)
+        + int(lockstep and scenario.aivdm_out is not None),   # aivdm_out_node's (every vessel)
     }
     if spec.traffic and lockstep:
         # A target never runs so far ahead that its odom queue overwrites a sample a colav_node
@@ -390,8 +391,11 @@ def start_viewers(scenario, run, group, progress):
 
 def traffic_parameters(scenario, record=True):
     """traffic_node's parameters: the light targets as JSON text (ship_sim.light_traffic)."""
+    # aivdm_out_node subscribes every light target too: counted, or the count could be met by
+    # it before the recorder or a colav_node has matched (publisher counts carry no names)
+    aivdm = int(scenario.stepping == 'lockstep' and scenario.aivdm_out is not None)
     return {'use_sim_time': True, 'targets': json.dumps(scenario.light),
-            'wait_subscribers': target_subscribers(scenario, record)}
+            'wait_subscribers': target_subscribers(scenario, record) + aivdm}
 
 
 def ais_parameters(scenario, record=True):
@@ -648,7 +652,9 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             f = write_params(run, 'ais', 'ais_node', ais_parameters(scenario, record))
             group.start('ais/ais_node', AIS_NODE[1], AIS_NODE[0],
                         ['--ros-args', '--params-file', f])
-        if scenario.aivdm_out is not None:   # AIVDM/AIVDO to chart plotters; nobody waits for it
+        # AIVDM/AIVDO to chart plotters. In lockstep the simulators and traffic_node count its
+        # odom subscriptions among those they wait for (node_parameters, traffic_parameters)
+        if scenario.aivdm_out is not None:
             from mission.aivdm_block import NODE, aivdm_parameters
             f = write_params(run, 'aivdm', NODE[0], aivdm_parameters(scenario, run))
             group.start(f'aivdm/{NODE[0]}', NODE[1], NODE[0], ['--ros-args', '--params-file', f])

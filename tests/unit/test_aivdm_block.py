@@ -50,3 +50,23 @@ def test_defaults_own_ship_dimensions_and_run_folder_file(tmp_path):
 def test_bad_block_refused_naming_the_key(tmp_path, block, key):
     with pytest.raises(ScenarioError, match=key.replace('.', r'\.') + ':'):
         aivdm_parameters(scenario(tmp_path, block), tmp_path)
+
+
+@pytest.mark.parametrize('stepping', ['lockstep', 'realtime'])
+def test_lockstep_simulator_and_traffic_count_the_node_among_their_subscribers(tmp_path, stepping):
+    # Publisher counts carry no names: were aivdm_out_node's subscriptions not counted, they
+    # could meet a simulator's count before its autopilot had matched, and step 0 would go out
+    # without it (the run then stalls waiting for a rudder_cmd that never comes).
+    from mission.launcher import node_parameters, traffic_parameters
+    with_block = scenario(tmp_path, {'file': 'out.nmea'})
+    without = scenario(tmp_path, None)
+    for s in (with_block, without):
+        s.stepping = stepping
+    extra = int(stepping == 'lockstep')
+
+    def subs(s):
+        return node_parameters(s, s.vessels[0], 0, record=True)[0]['vessel_node'][
+            'lockstep_odom_subscribers']
+    assert subs(with_block) == subs(without) + extra
+    assert (traffic_parameters(with_block)['wait_subscribers']
+            == traffic_parameters(without)['wait_subscribers'] + extra)

@@ -33,7 +33,6 @@ With `wait_subscribers`, `~/ready` (std_msgs/Bool, latched) turns true once `tar
 simulators only then, so neither the recorder nor a colav_node misses step 0.
 """
 import math
-import socket
 import time
 
 from nav_msgs.msg import Odometry
@@ -49,7 +48,8 @@ from ship_sim.ros.qos import CLOCK_STEPS, STREAM
 from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
 from ship_sim.safe_load import InputError, read_regular_file
-from ship_guidance.ros.udp import UDP_MAX_DATAGRAMS, UDP_POLL_BUDGET_S, UDP_POLL_S, udp_lines  # noqa: F401
+from ship_guidance.ros.udp import (UDP_MAX_DATAGRAMS, UDP_POLL_BUDGET_S, UDP_POLL_S,  # noqa: F401
+                                    bind_udp, udp_lines)
 from ship_guidance.schema import AIS_NODE
 
 COUNT_NAMES = ('decoded', 'ignored', 'pending_fragments', 'targets') + BAD_REASONS
@@ -93,14 +93,7 @@ class AisNode(Node):
             self.replay = parse_replay(text.splitlines(), rate, offset)
         self.sock = None
         if port:
-            try:
-                sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-                sock.bind((address, port))
-            except OSError as exc:
-                raise ParameterError('udp_port', port, f'a free UDP port on {address} '
-                                     f'({exc.strerror})') from None
-            sock.setblocking(False)
-            self.sock = sock
+            self.sock = bind_udp(address, port)
         self.tracker = AisTracker(lat0, lon0, stale)
         self.sim_time = self.get_parameter('use_sim_time').value
         self.t_base = 0.0 if self.sim_time or self.on_clock else self._now()

@@ -23,7 +23,6 @@ the AIS sensor model's), `reprocess_window_s` (how late a report may come and st
 Bad AIS input is counted and warned about (throttled); it never stops the node.
 """
 import math
-import socket
 
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
@@ -31,7 +30,7 @@ from rclpy.node import Node
 
 from ship_guidance.ais import KNOT, AisTracker
 from ship_guidance.ais_node import child_frame
-from ship_guidance.ros.udp import UDP_POLL_S, udp_lines
+from ship_guidance.ros.udp import UDP_POLL_S, bind_udp, udp_lines
 from ship_guidance.schema import TRACKER_NODE
 from ship_guidance.tracker import AisReport, Tracker, TrackerConfig, odometry_covariances
 from ship_sim.ros.conversions import make_odometry
@@ -57,14 +56,7 @@ class TrackerNode(Node):
         if not port:
             raise ParameterError('udp_port', message='give the UDP port AIS arrives on '
                                  '(udp_port)')
-        try:
-            sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-            sock.bind((address, port))
-        except OSError as exc:
-            raise ParameterError('udp_port', port, f'a free UDP port on {address} '
-                                 f'({exc.strerror})') from None
-        sock.setblocking(False)
-        self.sock = sock
+        self.sock = bind_udp(address, port)
         self.decoder = AisTracker(lat0, lon0)
         self.tracker = Tracker(config)
         self.n_bad = 0

@@ -5,7 +5,10 @@ A flood of datagrams must not keep a timer callback busy: one poll reads at most
 UDP_MAX_DATAGRAMS and works at most UDP_POLL_BUDGET_S of wall time; the rest waits in the
 kernel's buffer for the next poll (and is dropped there if the flood goes on).
 """
+import socket
 import time
+
+from ship_sim.ros.params import ParameterError
 
 UDP_POLL_S = 0.02          # wall-clock period of the UDP poll
 UDP_MAX_DATAGRAMS = 500    # datagrams one poll reads at most ...
@@ -29,3 +32,17 @@ def udp_lines(sock, logger):
         for line in data.splitlines():
             if line.strip():
                 yield line
+
+
+def bind_udp(address, port):
+    """A non-blocking UDP socket bound to (address, port); a port that cannot be bound is the
+    node's parameter error (one line naming ``udp_port``)."""
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    try:
+        sock.bind((address, port))
+    except OSError as exc:
+        sock.close()
+        raise ParameterError('udp_port', port, f'a free UDP port on {address} '
+                             f'({exc.strerror})') from None
+    sock.setblocking(False)
+    return sock

@@ -5,7 +5,7 @@ import pytest
 
 from harness import RosGraph
 from mission.domain import DomainLease, LeaseError
-from mission.processes import install_env
+from mission.processes import LOOPBACK_PROFILE, install_env
 from test_launcher import Launch
 
 
@@ -25,21 +25,18 @@ def lease_or_fail():
 
 @contextlib.contextmanager
 def _fresh_graph(folder, monkeypatch):
-    """A ROS graph on its own domain with localhost discovery, logs in ``folder``; every
-    process it started is ended on exit."""
+    """A ROS graph on its own domain with Fast DDS on the loopback interface only, logs in
+    ``folder``; every process it started is ended on exit."""
     lease = lease_or_fail()
     try:
-        for var in ('ROS_LOCALHOST_ONLY', 'ROS_STATIC_PEERS', 'FASTDDS_DEFAULT_PROFILES_FILE',
-                    'FASTRTPS_DEFAULT_PROFILES_FILE'):
+        for var in ('ROS_LOCALHOST_ONLY', 'ROS_STATIC_PEERS', 'FASTDDS_DEFAULT_PROFILES_FILE'):
             monkeypatch.delenv(var, raising=False)
         monkeypatch.setenv('ROS_DOMAIN_ID', str(lease.domain_id))
-        # Localhost discovery, the launcher's default. The loopback-only profile
-        # (LOOPBACK_PROFILE, run_mission.py --loopback-only) is not the suite's default: with
-        # its unicast discovery, lockstep graphs under load matched late (a recorder that
-        # subscribed the guidance's topics 126 s into the run, a simulator that never heard
-        # its autopilot) in one fresh-clone run; test_loopback_transport.py tests the profile.
-        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-        env = install_env()
+        # Fast DDS on 127.0.0.1 only (doc/security.md) for the tests' nodes, the test process
+        # and every launcher they start (install_env keeps a profile it finds set).
+        monkeypatch.setenv('FASTRTPS_DEFAULT_PROFILES_FILE', str(LOOPBACK_PROFILE))
+        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'SYSTEM_DEFAULT')
+        env = install_env(loopback_only=True)
         env['PYTHONUNBUFFERED'] = '1'
         env['RCUTILS_COLORIZED_OUTPUT'] = '0'
         graph = RosGraph(folder, lease.domain_id, env)

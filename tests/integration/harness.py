@@ -5,7 +5,8 @@ lines with timeouts, check while they run, check exit codes after shutdown), wri
 pytest fixtures because there is no launch_testing wheel here:
 
 - every test gets its own ROS_DOMAIN_ID (1..101, never 0, unique among this user's graphs
-  through a lock file per id, starting at an offset from the pid) and localhost discovery, so
+  through a lock file per id, starting at an offset from the pid) and Fast DDS on the loopback
+  interface only (mission.processes.LOOPBACK_PROFILE, unicast discovery on 127.0.0.1), so
   parallel tests and other graphs never see each other;
 - nodes run as ``ros2 run`` would run them: ``ros_ws/install/<pkg>/lib/<pkg>/<exe>`` with the
   environment ``install/setup.bash`` would set (AMENT_PREFIX_PATH, PYTHONPATH, ... computed

@@ -1,5 +1,5 @@
-"""Fast DDS confined to the loopback interface (mission.processes.LOOPBACK_PROFILE,
-`run_mission.py --loopback-only`): a node started with it binds
+"""Fast DDS confined to the loopback interface (mission.processes.LOOPBACK_PROFILE, the
+integration tests' default and `run_mission.py --loopback-only`): a node started with it binds
 UDP sockets on 127.0.0.1 only, while the same node without it binds 0.0.0.0 (doc/security.md);
 both still discover each other on one domain."""
 import ipaddress
@@ -37,11 +37,9 @@ def _is_loopback(address):
 def test_the_loopback_profile_binds_only_loopback_sockets(ros_graph):
     if shutil.which('ss') is None:
         pytest.skip('`ss` (iproute2) is not installed: cannot list the sockets of a process')
-    # as run_mission.py --loopback-only sets it (mission.processes.install_env)
-    confined_env = {**ros_graph.env, 'FASTRTPS_DEFAULT_PROFILES_FILE': str(LOOPBACK_PROFILE),
-                    'ROS_AUTOMATIC_DISCOVERY_RANGE': 'SYSTEM_DEFAULT'}
+    assert ros_graph.env['FASTRTPS_DEFAULT_PROFILES_FILE'] == str(LOOPBACK_PROFILE)
     confined = ros_graph.start('ship_sim', 'vessel_node', namespace='/confined',
-                               params=NODE_PARAMS, env=confined_env)
+                               params=NODE_PARAMS)
     open_env = {k: v for k, v in ros_graph.env.items() if k != 'FASTRTPS_DEFAULT_PROFILES_FILE'}
     open_env['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'   # the launcher's default
     unconfined = ros_graph.start('ship_sim', 'vessel_node', namespace='/unconfined',

@@ -341,3 +341,31 @@ def test_autopilot_holds_a_nan_heading_cmd_counts_it_and_answers(ros_graph):
     out = proc.output()
     assert 'heading_cmd nan refused' in out and '(1 so far)' in out
     assert ros_graph.stop(proc) == 0
+
+
+@pytest.mark.timeout(120)
+def test_autopilot_in_sequence_pairing_holds_its_first_answers_for_a_late_subscriber(ros_graph):
+    """A simulator takes the n-th rudder_cmd it receives as step n's: an answer sent before its
+    reader matched would be lost and shift every later one. The autopilot keeps its answers
+    until a subscriber has matched, then sends them all, in order."""
+    proc = ros_graph.start('ship_autopilot', 'autopilot_node', namespace=NS,
+                           params={'vessel_model': 'mariner', 'pairing': 'sequence'})
+    tn = ros_graph.test_node()
+    odom = tn.publisher(f'{NS}/odom', Odometry)
+    cmd = tn.publisher(f'{NS}/heading_cmd', Float64)
+    assert tn.wait_for_subscribers(odom, timeout=15.0), proc.report()
+    assert tn.wait_for_subscribers(cmd, timeout=10.0)
+    n_steps = 3
+    for k in range(n_steps):
+        cmd.publish(Float64(data=psi_to_yaw(0.3)))
+        odom.publish(make_odometry(0.1 * k, 0.0, 0.0, 0.0, 7.7, 0.0, 0.0, 'vessel_0/base_link'))
+    tn.spin_for(1.0)   # the answers are computed; nobody subscribes to rudder_cmd yet
+    assert proc.returncode is None, proc.report()
+    rudder = tn.subscribe(f'{NS}/rudder_cmd', Float64)
+    assert tn.spin_until(lambda: len(rudder) >= n_steps, 15.0, poll=0.01), proc.report()
+    tn.spin_for(0.3)
+    values = [m.data for m in rudder.messages]
+    assert len(values) == n_steps, values
+    # The same ramp as answered live: to starboard at the rate limit, never letting up.
+    assert all(v < 0.0 for v in values[1:]) and values[2] < values[1], values
+    assert ros_graph.stop(proc) == 0

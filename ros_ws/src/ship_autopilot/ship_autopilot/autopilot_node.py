@@ -43,6 +43,7 @@ from ship_autopilot.steering import HeadingSteering, PolicySteering
 from ship_autopilot.wave_filter import WaveFilter
 from ship_sim.models import make_model
 from ship_sim.pacing import SequencePairer
+from ship_sim.ros.held_start import HeldStart
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import STREAM
@@ -87,6 +88,9 @@ class AutopilotNode(Node):
 
         self.wave_filter = self._declare_wave_filter(p, kind)
         self.pub = self.create_publisher(Float64, 'rudder_cmd', STREAM)
+        # Sequence pairing: the simulator takes the n-th rudder_cmd it receives as step n's, so
+        # the first ones wait until every listed subscriber has matched (none is lost).
+        self.out = HeldStart(self, self.pub) if self.pairing == 'sequence' else self.pub
         self.pairer = SequencePairer()  # sequence pairing: A odometry, B commands
         self.latest = None          # latest pairing: the last accepted command
         self.t_cmd = None           # sim time of the last command (latest pairing)
@@ -209,7 +213,7 @@ class AutopilotNode(Node):
         if steer.n_rejected != n_bad:
             self.get_logger().warning(f'{steer.rejected_text} held the rudder '
                                       f'({steer.n_rejected} so far)', throttle_duration_sec=5.0)
-        self.pub.publish(self.msg)
+        self.out.publish(self.msg)
 
 
 def main(args=None):

@@ -116,11 +116,12 @@ def _ray_reruns(run_id):
 def start_local_ray(num_cpus, attempts=2):
     """A private local Ray instance of ``num_cpus`` CPUs. On a loaded machine its raylet can
     miss Ray's fixed 30 s start-up wait (its metrics agent starts late): tried ``attempts``
-    times; the last failure is raised."""
+    times; the last failure is raised. ``address='local'``: never the cluster a ``ray start`` on
+    this machine (or another test) left running, which a bare ``ray.init()`` would join."""
     import ray
     for attempt in range(attempts):
         try:
-            return ray.init(num_cpus=num_cpus, include_dashboard=False, log_to_driver=False,
+            return ray.init(address='local', num_cpus=num_cpus, include_dashboard=False, log_to_driver=False,
                             configure_logging=False)
         except Exception:  # noqa: BLE001 (Ray raises a bare Exception for a slow start)
             ray.shutdown()

@@ -15,6 +15,9 @@ SCENARIO ?= scenarios/flagship_mariner.yaml
 # Folders the venv's shipnav.pth puts on sys.path: every package of ros_ws/src, and scripts/.
 PATH_DIRS := $(abspath $(sort $(dir $(wildcard $(WS)/src/*/package.xml))) scripts)
 PYTEST_ARGS ?=
+# pytest worker processes for `make test` (pytest-xdist; 0 runs the suite in one process). A test
+# file stays on one worker (--dist loadfile): its module-scoped runs are made once.
+TEST_JOBS ?= 2
 
 .PHONY: all venv venv-sweep venv-test paths build demo lint docs test bench clean distclean
 
@@ -84,7 +87,7 @@ docs: $(VENV)/.installed-docs paths
 # tests will skip and the command that installs it.
 test: build venv-test lint docs
 	@$(PY) scripts/ensure_test_tools.py
-	$(PY) -m pytest $(PYTEST_ARGS)
+	$(PY) -m pytest -n $(TEST_JOBS) --dist loadfile $(PYTEST_ARGS)
 
 # The benchmarks use every extra: gymnasium (controllers), Ray (sweep), websockets (live view).
 bench: build venv-test

@@ -28,8 +28,8 @@ import pytest
 import yaml
 
 import make_ais_replay
-from mission.bag import read_bag
-from mission.encounter import alteration, decision_rows, min_distance, target_tracks
+from ship_mission.bag import read_bag
+from ship_mission.encounter import alteration, decision_rows, min_distance, target_tracks
 from ship_guidance.ais import KNOT
 from ship_guidance.colav_params import ColavParams
 

@@ -1,4 +1,4 @@
-"""scripts/mission/recorder.py as a real process against a test node publishing a tiny graph.
+"""ros_ws/src/ship_mission/ship_mission/recorder.py as a real process against a test node publishing a tiny graph.
 
 The test node latches a route *before* the recorder starts (a late recorder must still get it,
 through transient_local), then publishes /clock, odom and rudder for N steps. The recorder is
@@ -24,9 +24,9 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import NavSatFix
 from std_msgs.msg import Float64, UInt64
 
-from mission.bag import read_bag
-from mission.bag_check import cross_check
-from mission.processes import die_with_parent
+from ship_mission.bag import read_bag
+from ship_mission.bag_check import cross_check
+from ship_mission.processes import die_with_parent
 from ship_sim.ros.qos import LATCHED, RECORD_ACK, STREAM
 
 RECORDER = Path(__file__).resolve().parents[2] / 'scripts' / 'mission' / 'recorder.py'

@@ -1,12 +1,12 @@
 """Scenario parsing and launcher wiring of collision avoidance: a vessel's `colav:` block and
-the `traffic:` section (mission.scenario, mission.launcher)."""
+the `traffic:` section (ship_mission.scenario, ship_mission.launcher)."""
 from pathlib import Path
 
 import pytest
 
-from mission.launcher import (COLAV_REMAP, check_scenario, node_parameters, node_remaps,
+from ship_mission.launcher import (COLAV_REMAP, check_scenario, node_parameters, node_remaps,
                               vessel_nodes)
-from mission.scenario import ScenarioError, load_scenario
+from ship_mission.scenario import ScenarioError, load_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
 HEAD_ON = ROOT / 'scenarios' / 'head_on_mariner_2.yaml'
@@ -108,7 +108,7 @@ def test_realtime_simulator_waits_for_the_nodes_that_follow_its_odom():
     came), autopilot and colav_node follow its odom; a node that never does is warned about."""
     from types import SimpleNamespace
 
-    from mission.launcher import _wait_for_odom_subscribers
+    from ship_mission.launcher import _wait_for_odom_subscribers
     sc = load_scenario(HEAD_ON)
     own = sc.vessels[0]
     joined = []   # subscribers of /vessel_0/odom appear one per spin

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from mission.browser_check import find_chromium
+from ship_mission.browser_check import find_chromium
 
 REPO = Path(__file__).resolve().parents[2]
 REQ = REPO / 'requirements'

@@ -1,5 +1,5 @@
-"""The launcher's start order of the simulators (mission.launcher.simulator_start_plan) and its
-wait for a simulator's step 0 (mission.launcher._wait_for_ready), without DDS."""
+"""The launcher's start order of the simulators (ship_mission.launcher.simulator_start_plan) and its
+wait for a simulator's step 0 (ship_mission.launcher._wait_for_ready), without DDS."""
 import dataclasses
 import time
 from pathlib import Path
@@ -7,8 +7,8 @@ from types import SimpleNamespace
 
 import pytest
 
-from mission.launcher import MissionFailed, _wait_for_ready, simulator_start_plan
-from mission.scenario import load_scenario
+from ship_mission.launcher import MissionFailed, _wait_for_ready, simulator_start_plan
+from ship_mission.scenario import load_scenario
 
 SCENARIOS = Path(__file__).resolve().parents[2] / 'scenarios'
 

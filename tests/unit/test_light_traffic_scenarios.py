@@ -1,11 +1,11 @@
-"""Light targets in a scenario's `traffic:` section (mission.scenario, mission.launcher)."""
+"""Light targets in a scenario's `traffic:` section (ship_mission.scenario, ship_mission.launcher)."""
 import json
 from pathlib import Path
 
 import pytest
 
-from mission.launcher import check_scenario, node_parameters, record_ack_args, traffic_parameters
-from mission.scenario import ScenarioError, load_scenario
+from ship_mission.launcher import check_scenario, node_parameters, record_ack_args, traffic_parameters
+from ship_mission.scenario import ScenarioError, load_scenario
 
 from ship_sim.light_traffic import parse_targets
 

@@ -1,6 +1,6 @@
 """What the run's plots and tables tell a mariner: compass headings, the drift over ground, the
 settling window the metrics leave out, the route's waypoints, a unit and description for every
-metric metrics.json writes (mission.plots, mission.metrics.over_ground, mission.metric_info,
+metric metrics.json writes (ship_mission.plots, ship_mission.metrics.over_ground, ship_mission.metric_info,
 ship_sim.frames.yaw_to_compass_deg)."""
 import math
 from pathlib import Path
@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 import yaml
 
-from mission import metric_info, metrics, plots, report
-from mission.bag import Series
+from ship_mission import metric_info, metrics, plots, report
+from ship_mission.bag import Series
 from ship_sim.frames import yaw_to_compass_deg
 
 REPO = Path(__file__).resolve().parents[2]

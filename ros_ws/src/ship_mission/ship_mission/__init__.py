@@ -1,4 +1,7 @@
-"""Mission tooling shared by the launcher and the analysis scripts (``from mission import ...``).
+"""Scenarios and missions: run a scenario as a graph of node processes, record it, analyse it.
+
+The launcher's command is ``ros2 run ship_mission run_mission`` (``cli``; scripts/run_mission.py
+runs the same main); the analysis scripts use the modules (``from ship_mission import ...``).
 
 - ``scenario``: scenario files (load_scenario); ``platoon``: the `platoon:` section and its
   checks; ``vessel_spec`` and ``fields``: the vessel mapping and the checked YAML fields both
@@ -18,6 +21,7 @@
   ``browser_check``: open a page in headless Chromium (scripts/check_report.py, its test).
 
 Submodules are imported on demand, so importing one does not pull in rclpy or matplotlib.
-The ship_* packages come from the interpreter's path: the source tree in the project's venv
-(its shipnav.pth, written by `make`), the install tree where `ros_ws/install/setup.bash` is sourced.
+Modules use each other's public names only (tests/unit/test_mission_private_names.py). The
+ship_* packages come from the interpreter's path: the install tree where
+`ros_ws/install/setup.bash` is sourced, the source folders under pytest (doc/guide/install.md).
 """

@@ -20,9 +20,9 @@ dimensions unless `static` gives them.
 """
 import json
 
-from mission.fields import ScenarioError
-from mission.node_checks import node_parameter_names
-from mission.scenario import scenario_origin
+from ship_mission.fields import ScenarioError
+from ship_mission.node_checks import node_parameter_names
+from ship_mission.scenario import scenario_origin
 from ship_guidance.nav_display import DEFAULT_ORIGIN_DEG
 
 KEYS = {'udp', 'file', 'origin', 'mmsi', 'static'}

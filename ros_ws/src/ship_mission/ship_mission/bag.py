@@ -36,7 +36,7 @@ from rosbags.typesys import Stores, get_typestore
 from ship_sim.pacing import paired_record
 from ship_sim.ros import odometry_cdr as cdr
 
-from mission import bag_recovery
+from ship_mission import bag_recovery
 
 NS_PER_S = 1e9
 
@@ -62,7 +62,7 @@ class BagError(RuntimeError):
 class Series(NamedTuple):
     """Samples of one topic: ``t`` (s) and ``v`` (one row per message; 1-D for scalars).
 
-    A tuple, so ``t, v = series`` works and the pure ``mission.metrics`` takes it as is.
+    A tuple, so ``t, v = series`` works and the pure ``ship_mission.metrics`` takes it as is.
     """
     t: np.ndarray
     v: np.ndarray
@@ -242,7 +242,7 @@ def _open(path):
 
 
 def recover_if_needed(path):
-    """Rebuild a bag whose recorder was killed (mission.bag_recovery); its one-line report or None."""
+    """Rebuild a bag whose recorder was killed (ship_mission.bag_recovery); its one-line report or None."""
     if not bag_recovery.needs_recovery(path):
         return None
     try:

@@ -2,7 +2,7 @@
 
 - the ``mcap`` library's reader (with CRC checks) and ``mcap-ros2-support``'s decoder, which
   parses the ros2msg schemas stored in the file (what Foxglove and other MCAP tools do);
-- the project's own reader, rosbags' ``AnyReader`` (``mission.bag``), which deserialises with
+- the project's own reader, rosbags' ``AnyReader`` (``ship_mission.bag``), which deserialises with
   the Jazzy typestore and the definitions the bag carries.
 
 ``cross_check`` returns per topic the message counts of metadata.yaml, of the first reader

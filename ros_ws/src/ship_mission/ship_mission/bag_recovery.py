@@ -16,7 +16,7 @@ metadata.yaml as ``metadata.yaml.partial``). The recorder's custom data (time so
 limits) comes from ``recording.yaml``, which the recorder writes when it opens a bag, else from
 the surviving metadata.yaml. The new bag's custom data says that it was recovered (RECOVERED,
 its report), where the record ends (END_NS, the last log time) and, when a metadata.yaml
-survived, how many messages each topic had (EXPECTED, JSON): ``mission.integrity`` reports
+survived, how many messages each topic had (EXPECTED, JSON): ``ship_mission.integrity`` reports
 from them what is lost, so a recovered bag is never called complete.
 """
 import json
@@ -30,7 +30,7 @@ from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader
 from rosbags.rosbag2.metadata import parse_qos
 
-#: custom_data keys of a recovered bag (read by mission.integrity)
+#: custom_data keys of a recovered bag (read by ship_mission.integrity)
 RECOVERED = 'mission.recovered'
 END_NS = 'mission.recovered_end_ns'
 EXPECTED = 'mission.recovered_expected'
@@ -109,7 +109,7 @@ def _surviving_metadata(bag_dir):
 
 def recover_bag(bag_dir):
     """Rewrite the broken bag in ``bag_dir`` as a complete one; returns a one-line report."""
-    from mission.recorder import DEFAULT_COMPRESSION, RECORDING_FILE, BagWriter
+    from ship_mission.recorder import DEFAULT_COMPRESSION, RECORDING_FILE, BagWriter
     bag_dir = Path(bag_dir)
     broken = next(bag_dir.glob('*.mcap'))
     schemas, channels, messages, _stop = scan(broken)

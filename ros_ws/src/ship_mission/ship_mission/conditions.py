@@ -137,13 +137,13 @@ def sea_state(cond, course, seed=SEED):
                     seed=seed)
 
 
-#: ship_sim spectrum name -> the scenario's `waves: spectrum` key (mission.waves)
+#: ship_sim spectrum name -> the scenario's `waves: spectrum` key (ship_mission.waves)
 SCENARIO_SPECTRUM = {'Modified PM': 'modified_pm', 'Torsethaugen': 'torsethaugen',
                      'JONSWAP': 'jonswap'}
 
 
 def scenario_blocks(cond, course, seed=SEED):
-    """(wind block, waves block) of a scenario vessel (mission.wind_block, mission.waves), each
+    """(wind block, waves block) of a scenario vessel (ship_mission.wind_block, ship_mission.waves), each
     None when absent: the same wind and sea as ``wind_field`` / ``sea_state``."""
     wind = sea = None
     if cond.wind_speed > 0.0:

@@ -1,5 +1,5 @@
 """What a run prints for a person in the terminal: the progress lines and the closing metrics
-summary (mission.launcher, run_mission.py). No ROS.
+summary (ship_mission.launcher, run_mission.py). No ROS.
 
 Rules: a value not yet defined (no cross-track error received, no sim time elapsed) or not
 defined for this run (a statistic whose settling window the run never reached, a route not
@@ -12,11 +12,11 @@ with sigma = 10 m, which is 0 to that resolution and is shown so.
 """
 import math
 
-from mission.metric_info import DISPLAY, VESSEL, plain_name, shown
+from ship_mission.metric_info import DISPLAY, VESSEL, plain_name, shown
 
 NA = 'n/a'
 
-#: Metrics whose statistics count only after the settling window (mission.metrics).
+#: Metrics whose statistics count only after the settling window (ship_mission.metrics).
 WINDOWED_PREFIXES = ('xte_rms', 'xte_max', 'xte_mean', 'rudder_', 'heading_error_')
 #: Metrics of the summary line, by name prefix.
 SUMMARY_PREFIXES = ('xte_rms', 'xte_max', 'time_to_complete', 'reward', 'rudder_mean')
@@ -42,7 +42,7 @@ def progress_line(t, duration_s, xte_by_ns, rtf, eta_s):
 
 def metric_text(key, value):
     """(shown key, shown value) of one metric: angles in degrees under a key naming them
-    (units from mission.metric_info, the one table of them), reward sums to their resolution,
+    (units from ship_mission.metric_info, the one table of them), reward sums to their resolution,
     other floats to 4 significant digits, undefined as n/a."""
     unit = VESSEL.get(key, ('', ''))[0]
     if _defined(value):

@@ -91,7 +91,7 @@ def decision_rows(bag_dir, namespace):
 
 def encounter_report(bag_dir, own_ns, target_ns):
     """min_distance and alteration of one run, as one dict."""
-    from mission.bag import read_bag
+    from ship_mission.bag import read_bag
     data = read_bag(bag_dir, namespaces=[f'/{own_ns}', f'/{target_ns}'])
     out = min_distance(data.vessels[f'/{own_ns}'], data.vessels[f'/{target_ns}'])
     out.update(alteration(decision_rows(bag_dir, own_ns)))
@@ -103,7 +103,7 @@ def target_tracks(bag_dir, topic='/targets'):
     messages on ``topic`` ({} when the bag has none)."""
     from rosbags.highlevel import AnyReader
     from rosbags.typesys import Stores, get_typestore
-    from mission.bag import decode_odometry, quaternion_yaw
+    from ship_mission.bag import decode_odometry, quaternion_yaw
     raws = {}
     with AnyReader([Path(bag_dir)], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
         conns = [c for c in reader.connections if c.topic == topic]

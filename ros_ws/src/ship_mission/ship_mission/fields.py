@@ -1,5 +1,5 @@
 """Checked fields of the launcher's YAML files: the error type and the small checks that name
-the file and the key (mission.scenario, mission.vessel_spec and mission.platoon share them)."""
+the file and the key (ship_mission.scenario, ship_mission.vessel_spec and ship_mission.platoon share them)."""
 import math
 
 

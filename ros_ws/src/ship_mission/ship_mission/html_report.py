@@ -1,13 +1,13 @@
 """Self-contained HTML pages of runs and batches: one file, images as data URIs, inline CSS, no
 scripts, fonts or links to the network, so a report opens offline and can be mailed as it is.
 
-Run report (``write_run_report``, called by ``mission.report.analyse_bag`` wherever it writes
+Run report (``write_run_report``, called by ``ship_mission.report.analyse_bag`` wherever it writes
 metrics.json: the launcher after a mission, replay_bag.py, the seed batch): report.html beside
 metrics.json with the run (date, git commit, command, outcome), the scenario YAML, the metrics
 tables (vessels, platoon, encounter when a vessel ran colav_node, record completeness, topics),
 every PNG of the folder and the warnings and errors of the node logs (``log_issues``), under a
 table of contents. Metric tables give each metric's unit and description from
-mission.metric_info (the one table of them); angles are shown in degrees there (metrics.json
+ship_mission.metric_info (the one table of them); angles are shown in degrees there (metrics.json
 keeps radians).
 
 Readable at phone width: the viewport meta tag, images no wider than the page, wide tables
@@ -40,7 +40,8 @@ import sys
 from datetime import datetime, timezone
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[2]
+from ship_mission.processes import REPO
+
 #: The node-log lines a report lists: rclpy's levels and Python's warnings and tracebacks.
 ISSUE = re.compile(r'\[(WARN|ERROR|FATAL)\]|Warning:|^Traceback|^\w*Error\b')
 MAX_LOG_LINES = 40   # per log file; the rest is counted
@@ -163,9 +164,9 @@ class Sections:
 def metric_table(section, columns):
     """Metrics as rows (metric without its unit suffix, unit, one column per entry of ``columns``
     {name: metrics dict}, description, the metrics.json key), with the unit and description of
-    mission.metric_info's ``section``, angles in degrees. A key without an entry there is shown
+    ship_mission.metric_info's ``section``, angles in degrees. A key without an entry there is shown
     with a '?' unit (the tests forbid it)."""
-    from mission.metric_info import plain_name, shown
+    from ship_mission.metric_info import plain_name, shown
     names = list(columns)
     keys = []
     for m in columns.values():
@@ -231,7 +232,7 @@ def _run_summary(path):
 
 
 def _record_table(record):
-    """Completeness per topic (mission.integrity) and each vessel's recording end."""
+    """Completeness per topic (ship_mission.integrity) and each vessel's recording end."""
     rows, ends = [], []
     streams = [('/clock', record['clock'])] if record.get('clock') else []
     for ns, topics in record.get('vessels', {}).items():
@@ -248,7 +249,7 @@ def _record_table(record):
 def encounter_rows(bag_dir, metrics):
     """[(own, target, encounter_report dict)] for every vessel with a colav_decision topic
     against every other vessel of the bag; [] without colav."""
-    from mission.encounter import encounter_report
+    from ship_mission.encounter import encounter_report
     topics = metrics.get('topics', {})
     own = [t.split('/')[1] for t in topics if t.endswith('/colav_decision')]
     others = [t.split('/')[1] for t in topics if t.endswith('/odom')]
@@ -272,14 +273,14 @@ def write_run_report(run_dir, metrics, source_dir=None, command=None):
             ('git commit', git_commit() or 'unknown'),
             ('command', command or shlex.join(sys.argv))]
     if metrics.get('record'):
-        from mission.integrity import summary_line
+        from ship_mission.integrity import summary_line
         meta.append(('record', summary_line(metrics['record'])))
     if run:
         meta += [('outcome', run.get('outcome')),
                  ('sim / wall time', f"{fmt(run.get('sim_time_s'))} s / {fmt(run.get('wall_time_s'))} s "
                                      f"(x{fmt(run.get('real_time_factor'))} real time)")]
-    from mission import metric_info
-    from mission.plots import CAPTIONS
+    from ship_mission import metric_info
+    from ship_mission.plots import CAPTIONS
     sec = Sections()
     body = []
     if metrics.get('recovered'):

@@ -6,24 +6,24 @@ holds, per vessel, one message of each per-step topic for every step from the fi
 to the last. A step is missing from a stamped stream when two consecutive stamps are more than
 one period apart; an unstamped per-step topic (std_msgs/Float64, the progress array) is short by
 the difference between the step count and its message count (where in the record its messages
-went missing is not known: ``mission.bag`` then times it by log time, never by interpolating
+went missing is not known: ``ship_mission.bag`` then times it by log time, never by interpolating
 across the gap). One answer fewer than steps is not a loss: the answer to the last step may be
 in flight when the launcher stops the graph (``in_flight``).
 
-A bag recovered from an interrupted recording (``mission.bag_recovery``) is never complete: its
+A bag recovered from an interrupted recording (``ship_mission.bag_recovery``) is never complete: its
 end is lost. When a metadata.yaml survived, its message counts say how much: per vessel the
 odom steps after the last one recovered (``lost_at_end``), per topic the messages; without one
 how much is not known, and the report says so.
 
-Pure numpy: ``record_integrity`` takes a ``mission.bag.BagData``.
+Pure numpy: ``record_integrity`` takes a ``ship_mission.bag.BagData``.
 """
 import json
 
 import numpy as np
 
-from mission import bag_recovery
+from ship_mission import bag_recovery
 
-#: per-step topics of a vessel (relative names) besides odom, as ``mission.bag`` reads them
+#: per-step topics of a vessel (relative names) besides odom, as ``ship_mission.bag`` reads them
 PER_STEP = ('rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_error', 'progress')
 MAX_GAPS_LISTED = 20
 
@@ -49,7 +49,7 @@ def stamp_gaps(t, period=None):
 
 
 def vessel_integrity(vessel, period=None):
-    """One ``mission.bag.VesselData`` -> {'odom': stamp_gaps, <topic>: {...}, 'missing': total}."""
+    """One ``ship_mission.bag.VesselData`` -> {'odom': stamp_gaps, <topic>: {...}, 'missing': total}."""
     odom = stamp_gaps(vessel.t, period)
     out = {'odom': odom}
     total = odom['missing']
@@ -66,7 +66,7 @@ def vessel_integrity(vessel, period=None):
 
 
 def record_integrity(data):
-    """``mission.bag.BagData`` -> {'complete': bool, 'missing': int, 'clock': ..., 'vessels': ...}.
+    """``ship_mission.bag.BagData`` -> {'complete': bool, 'missing': int, 'clock': ..., 'vessels': ...}.
 
     ``clock`` counts the clock master's /clock stamps against its period (the master is the
     vessel whose odom stamps /clock follows: the first vessel with the same period).
@@ -92,7 +92,7 @@ def record_integrity(data):
 
 
 def _recovered(data):
-    """What a recovered bag lost at its end, from its custom data (mission.bag_recovery), or None
+    """What a recovered bag lost at its end, from its custom data (ship_mission.bag_recovery), or None
     for a bag that was not recovered: {'end_s', 'lost': {topic: [received, lost]} or None
     (not known), 'lost_steps': {namespace: odom steps lost} or None}."""
     custom = getattr(data, 'custom_data', None) or {}

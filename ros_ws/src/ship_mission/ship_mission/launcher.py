@@ -2,7 +2,7 @@
 
 For each vessel namespace: route_node, guidance_node, autopilot_node and, last, vessel_node
 (in lockstep it publishes step 0 only once its odom subscribers are all there). In a platoon
-(mission.platoon) a follower runs follower_node in place of guidance_node, steering at its
+(ship_mission.platoon) a follower runs follower_node in place of guidance_node, steering at its
 predecessor's odom; every vessel_node is started after all the other nodes and waits for its
 own subscribers, which include the followers of that vessel; in lockstep the traffic vessels'
 simulators start first and a colav vessel's only once every target has published step 0
@@ -19,7 +19,7 @@ Afterwards the bag is turned into metrics.json and PNG plots.
 
 Run folder: runs/<scenario>-<timestamp>/ with params/ (one ROS parameter file per node),
 logs/ (one log per process), bag/ (rosbag2 MCAP), metrics.json, *.png, report.html (all of it on
-one self-contained page: mission.html_report); runs/latest points at it.
+one self-contained page: ship_mission.html_report); runs/latest points at it.
 """
 import json
 import math
@@ -32,13 +32,13 @@ from pathlib import Path
 
 import yaml
 
-from mission.console import progress_line
-from mission.domain import LeaseError, lease_domain_id
-from mission.processes import REPO, ProcessGroup, install_env
-from mission.node_checks import RCLPY_PARAMETERS, node_parameter_names  # noqa: F401 (the launcher's API)
-from mission.scenario import ScenarioError, route_plan, scenario_origin, scenario_text, start_pose
-from mission.waves import wave_filter_parameters
-from mission.wind_block import wind_meta, wind_parameters
+from ship_mission.console import progress_line
+from ship_mission.domain import LeaseError, lease_domain_id
+from ship_mission.processes import REPO, ProcessGroup, install_env
+from ship_mission.node_checks import RCLPY_PARAMETERS, node_parameter_names  # noqa: F401 (the launcher's API)
+from ship_mission.scenario import ScenarioError, route_plan, scenario_origin, scenario_text, start_pose
+from ship_mission.waves import wave_filter_parameters
+from ship_mission.wind_block import wind_meta, wind_parameters
 from ship_guidance.nav_display import DEFAULT_DISPLAY_RATE_HZ
 
 RECORDER = Path(__file__).resolve().parent / 'recorder.py'
@@ -111,15 +111,15 @@ def install_stop_handlers():
 
 def check_scenario(scenario):
     """What load_scenario cannot check without the packages: model names, route files, start
-    points within their route, the number of steps (mission.scenario.MAX_STEPS), node
+    points within their route, the number of steps (ship_mission.scenario.MAX_STEPS), node
     parameter names (node_parameter_names; an unknown one is named with the closest valid
-    one), and for a platoon the stability of every look-ahead (mission.platoon.check_stability;
+    one), and for a platoon the stability of every look-ahead (ship_mission.platoon.check_stability;
     its warnings go to scenario.platoon.warnings).
 
     Raises ScenarioError (one line naming the file and the key) before anything starts."""
     import difflib
-    from mission.node_checks import check_vessel_sections
-    from mission.scenario import MAX_STEPS
+    from ship_mission.node_checks import check_vessel_sections
+    from ship_mission.scenario import MAX_STEPS
     from ship_planner.route_loader import RouteError
     from ship_sim.models import MODEL_NAMES
     platoon = scenario.platoon
@@ -172,10 +172,10 @@ def check_scenario(scenario):
                 raise ScenarioError(f'{scenario.file}: ais.{key}: ais_node has no parameter '
                                     f'{key!r}{hint}')
     if scenario.aivdm_out is not None:
-        from mission.aivdm_block import aivdm_parameters
+        from ship_mission.aivdm_block import aivdm_parameters
         aivdm_parameters(scenario, Path('.'))
     if platoon is not None:
-        from mission.platoon import check_lead, check_stability
+        from ship_mission.platoon import check_lead, check_stability
         check_lead(scenario)
         check_stability(scenario)
 
@@ -246,7 +246,7 @@ def odom_subscribers(scenario, spec, record):
 def node_parameters(scenario, spec, index, record):
     """{node executable: parameters} for one vessel, scenario values first, then the glue.
 
-    A platoon follower gets 'follower_node' (mission.platoon.follower_parameters) instead of
+    A platoon follower gets 'follower_node' (ship_mission.platoon.follower_parameters) instead of
     'guidance_node'; every platoon vessel_node also waits for the followers of its vessel."""
     plan = route_plan(scenario, spec)
     x, y, yaw = start_pose(spec, plan.route)
@@ -318,7 +318,7 @@ def node_parameters(scenario, spec, index, record):
     if spec.predecessor is None:
         params['guidance_node'] = {**sim_time, **spec.guidance_params}
     else:
-        from mission.platoon import follower_parameters
+        from ship_mission.platoon import follower_parameters
         params['follower_node'] = follower_parameters(scenario, spec)
     return params, plan
 
@@ -345,7 +345,7 @@ def display_every(scenario):
 
 def display_parameters(scenario, spec):
     """nav_display_node's parameters of one vessel: its model, the scenario's `display:` keys,
-    and the NavSatFix origin (mission.scenario.scenario_origin) if the scenario has one."""
+    and the NavSatFix origin (ship_mission.scenario.scenario_origin) if the scenario has one."""
     # Stamped from odom only: no /clock subscription (a callback per step) is needed.
     params = {'use_sim_time': False, 'model': spec.model, **scenario.display}
     origin = scenario_origin(scenario)
@@ -356,7 +356,7 @@ def display_parameters(scenario, spec):
 
 def start_viewers(scenario, run, group, progress):
     """Start every vessel's nav_display_node (unless `display: false`) and, with --live, the
-    live view (scripts/live_view.py, mission.live_bridge) serving the graph on 127.0.0.1."""
+    live view (scripts/live_view.py, ship_mission.live_bridge) serving the graph on 127.0.0.1."""
     if scenario.display is not None:
         if scenario_origin(scenario) is None:
             from ship_guidance.nav_display import DEFAULT_ORIGIN_DEG
@@ -535,7 +535,7 @@ class Monitor:
 def simulator_start_plan(scenario):
     """[(namespace, namespaces whose step 0 must be out first)]: the order in which the launcher
     starts the simulators. In lockstep, whoever others wait for comes first and is waited for:
-    every platoon predecessor before its followers (mission.platoon.start_order), and every
+    every platoon predecessor before its followers (ship_mission.platoon.start_order), and every
     traffic vessel before the colav vessels, whose colav_node waits for each target's sample at
     every decision from step 0 on and, after lockstep_target_timeout_s, decides without a
     silent one (the run then does not repeat). Once a target has published step 0 its recorder
@@ -544,7 +544,7 @@ def simulator_start_plan(scenario):
     still start first)."""
     specs = list(scenario.vessels)
     if scenario.platoon is not None:
-        from mission.platoon import start_order
+        from ship_mission.platoon import start_order
         rank = {ns: i for i, ns in enumerate(start_order(scenario.platoon))}
         specs.sort(key=lambda s: rank[s.namespace])
     if scenario.stepping != 'lockstep':
@@ -607,12 +607,12 @@ def _tail(proc, n=8):
 def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None, progress=print,
                  progress_period_s=2.0, analyse=True, wall_timeout_s=None, loopback_only=False):
     """Run ``scenario``; returns (run_dir, metrics or None). Raises MissionFailed on failure.
-    ``loopback_only``: Fast DDS on 127.0.0.1 only (mission.processes.install_env)."""
+    ``loopback_only``: Fast DDS on 127.0.0.1 only (ship_mission.processes.install_env)."""
     record = scenario.record if record is None else record
     run = make_run_dir(scenario, runs_root)
     if domain_id is None:
         try:
-            domain_id = lease_domain_id()   # a run never shares its domain (mission.domain)
+            domain_id = lease_domain_id()   # a run never shares its domain (ship_mission.domain)
         except LeaseError as exc:   # none free, or an unsafe lock directory: one line
             raise MissionFailed(str(exc)) from None
     env = install_env(domain_id=domain_id, loopback_only=loopback_only)
@@ -655,12 +655,12 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         # AIVDM/AIVDO to chart plotters. In lockstep the simulators and traffic_node count its
         # odom subscriptions among those they wait for (node_parameters, traffic_parameters)
         if scenario.aivdm_out is not None:
-            from mission.aivdm_block import NODE, aivdm_parameters
+            from ship_mission.aivdm_block import NODE, aivdm_parameters
             f = write_params(run, 'aivdm', NODE[0], aivdm_parameters(scenario, run))
             group.start(f'aivdm/{NODE[0]}', NODE[1], NODE[0], ['--ros-args', '--params-file', f])
         if record:
             from ship_sim.models import make_model
-            # Each vessel's limit for mission.report (the instance's: some models set it in
+            # Each vessel's limit for ship_mission.report (the instance's: some models set it in
             # __init__), as a plain float so that repr gives a number, not 'np.float64(...)'.
             meta = []
             for spec in scenario.vessels:
@@ -668,7 +668,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
                 meta += ['--meta', f'mission.rudder_limit_rad/{spec.namespace}={limit!r}']
             meta += wind_meta(scenario.vessels)
             # A platoon's followers run behind the master's /clock: wall log times, which
-            # mission.report maps onto each vessel's own odometry stamps.
+            # ship_mission.report maps onto each vessel's own odometry stamps.
             source = 'sim' if scenario.platoon is None else 'wall'
             acks = record_ack_args(scenario) if scenario.stepping == 'lockstep' else []
             group.start_argv('recorder', [sys.executable, RECORDER, run / 'bag', '--time-source',
@@ -763,8 +763,8 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
 
 def _analyse(scenario, run, summary, progress, partial=False):
     """metrics.json and the plots of a run's bag; prints whether the record is complete."""
-    from mission.integrity import summary_line
-    from mission.report import analyse_bag
+    from ship_mission.integrity import summary_line
+    from ship_mission.report import analyse_bag
     platoon = None
     if scenario.platoon is not None:
         platoon = {f'/{s.namespace}': f'/{s.predecessor}' if s.predecessor else None

@@ -2,7 +2,7 @@
 
 Every topic found by discovery (``get_topic_names_and_types``, every DISCOVERY_PERIOD_S) is
 advertised as a channel with message encoding ``cdr`` and a ``ros2msg`` schema: the message
-definition text with its dependencies (mission.recorder.message_definition, the text rosbag2
+definition text with its dependencies (ship_mission.recorder.message_definition, the text rosbag2
 puts in its MCAP files), so Foxglove and Lichtblick decode the messages as they decode a bag.
 Messages are forwarded as received: raw subscriptions, the CDR bytes untouched.
 
@@ -43,7 +43,7 @@ import re
 import time
 from collections import Counter
 
-from mission.recorder import DEFAULT_EXCLUDE, _clock_ns, _message_class, message_definition
+from ship_mission.recorder import DEFAULT_EXCLUDE, _clock_ns, _message_class, message_definition
 
 CLOCK_TOPIC = '/clock'
 TF_TOPIC = '/tf'

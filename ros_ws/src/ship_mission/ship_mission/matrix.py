@@ -24,7 +24,7 @@ filled in from the variables (``str.format``: ``{angle}``, ``{speed:.1f}``), a v
 strings too, so one variable may use others; a string that is a single ``{name}`` becomes the
 variable's value itself (a number, a list). Braces in a string always name a variable.
 
-Each combination gives one complete scenario mapping, read and checked by mission.scenario as if
+Each combination gives one complete scenario mapping, read and checked by ship_mission.scenario as if
 it had been a file of its own (relative paths are relative to the matrix file); the names must
 differ. Expanding is pure data: the same file gives the same scenarios in the same order.
 """
@@ -32,7 +32,7 @@ import copy
 import itertools
 import re
 
-from mission.fields import ScenarioError, need, unknown
+from ship_mission.fields import ScenarioError, need, unknown
 
 MATRIX_KEYS = {'axes', 'rules'}
 RULE_KEYS = {'when', 'vars', 'set'}

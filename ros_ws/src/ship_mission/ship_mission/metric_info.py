@@ -1,11 +1,11 @@
 """What each key of metrics.json means: its unit and a one-line description, the one table the
-report (mission.html_report) and the run's closing lines (mission.console) read.
+report (ship_mission.html_report) and the run's closing lines (ship_mission.console) read.
 
 metrics.json is data and keeps SI units and radians (the unit is the key's suffix); a person
 reads angles in degrees, so ``shown`` converts a value of unit 'rad' or 'rad/s' to degrees for
-display. Sections: ``VESSEL`` (mission.metrics.vessel_metrics and what mission.report adds per
-vessel), ``TRAFFIC`` (per target, mission.report.traffic_metrics) and ``PLATOON`` (per vessel of
-a platoon, mission.report.platoon_metrics). A key written without an entry here fails
+display. Sections: ``VESSEL`` (ship_mission.metrics.vessel_metrics and what ship_mission.report adds per
+vessel), ``TRAFFIC`` (per target, ship_mission.report.traffic_metrics) and ``PLATOON`` (per vessel of
+a platoon, ship_mission.report.platoon_metrics). A key written without an entry here fails
 tests/unit/test_report_plots.py.
 """
 import math
@@ -107,7 +107,7 @@ def shown(value, unit):
 
 
 
-#: the key suffixes that name a stored unit (mission.metrics: "key names carry units")
+#: the key suffixes that name a stored unit (ship_mission.metrics: "key names carry units")
 _SUFFIXES = {'rad/s': '_rad_per_s', 'rad': '_rad', 'm/s': '_mps', 'm': '_m', 's': '_s'}
 
 

@@ -1,6 +1,6 @@
 """A scenario's node sections checked by the nodes' own rules before anything starts.
 
-mission.launcher.check_scenario calls ``check_vessel_sections``: a value a node would refuse at
+ship_mission.launcher.check_scenario calls ``check_vessel_sections``: a value a node would refuse at
 its start (after the whole graph and the run folder exist) is refused here, in one line naming
 the file and the key. The rules are the nodes' own, not copies: each node's parameter schema
 (ship_sim.param_schema; ``<package>/schema.py``), which the node declares from, checked by
@@ -12,7 +12,7 @@ ship_sim.param_schema.check_param without ROS:
 - colav: in addition the lists and the cross checks of ship_guidance.colav_params.ColavParams
   and own_ship_prediction.OwnShipModel, built from the section as colav_node builds them.
 """
-from mission.fields import ScenarioError
+from ship_mission.fields import ScenarioError
 from ship_sim.param_schema import RCLPY_PARAMETERS
 
 NODES = {'vessel': ('ship_sim', 'vessel_node'), 'guidance': ('ship_guidance', 'guidance_node'),

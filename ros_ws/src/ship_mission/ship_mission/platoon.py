@@ -80,8 +80,8 @@ Choices:
 """
 from dataclasses import dataclass, field
 
-from mission.fields import ScenarioError, need, number, unknown
-from mission.vessel_spec import parse_vessel
+from ship_mission.fields import ScenarioError, need, number, unknown
+from ship_mission.vessel_spec import parse_vessel
 from ship_sim.safe_load import ros_name_problem
 
 PLATOON_KEYS = {'route', 'spacing_m', 'current', 'stability_margin', 'allow_unstable',

@@ -1,6 +1,6 @@
 """PNG plots of a recorded run (matplotlib, Agg backend: no display needed).
 
-Inputs are ``mission.bag.VesselData`` objects (or anything with the same attributes), keyed by
+Inputs are ``ship_mission.bag.VesselData`` objects (or anything with the same attributes), keyed by
 namespace; one colour per vessel. Arrays are in SI units and radians; the plots show angles in
 degrees (axis labels say so) because people read degrees. Headings are unwrapped for display so
 a turn through +-180 deg draws as a continuous line.
@@ -11,7 +11,7 @@ right one; each axis says which it is.
 
 The settling window (the first ``settle_s`` of each vessel, which the metrics leave out) is
 shaded on the time plots. It comes in as the metrics' own ``settle_s`` per vessel
-(mission.report passes metrics.json's values), so plot and numbers cannot disagree.
+(ship_mission.report passes metrics.json's values), so plot and numbers cannot disagree.
 
 Files: ``track.png`` (ENU track vs route, equal axes, numbered waypoints, start/end markers,
 heading arrows; with traffic, the targets' tracks and time marks every 60 s on every track),
@@ -29,12 +29,12 @@ import numpy as np
 
 from matplotlib.ticker import FuncFormatter, MultipleLocator
 
-from mission.metrics import over_ground
+from ship_mission.metrics import over_ground
 from ship_sim.frames import wrap_angle
 
 DPI = 110
 
-#: What each plot of a run shows, for a reader of the report (mission.html_report).
+#: What each plot of a run shows, for a reader of the report (ship_mission.html_report).
 CAPTIONS = {
     'track.png': 'track (solid) vs route (dashed), ENU metres east and north; numbered waypoints '
                  'as the route file gives them (the route rounds them with fillets); arrows: '
@@ -272,7 +272,7 @@ def plot_rudder(vessels, path, limit_rad=None, settle_s=None):
 def plot_over_ground(vessels, path, settle_s=None):
     """Speed over ground (kn, m/s on the right), course over ground beside the heading (compass
     deg) and the drift angle COG - heading (deg, + = ground track to starboard of the heading)
-    vs time, all vessels on the same three panels (mission.metrics.over_ground)."""
+    vs time, all vessels on the same three panels (ship_mission.metrics.over_ground)."""
     fig, (a_sog, a_cog, a_drift) = plt.subplots(3, 1, figsize=(9, 8.4), sharex=True)
     fig.suptitle('Over ground: speed, course, drift')
     t0 = _t0(vessels)
@@ -326,8 +326,8 @@ def make_plots(vessels, out_dir, rudder_limit_rad=None, settle_s=None, traffic=N
 
 def plot_ranges(vessels, traffic, path):
     """Range (m) from every vessel to every target over time, at the vessel's stamps within
-    the target's time span (the target interpolated: mission.encounter.relative_positions)."""
-    from mission.encounter import relative_positions
+    the target's time span (the target interpolated: ship_mission.encounter.relative_positions)."""
+    from ship_mission.encounter import relative_positions
     fig, ax = plt.subplots(figsize=(9, 4))
     t0 = _t0(vessels)
     styles = ('-', '--', ':', '-.')

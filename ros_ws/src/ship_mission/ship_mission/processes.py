@@ -19,8 +19,21 @@ import subprocess
 import time
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[2]
-INSTALL = REPO / 'ros_ws' / 'install'
+
+def _install_tree(here=Path(__file__).resolve()):
+    """The colcon install tree this package runs with: the one it is installed in
+    (<install>/ship_mission/lib/python3.X/site-packages/ship_mission/, found by colcon's marker
+    file), else the checkout's ros_ws/install (the package imported from its source folder,
+    ros_ws/src/ship_mission/ship_mission/)."""
+    for parent in here.parents:
+        if (parent / '.colcon_install_layout').is_file():
+            return parent
+    return here.parents[3] / 'install'
+
+
+INSTALL = _install_tree()
+#: The checkout the install tree was built in (runs/ and scripts/ live there).
+REPO = INSTALL.parents[1]
 
 
 def _package_prefixes(install=INSTALL):
@@ -77,6 +90,15 @@ def _apply_dsv(env, prefix, dsv):
 LOOPBACK_PROFILE = Path(__file__).resolve().with_name('fastdds_loopback.xml')
 
 
+def is_loopback_profile(path):
+    """True if ``path`` names LOOPBACK_PROFILE or a copy of it: a launcher from the install tree
+    has its own copy of the file a test or a source-tree launcher set."""
+    try:
+        return bool(path) and Path(path).read_bytes() == LOOPBACK_PROFILE.read_bytes()
+    except OSError:
+        return False
+
+
 def install_env(base_env=None, install=INSTALL, domain_id=None, localhost_only=True,
                 loopback_only=False):
     """The environment ``source install/setup.bash`` gives (colcon's .dsv files applied), plus
@@ -100,7 +122,7 @@ def install_env(base_env=None, install=INSTALL, domain_id=None, localhost_only=T
         env['ROS_DOMAIN_ID'] = str(domain_id)
     if localhost_only:
         env['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
-    if loopback_only or env.get('FASTRTPS_DEFAULT_PROFILES_FILE') == str(LOOPBACK_PROFILE):
+    if loopback_only or is_loopback_profile(env.get('FASTRTPS_DEFAULT_PROFILES_FILE')):
         env['FASTRTPS_DEFAULT_PROFILES_FILE'] = str(LOOPBACK_PROFILE)
         env['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'SYSTEM_DEFAULT'
     env['PYTHONUNBUFFERED'] = '1'

@@ -27,11 +27,11 @@ older than the topic's previous log time is logged at that time), so a reader th
 log time keeps each topic's messages in the order they were published. With ``'wall'`` every
 message is logged at its wall-clock receive time, as ``ros2 bag record`` does without
 ``--use-sim-time`` (a platoon's followers run behind the master's /clock, so neither /clock
-nor their stamps are a time base common to all vessels; mission.report maps wall log times
+nor their stamps are a time base common to all vessels; ship_mission.report maps wall log times
 onto each vessel's own odometry). An unstamped topic and ``/clock`` are separate
 subscriptions, so such a message can be logged a step early or late, and several steps late
 when the recorder falls behind a loaded graph (seen: 42 steps at x20 real time on a busy
-machine); ``mission.bag`` times the unstamped ones by pairing them with odom by sequence, and by
+machine); ``ship_mission.bag`` times the unstamped ones by pairing them with odom by sequence, and by
 log time only when the counts differ. The bag's ``custom_data`` records the choice under
 ``mission.time_source``.
 
@@ -59,18 +59,18 @@ subscribed and matched to a publisher, so no step 0 is missed; vessel_node's
 ``lockstep_record_topic`` waits for it and then stays at most ``lockstep_record_window`` steps
 ahead (QoS ``ship_sim.ros.qos.RECORD_ACK``, transient_local: a simulator that matches the
 recorder late still gets the first one). In realtime nobody waits: losses are counted by
-``mission.bag.record_integrity``.
+``ship_mission.bag.record_integrity``.
 
 Stopping: SIGINT/SIGTERM (the launcher's ``ProcessGroup.stop``) end the spin and ``close()``
 finalises the bag, so an interrupted run still leaves a complete bag. SIGKILL leaves an MCAP
 without summary and without metadata.yaml; the recorder closes its chunk and flushes the file
 every FLUSH_PERIOD_S, and writes its custom data to ``recording.yaml`` at the start, so
-``mission.bag_recovery`` (run by ``mission.bag`` whenever such a bag is opened) gets back all
+``ship_mission.bag_recovery`` (run by ``ship_mission.bag`` whenever such a bag is opened) gets back all
 but the last second. A write error (disk full) ends the recording with one line and exit 1.
 
 CLI (one process of the launcher)::
 
-    python scripts/mission/recorder.py OUT_BAG_DIR [--topics T ...] [--exclude REGEX]
+    python ros_ws/src/ship_mission/ship_mission/recorder.py OUT_BAG_DIR [--topics T ...] [--exclude REGEX]
         [--time-source sim|wall] [--depth N] [--discovery-period S] [--executor events|single]
         [--meta KEY=VALUE ...] [--ack ACK_TOPIC=TOPIC,TOPIC,... ...]
         [--compression none|lz4|zstd] [--no-tf]
@@ -102,7 +102,7 @@ CLOCK_TOPIC = '/clock'
 DEFAULT_EXCLUDE = r'^/(rosout|parameter_events)$'
 BAG_VERSION = 9  # rosbag2 metadata version written by Jazzy
 ROS_DISTRO = 'jazzy'
-RECORDING_FILE = 'recording.yaml'  # custom data, written at open (mission.bag_recovery reads it)
+RECORDING_FILE = 'recording.yaml'  # custom data, written at open (ship_mission.bag_recovery reads it)
 FLUSH_PERIOD_S = 1.0               # a killed recorder loses at most about this much
 COMPRESSIONS = ('none', 'lz4', 'zstd')   # MCAP chunk compression
 DEFAULT_COMPRESSION = 'zstd'             # what rosbag2's MCAP writer does by default
@@ -256,7 +256,7 @@ class BagWriter:
         self._writer.open()
         if self._mcap:
             _as_rosbag2_mcap(self._writer.storage, self.compression)
-        if side_file:  # metadata.yaml comes only at close: what mission.bag_recovery needs before
+        if side_file:  # metadata.yaml comes only at close: what ship_mission.bag_recovery needs before
             (self.path / RECORDING_FILE).write_text(yaml.safe_dump(
                 {'custom_data': {str(k): str(v) for k, v in (custom_data or {}).items()},
                  'compression': self.compression}))
@@ -293,7 +293,7 @@ class BagWriter:
 
     def flush(self):
         """Put what is pending on disk (MCAP: close the open chunk), so that a recorder killed
-        now loses nothing before it (mission.bag_recovery reads the rest back)."""
+        now loses nothing before it (ship_mission.bag_recovery reads the rest back)."""
         with self._lock:
             if self.closed or self.error is not None or not self._mcap:
                 return
@@ -324,7 +324,7 @@ class BagWriter:
                 self._writer.close()
                 meta = self.path / 'metadata.yaml'
                 meta.write_text(_jazzy_distro(meta.read_text()))
-            except OSError as err:  # what was written before stays readable (mission.bag_recovery)
+            except OSError as err:  # what was written before stays readable (ship_mission.bag_recovery)
                 self.error = self.error or err
 
     def __enter__(self):

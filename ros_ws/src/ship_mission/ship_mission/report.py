@@ -1,7 +1,7 @@
 """Bag -> metrics.json + PNG plots + report.html: what the launcher runs after a mission and replay_bag.py runs later.
 
-Reads the bag with ``mission.bag``, computes ``mission.metrics.vessel_metrics`` per vessel and
-draws ``mission.plots`` (with each vessel's settling window as the metrics computed it, and the
+Reads the bag with ``ship_mission.bag``, computes ``ship_mission.metrics.vessel_metrics`` per vessel and
+draws ``ship_mission.plots`` (with each vessel's settling window as the metrics computed it, and the
 route's waypoints from the route file the run's params name: ``route_waypoints``). The rudder
 limit for the saturation count and the plot comes from the argument, else from the bag's
 custom_data key ``mission.rudder_limit_rad/<vessel>`` (the launcher stores one per vessel with
@@ -16,8 +16,8 @@ numbers; the record's ``bag_end_s`` and ``tail_after_finish_s`` say what was cut
 
 Traffic: a namespace with odometry only (no route, rudder or heading command: a light target)
 and each target on ais_node's ``/targets`` (by child_frame_id) is no vessel: ``metrics['traffic']``
-holds per target its track metrics (mission.metrics.track_metrics, source ``light`` or ``ais``)
-and its closest approach to every vessel (mission.encounter.min_distance: distance, time,
+holds per target its track metrics (ship_mission.metrics.track_metrics, source ``light`` or ``ais``)
+and its closest approach to every vessel (ship_mission.encounter.min_distance: distance, time,
 bearing, side), over the time the vessels' own records cover (their completion cut; so
 repeated lockstep runs give identical numbers). Plots: the targets' tracks join track.png, the
 range from every vessel to every target is range.png; the per-vessel panels leave them out.
@@ -27,7 +27,7 @@ Platoons (``platoon`` = {namespace: predecessor namespace or None}, from the lau
   neither a /clock-based log time nor a wall time says when a follower's unstamped message was
   due. Each vessel's unstamped topics (and the followers' gap_error) are therefore timed by the
   vessel's OWN odometry: exactly by sequence when the topic has as many messages as the odom
-  (mission.bag), else (the recorder dropped messages: a reliable keep-last publisher drops the
+  (ship_mission.bag), else (the recorder dropped messages: a reliable keep-last publisher drops the
   oldest ones for a reader that lags too far) by ``_steps_by_log_time``;
 - the cut at each vessel's own completion (above) matters most here: the graph runs on until
   the last vessel completes, and past the route's end a follower's law is not meaningful (its
@@ -35,7 +35,7 @@ Platoons (``platoon`` = {namespace: predecessor namespace or None}, from the lau
 - ``metrics['platoon']``: per follower the gap error (gap - spacing, from its gap_error topic,
   up to its predecessor's completion: the gap is an arc-length difference, and the route's arc
   length ends there) and the string-stability measure: the ratio of its peak |cross-track
-  error| after settling to its predecessor's (mission.metrics.string_ratios; > 1 = the
+  error| after settling to its predecessor's (ship_mission.metrics.string_ratios; > 1 = the
   deviation grew down the string), the same for the RMS; plots gap_error.png and
   platoon_string.png.
 """
@@ -46,8 +46,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from mission import bag as bagmod
-from mission import html_report, integrity, metrics, plots
+from ship_mission import bag as bagmod
+from ship_mission import html_report, integrity, metrics, plots
 
 RUDDER_LIMIT_KEY = 'mission.rudder_limit_rad'
 
@@ -61,9 +61,9 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
     'vessels': {namespace: vessel_metrics(...) + 'missing_topics'}, 'plots': [file names]}.
     ``platoon``: {namespace: predecessor namespace or None} for a platoon run (module docstring);
     adds 'platoon' to the result. ``extra``: more top-level entries (e.g. the run's summary).
-    ``html``: also write report.html beside metrics.json (mission.html_report; the scenario,
+    ``html``: also write report.html beside metrics.json (ship_mission.html_report; the scenario,
     logs and run summary come from the bag's parent folder, the run folder).
-    Raises ``mission.bag.BagError`` when the path is not a bag or has no vessel odometry.
+    Raises ``ship_mission.bag.BagError`` when the path is not a bag or has no vessel odometry.
     """
     bag_dir = Path(bag_dir)
     out = Path(out_dir) if out_dir is not None else bag_dir.resolve().parent
@@ -156,8 +156,8 @@ _VESSEL_TOPICS = ('route', 'rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_e
 
 def _traffic_tracks(bag_dir, data):
     """{name: (source, track)} of the targets of a run: the namespaces with odometry only
-    ('light') and the targets on ais_node's /targets ('ais', mission.encounter.target_tracks)."""
-    from mission.encounter import target_tracks
+    ('light') and the targets on ais_node's /targets ('ais', ship_mission.encounter.target_tracks)."""
+    from ship_mission.encounter import target_tracks
     out = {ns: ('light', v) for ns, v in data.vessels.items()
            if all(t in v.missing for t in _VESSEL_TOPICS)}
     if '/targets' in data.topics:
@@ -179,7 +179,7 @@ def _cut_traffic(traffic, own):
 
 def traffic_metrics(traffic, own):
     """{target: track metrics + source + closest_approach {vessel: min_distance dict}}."""
-    from mission.encounter import min_distance
+    from ship_mission.encounter import min_distance
     result = {}
     for name, (source, tr) in traffic.items():
         m = {'source': source, **metrics.track_metrics(tr.t, tr.x, tr.y)}
@@ -201,7 +201,7 @@ def traffic_lines(result):
 
 
 def prepare_records(bag_dir, data, platoon=None):
-    """In place on ``data`` (mission.bag.BagData): time a platoon's unstamped topics by each
+    """In place on ``data`` (ship_mission.bag.BagData): time a platoon's unstamped topics by each
     vessel's own odometry, then end every vessel's record at its own completion (module
     docstring). Returns (gaps, ends, bag_end): {follower: Series of gap_error} (None without a
     platoon), {namespace: (completion time or None, source)}, {namespace: last odometry time

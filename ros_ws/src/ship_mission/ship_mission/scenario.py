@@ -21,7 +21,7 @@
         # or absolute ENU: start: {x_m: 0, y_m: 0, yaw_deg: 90}
         speed_mps: 7.7175                    # optional initial speed (model default if absent)
         current: {speed_mps: 0.5, direction_deg: 90.0}   # towards, clockwise from north
-        waves: {hs_m: 3.0, direction_deg: 45.0}          # towards (mission.waves)
+        waves: {hs_m: 3.0, direction_deg: 45.0}          # towards (ship_mission.waves)
         wind: {speed_mps: 10.0, direction_deg: 270.0}   # optional, replaces the scenario's
         vessel: {...}                        # any further vessel_node parameters
         guidance: {law: ilos, lookahead_m: 800.0}         # guidance_node parameters
@@ -29,7 +29,7 @@
         colav: {method: sbmpc}               # optional: run colav_node (its parameters) between
                                              # guidance and autopilot, the other vessels as targets
     wind: {speed_mps: 10.0, direction_deg: 270.0}   # optional: every vessel's wind (FROM,
-                                             # clockwise from north; mission.wind_block)
+                                             # clockwise from north; ship_mission.wind_block)
     traffic:                                 # optional: target vessels (same keys but `colav`):
       target_0: {model: mariner, route: routes/..., speed_mps: 7.7}   # full vessels, no avoidance
       target_1:                              # a light target: the one key `light`, either
@@ -44,7 +44,7 @@
       origin_lat_deg: 63.4                   #   geodetic origin of the scenario's ENU frame
       origin_lon_deg: 10.4
       stale_after_s: 360.0                   #   any other ais_node parameter (config/ais.yaml)
-    aivdm_out: {udp: 127.0.0.1:10110}        # optional: AIVDM/AIVDO out (mission.aivdm_block)
+    aivdm_out: {udp: 127.0.0.1:10110}        # optional: AIVDM/AIVDO out (ship_mission.aivdm_block)
     display:                                 # optional: nav_display_node of every vessel (fix,
       origin: {lat_deg: 59.9, lon_deg: 10.7} #   nav_markers); origin of the NavSatFix (default:
       display_rate_hz: 2.0                   #   the first route's origin, else the ais origin,
@@ -54,13 +54,13 @@
                                              # writes them), lz4 or none (run_mission.py
                                              # --bag-compression overrides it)
 
-A matrix file (the one key `matrix`, mission.matrix) holds many scenarios that differ in a few
+A matrix file (the one key `matrix`, ship_mission.matrix) holds many scenarios that differ in a few
 keys: load_scenarios gives them all, load_scenario the one named.
 
 Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
 the graph together (model, start pose, stepping mode, pairing, rates). The launcher's check
-(mission.launcher.check_scenario) refuses keys a node does not declare, naming the closest one.
+(ship_mission.launcher.check_scenario) refuses keys a node does not declare, naming the closest one.
 Errors name the file and the key. The file is read by ship_sim.safe_load (the bounded reader of
 every input file): a regular UTF-8 file, bounded in size, nesting, aliases and number length,
 no key given twice; numbers may be written ``1e9`` (read as YAML 1.2 does).
@@ -83,7 +83,7 @@ which colav_node waits for (deterministic) and the clock master's record acknowl
 (lossless). `Scenario.ais` holds the ais_node parameters (file made absolute).
 
 A platoon (a string of vessels, each steering at its predecessor) is written as a `platoon:`
-section instead of `vessels:`; its schema and checks are in mission.platoon. Its vessels come out
+section instead of `vessels:`; its schema and checks are in ship_mission.platoon. Its vessels come out
 as the same VesselSpec list (with `predecessor` and `spacing` set for the followers), so the
 rest of the launcher and the analysis treat both alike.
 """
@@ -93,12 +93,12 @@ from pathlib import Path
 
 import yaml
 
-from mission.fields import ScenarioError, need, number, unknown
-from mission.matrix import expand, is_matrix
-from mission.platoon import parse_platoon
-from mission.recorder import COMPRESSIONS, DEFAULT_COMPRESSION
-from mission.vessel_spec import parse_vessel
-from mission.wind_block import check_wind, check_wind_model
+from ship_mission.fields import ScenarioError, need, number, unknown
+from ship_mission.matrix import expand, is_matrix
+from ship_mission.platoon import parse_platoon
+from ship_mission.recorder import COMPRESSIONS, DEFAULT_COMPRESSION
+from ship_mission.vessel_spec import parse_vessel
+from ship_mission.wind_block import check_wind, check_wind_model
 
 from ship_sim.frames import psi_to_yaw
 from ship_sim.safe_load import InputError, load_yaml_file, ros_name_problem
@@ -135,12 +135,12 @@ class Scenario:
     record: bool
     lockstep_timeout_s: float
     vessels: list
-    platoon: object = None   # mission.platoon.Platoon for a `platoon:` scenario
+    platoon: object = None   # ship_mission.platoon.Platoon for a `platoon:` scenario
     #: light targets of `traffic:` as traffic_node's `targets` list (name + the `light` mapping)
     light: list = field(default_factory=list)
     #: ais_node parameters of the `ais:` section (file absolute), None without one
     ais: dict = None
-    #: route file -> its parsed RoutePlan, filled once by mission.launcher.check_scenario and
+    #: route file -> its parsed RoutePlan, filled once by ship_mission.launcher.check_scenario and
     #: passed on to the nodes' parameters (a route file is parsed once per run by the launcher)
     routes: dict = field(default_factory=dict)
     #: nav_display_node parameters of every vessel (`display:`), None for `display: false`
@@ -148,10 +148,10 @@ class Scenario:
     #: --live: the port of the live view (mission.live_view), None without (not a YAML key)
     live_port: int = None
     live_nice: int = 10     #: --live-nice: the live view's CPU niceness once serving
-    #: the scenario's own mapping when it comes from a matrix file (mission.matrix), else None
+    #: the scenario's own mapping when it comes from a matrix file (ship_mission.matrix), else None
     expanded: dict = None
     bag_compression: str = DEFAULT_COMPRESSION   #: the recorder's --compression
-    #: the `aivdm_out:` block as written (mission.aivdm_block checks it), None without one
+    #: the `aivdm_out:` block as written (ship_mission.aivdm_block checks it), None without one
     aivdm_out: dict = None
 
 
@@ -293,7 +293,7 @@ def _parse_scenario(data, path):
 def _parse_ais(ais, path):
     """ais_node parameters of the `ais:` section: a replay file (relative to the scenario, made
     absolute) and the geodetic origin are required; other keys are ais_node parameters, checked
-    by name in mission.launcher.check_scenario."""
+    by name in ship_mission.launcher.check_scenario."""
     need(isinstance(ais, dict), path, 'ais', 'a mapping (file, origin_lat_deg, origin_lon_deg, '
          'other ais_node parameters)')
     for key in sorted(set(ais) & AIS_LAUNCHER_KEYS):

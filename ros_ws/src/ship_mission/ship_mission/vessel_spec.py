@@ -1,11 +1,11 @@
 """A vessel of a scenario as the launcher starts it: VesselSpec and the check of its mapping
-(shared by the `vessels:` and `platoon:` sections, mission.scenario and mission.platoon)."""
+(shared by the `vessels:` and `platoon:` sections, ship_mission.scenario and ship_mission.platoon)."""
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from mission.fields import need, number
-from mission.waves import wave_parameters
-from mission.wind_block import check_wind
+from ship_mission.fields import need, number
+from ship_mission.waves import wave_parameters
+from ship_mission.wind_block import check_wind
 
 from ship_planner.route_data import MAX_COORDINATE_M
 
@@ -21,17 +21,17 @@ class VesselSpec:
     vessel_params: dict = field(default_factory=dict)
     guidance_params: dict = field(default_factory=dict)
     autopilot_params: dict = field(default_factory=dict)
-    # Platoon followers only (mission.platoon): the predecessor's namespace and the set gap (m).
+    # Platoon followers only (ship_mission.platoon): the predecessor's namespace and the set gap (m).
     # A follower runs follower_node (its `guidance` block holds follower_node parameters).
     predecessor: str = None
     spacing: float = None
-    # Collision avoidance (mission.scenario): colav_node parameters, None for no colav_node;
+    # Collision avoidance (ship_mission.scenario): colav_node parameters, None for no colav_node;
     # `traffic` marks a target vessel of the scenario's `traffic:` section.
     colav_params: dict = None
     traffic: bool = False
-    # vessel_node's waves_* parameters from the `waves:` block (mission.waves)
+    # vessel_node's waves_* parameters from the `waves:` block (ship_mission.waves)
     wave_params: dict = field(default_factory=dict)
-    # The wind (mission.wind_block): the vessel's own `wind:` block, else the scenario's.
+    # The wind (ship_mission.wind_block): the vessel's own `wind:` block, else the scenario's.
     wind: dict = field(default_factory=dict)
 
 
@@ -47,7 +47,7 @@ def parse_vessel(ns, v, route, path, where):
                                                      and set(start) & relative),
           path, where + 'start', f'either {sorted(absolute)} or {sorted(relative)}')
     for k in start:   # positions as physical as route points (ship_planner.route_data);
-        # along_m is checked against its route's length (mission.launcher.check_scenario)
+        # along_m is checked against its route's length (ship_mission.launcher.check_scenario)
         bound = MAX_COORDINATE_M if k in ('x_m', 'y_m', 'cross_m') else None
         number(start, k, path, 0.0, lo=bound and -bound, hi=bound, where=where + 'start.')
     speed = v.get('speed_mps')

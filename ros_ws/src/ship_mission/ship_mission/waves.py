@@ -10,7 +10,7 @@ direction) unless the block tunes it itself.
 """
 import math
 
-from mission.fields import need, number, unknown
+from ship_mission.fields import need, number, unknown
 
 #: scenario key -> (node parameter, kind, lo, hi)
 WAVE_KEYS = {

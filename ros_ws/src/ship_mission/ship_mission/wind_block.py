@@ -15,7 +15,7 @@ the block as JSON), beside the run folder's params/ files (``wind_*`` of vessel_
 """
 import json
 
-from mission.fields import need, number, unknown
+from ship_mission.fields import need, number, unknown
 
 #: scenario key -> (vessel_node parameter, lower bound, upper bound) for the numbers
 NUMBERS = {

@@ -226,7 +226,9 @@ def _array_labels(msg):
 
 # -- reading -------------------------------------------------------------------------------------
 
-def _open(path):
+def open_bag(path):
+    """An open rosbags reader of the bag folder ``path``; BagError (one line) if it is not a
+    readable rosbag2 bag."""
     path = Path(path)
     if not path.exists():
         raise BagError(f'{path}: no such file or directory')
@@ -268,7 +270,7 @@ def read_bag(path, topics=None, namespaces=None, pair_by_sequence=True):
     """
     names = {**DEFAULT_TOPICS, **(topics or {})}
     recovered = recover_if_needed(path)
-    reader = _open(path)
+    reader = open_bag(path)
     try:
         conns = {c.topic: c for c in reader.connections}
         info = {c.topic: (c.msgtype, c.msgcount) for c in reader.connections}

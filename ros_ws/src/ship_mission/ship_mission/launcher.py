@@ -429,7 +429,7 @@ def _raise_if_failed(group):
                             f'line: {_last_line(p)} (log: {p.log_path})')
 
 
-def _wait_for_odom_subscribers(monitor, spec, group, progress, timeout_s=30.0):
+def wait_for_odom_subscribers(monitor, spec, group, progress, timeout_s=30.0):
     """Realtime: wait until the nodes of ``spec``'s namespace that follow its odom (guidance or
     follower, which subscribe only once they hold the route, the autopilot, colav_node) have
     subscribed, so its simulator, which does not wait for anyone in realtime, starts into a
@@ -560,7 +560,7 @@ def simulator_start_plan(scenario):
     return plan
 
 
-def _wait_for_ready(proc, namespace, vparams, monitor, group):
+def wait_for_ready(proc, namespace, vparams, monitor, group):
     """Wait until the lockstep simulator ``proc`` of ``namespace`` has published its step 0
     (its latched ``ready`` topic says so), so that a follower started next never waits for a
     predecessor that has not begun: its first wait would run out and the run would no longer
@@ -690,9 +690,9 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         for ns, awaited in simulator_start_plan(scenario):
             spec, vparams = by_ns[ns]
             for other in awaited:
-                _wait_for_ready(simulators[other], other, by_ns[other][1], monitor, group)
+                wait_for_ready(simulators[other], other, by_ns[other][1], monitor, group)
             if scenario.stepping == 'realtime':
-                _wait_for_odom_subscribers(monitor, spec, group, progress)
+                wait_for_odom_subscribers(monitor, spec, group, progress)
             f = write_params(run, spec.namespace, 'vessel_node', vparams)
             simulators[spec.namespace] = group.start(
                 f'{spec.namespace}/vessel_node', 'ship_sim', 'vessel_node',

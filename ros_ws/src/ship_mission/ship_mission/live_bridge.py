@@ -43,7 +43,7 @@ import re
 import time
 from collections import Counter
 
-from ship_mission.recorder import DEFAULT_EXCLUDE, _clock_ns, _message_class, message_definition
+from ship_mission.recorder import DEFAULT_EXCLUDE, clock_ns, message_class, message_definition
 
 CLOCK_TOPIC = '/clock'
 TF_TOPIC = '/tf'
@@ -117,7 +117,7 @@ class LiveBridge:
             try:
                 schema = foxglove.Schema(name=msgtype, encoding='ros2msg',
                                          data=message_definition(self.typestore, msgtype).encode())
-                _message_class(msgtype)   # the raw subscription needs the type support
+                message_class(msgtype)   # the raw subscription needs the type support
             except Exception as err:  # noqa: BLE001 (one unknown type must not stop the others)
                 self.refused[topic] = str(err)
                 self.node.get_logger().warning(f'not serving {topic} [{msgtype}]: {err}')
@@ -173,7 +173,7 @@ class LiveBridge:
             self._clock_sub = None
 
     def _on_clock(self, data):
-        self._sim_ns = _clock_ns(data)
+        self._sim_ns = clock_ns(data)
 
     def _stamped(self, msgtype):
         """Whether ``msgtype``'s serialized form starts with a stamp (a Header or a Time)."""
@@ -202,9 +202,9 @@ class LiveBridge:
                     dropped[topic] += seq - prev - 1
                 last[topic] = seq
             if topic == CLOCK_TOPIC:
-                self._sim_ns = _clock_ns(data)
+                self._sim_ns = clock_ns(data)
             if stamped:
-                t = _clock_ns(data)   # the same layout: encapsulation, int32 sec, uint32 nanosec
+                t = clock_ns(data)   # the same layout: encapsulation, int32 sec, uint32 nanosec
             elif self._sim_ns is not None:
                 t = self._sim_ns
             elif self._clock_sub is None:   # a graph without /clock: wall time
@@ -221,7 +221,7 @@ class LiveBridge:
             if to_tf is not None:
                 to_tf(data)
 
-        self.subs[topic] = self.node.create_subscription(_message_class(msgtype), topic,
+        self.subs[topic] = self.node.create_subscription(message_class(msgtype), topic,
                                                          callback, qos, raw=True)
 
     def _tf_to(self, topic):

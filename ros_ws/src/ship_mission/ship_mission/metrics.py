@@ -45,7 +45,7 @@ def wrap(a):
     return wrap_angle(np.asarray(a, dtype=float))
 
 
-def _f(x):
+def json_float(x):
     """numpy scalar -> JSON-able float (NaN/inf -> None)."""
     x = float(x)
     return x if np.isfinite(x) else None
@@ -76,8 +76,8 @@ def cross_track_stats(t, e, t_from):
     sel = e[t >= t_from]
     if sel.size == 0:
         return {'xte_rms_m': None, 'xte_max_abs_m': None, 'xte_mean_m': None, 'xte_samples': 0}
-    return {'xte_rms_m': _f(rms(sel)), 'xte_max_abs_m': _f(np.max(np.abs(sel))),
-            'xte_mean_m': _f(np.mean(sel)), 'xte_samples': int(sel.size)}
+    return {'xte_rms_m': json_float(rms(sel)), 'xte_max_abs_m': json_float(np.max(np.abs(sel))),
+            'xte_mean_m': json_float(np.mean(sel)), 'xte_samples': int(sel.size)}
 
 
 # -- route geometry -----------------------------------------------------------------------------
@@ -170,11 +170,11 @@ def rudder_stats(t, delta, t_from, limit_rad=None, prefix='rudder'):
            f'{prefix}_saturated_fraction': None, f'{prefix}_samples': int(d.size)}
     if d.size == 0:
         return out
-    out[f'{prefix}_mean_abs_rad'] = _f(np.mean(np.abs(d)))
-    out[f'{prefix}_rms_rad'] = _f(rms(d))
-    out[f'{prefix}_max_abs_rad'] = _f(np.max(np.abs(d)))
+    out[f'{prefix}_mean_abs_rad'] = json_float(np.mean(np.abs(d)))
+    out[f'{prefix}_rms_rad'] = json_float(rms(d))
+    out[f'{prefix}_max_abs_rad'] = json_float(np.max(np.abs(d)))
     span = t[-1] - t[0]
-    out[f'{prefix}_total_variation_rad_per_s'] = _f(np.sum(np.abs(np.diff(d))) / span) if span > 0 else None
+    out[f'{prefix}_total_variation_rad_per_s'] = json_float(np.sum(np.abs(np.diff(d))) / span) if span > 0 else None
     if limit_rad is not None:
         sat = int(np.count_nonzero(np.abs(d) >= limit_rad * (1.0 - SATURATION_RTOL)))
         out[f'{prefix}_saturated_samples'] = sat
@@ -192,7 +192,7 @@ def rudder_time_at_limit(t, delta, t_from, limit_rad):
     if d.size == 0:
         return None
     at_limit = np.abs(d) >= limit_rad * (1.0 - SATURATION_RTOL)
-    return _f(np.sum(np.diff(t)[at_limit[:-1]]))
+    return json_float(np.sum(np.diff(t)[at_limit[:-1]]))
 
 
 def step_response_stats(t_cmd, yaw_cmd, t, yaw, t_steady, band_fraction=0.02):
@@ -222,7 +222,7 @@ def step_response_stats(t_cmd, yaw_cmd, t, yaw, t_steady, band_fraction=0.02):
     step = float(wrap(yaw_cmd[-1] - psi[0]))
     err = wrap(psi - yaw_cmd)                   # yaw - command
     steady = t_cmd >= t_steady
-    out.update(step_rad=_f(step), step_time_s=_f(t_cmd[0]))
+    out.update(step_rad=json_float(step), step_time_s=json_float(t_cmd[0]))
     if step == 0.0 or not np.any(steady):
         return out
     over = max(0.0, float(np.max(np.sign(step) * err)))
@@ -232,9 +232,9 @@ def step_response_stats(t_cmd, yaw_cmd, t, yaw, t_steady, band_fraction=0.02):
     settled_at = t_cmd[0] if outside.size == 0 else (
         t_cmd[outside[-1] + 1] if outside[-1] + 1 < t_cmd.size else None)
     settling = None if settled_at is None or settled_at > t_steady else settled_at - t_cmd[0]
-    out.update(overshoot_rad=_f(over), overshoot_fraction=_f(over / abs(step)),
-               steady_error_rad=_f(final_err), settling_band_rad=_f(band),
-               settling_time_s=None if settling is None else _f(settling))
+    out.update(overshoot_rad=json_float(over), overshoot_fraction=json_float(over / abs(step)),
+               steady_error_rad=json_float(final_err), settling_band_rad=json_float(band),
+               settling_time_s=None if settling is None else json_float(settling))
     return out
 
 
@@ -249,8 +249,8 @@ def heading_error_stats(t_cmd, yaw_cmd, t, yaw, t_from):
         return {'heading_error_rms_rad': None, 'heading_error_max_abs_rad': None,
                 'heading_error_mean_rad': None, 'heading_error_samples': 0}
     err = wrap(np.interp(t_cmd[sel], t, np.unwrap(yaw)) - yaw_cmd[sel])
-    return {'heading_error_rms_rad': _f(rms(err)), 'heading_error_max_abs_rad': _f(np.max(np.abs(err))),
-            'heading_error_mean_rad': _f(np.mean(err)), 'heading_error_samples': int(err.size)}
+    return {'heading_error_rms_rad': json_float(rms(err)), 'heading_error_max_abs_rad': json_float(np.max(np.abs(err))),
+            'heading_error_mean_rad': json_float(np.mean(err)), 'heading_error_samples': int(err.size)}
 
 
 # -- motion over ground ------------------------------------------------------------------------------
@@ -292,26 +292,27 @@ def vessel_metrics(t, x, y, yaw, *, xte=None, rudder=None, rudder_cmd=None, head
     if t.size < 2:
         raise ValueError('need at least two odometry samples')
     t_from = settle_cutoff(t, settle_s, settle_fraction)
-    out = {'duration_s': _f(t[-1] - t[0]), 'start_time_s': _f(t[0]), 'settle_s': _f(t_from - t[0]),
+    out = {'duration_s': json_float(t[-1] - t[0]), 'start_time_s': json_float(t[0]),
+           'settle_s': json_float(t_from - t[0]),
            'odom_samples': int(t.size),
-           'distance_travelled_m': _f(np.sum(np.hypot(np.diff(x), np.diff(y))))}
+           'distance_travelled_m': json_float(np.sum(np.hypot(np.diff(x), np.diff(y))))}
     geo = None
     if route is not None and len(route[0]) >= 2:
         s, e_geo, gamma, length = project_on_route(x, y, route[0], route[1])
         geo = (s, e_geo, wrap(yaw - gamma))
         t_done = completion_time(t, s, length, finish_tolerance_m)
-        out.update({'route_length_m': _f(length), 'finished': t_done is not None,
+        out.update({'route_length_m': json_float(length), 'finished': t_done is not None,
                     'completion_source': 'route',
-                    'time_to_complete_s': _f(t_done - t[0]) if t_done is not None else None,
-                    'remaining_at_end_m': _f(max(0.0, length - s[-1])),
-                    'path_yaw_error_max_abs_rad': _f(np.max(np.abs(geo[2][t >= t_from]), initial=0.0))})
+                    'time_to_complete_s': json_float(t_done - t[0]) if t_done is not None else None,
+                    'remaining_at_end_m': json_float(max(0.0, length - s[-1])),
+                    'path_yaw_error_max_abs_rad': json_float(np.max(np.abs(geo[2][t >= t_from]), initial=0.0))})
     if finished is not None and len(finished[0]):
         flag_t, flag = np.asarray(finished[0], dtype=float), np.asarray(finished[1], dtype=float)
         done = np.nonzero(flag >= 0.5)[0]
         out.update({'finished': bool(done.size), 'completion_source': 'guidance',
-                    'time_to_complete_s': _f(flag_t[done[0]] - t[0]) if done.size else None})
+                    'time_to_complete_s': json_float(flag_t[done[0]] - t[0]) if done.size else None})
     if remaining is not None and len(remaining[0]):
-        out['remaining_at_end_m'] = _f(np.asarray(remaining[1], dtype=float)[-1])
+        out['remaining_at_end_m'] = json_float(np.asarray(remaining[1], dtype=float)[-1])
     if xte is not None and len(xte[0]):
         t_e, e, source = np.asarray(xte[0], dtype=float), np.asarray(xte[1], dtype=float), 'topic'
     elif geo is not None:
@@ -325,14 +326,14 @@ def vessel_metrics(t, x, y, yaw, *, xte=None, rudder=None, rudder_cmd=None, head
         yaw_err = wrap(np.interp(t_e, t, np.unwrap(geo[2]))) if geo is not None else None
         out.update(gaussian_reward(t_e, e, yaw_err, reward_sigma_m, reward_step_s, episode_s))
     if geo is not None:
-        out['xte_route_rms_m'] = _f(rms(geo[1][t >= t_from]))
+        out['xte_route_rms_m'] = json_float(rms(geo[1][t >= t_from]))
     if rudder is not None:
         out.update(rudder_stats(rudder[0], rudder[1], t_from, rudder_limit_rad, 'rudder'))
     if rudder_cmd is not None:
         out.update(rudder_stats(rudder_cmd[0], rudder_cmd[1], t_from, rudder_limit_rad, 'rudder_cmd'))
     if heading_cmd is not None:
         out.update(heading_error_stats(heading_cmd[0], heading_cmd[1], t, yaw, t_from))
-    out['rudder_limit_rad'] = _f(rudder_limit_rad) if rudder_limit_rad is not None else None
+    out['rudder_limit_rad'] = json_float(rudder_limit_rad) if rudder_limit_rad is not None else None
     return out
 
 
@@ -341,14 +342,14 @@ def track_metrics(t, x, y):
     samples, distance travelled and mean speed over ground."""
     t, x, y = (np.asarray(a, dtype=float) for a in (t, x, y))
     if t.size < 2:
-        return {'duration_s': None, 'start_time_s': _f(t[0]) if t.size else None,
+        return {'duration_s': None, 'start_time_s': json_float(t[0]) if t.size else None,
                 'odom_samples': int(t.size), 'distance_travelled_m': 0.0,
                 'speed_mean_mps': None}
     dist = float(np.sum(np.hypot(np.diff(x), np.diff(y))))
     duration = float(t[-1] - t[0])
-    return {'duration_s': _f(duration), 'start_time_s': _f(t[0]), 'odom_samples': int(t.size),
-            'distance_travelled_m': _f(dist),
-            'speed_mean_mps': _f(dist / duration) if duration > 0 else None}
+    return {'duration_s': json_float(duration), 'start_time_s': json_float(t[0]), 'odom_samples': int(t.size),
+            'distance_travelled_m': json_float(dist),
+            'speed_mean_mps': json_float(dist / duration) if duration > 0 else None}
 
 
 # -- platoons ----------------------------------------------------------------------------------
@@ -362,8 +363,8 @@ def gap_error_stats(t, gap_error, t_from):
     if ok.size == 0:
         return {'gap_error_rms_m': None, 'gap_error_mean_m': None, 'gap_error_max_abs_m': None,
                 'gap_error_samples': 0, 'gap_error_undefined_samples': int(sel.size)}
-    return {'gap_error_rms_m': _f(rms(ok)), 'gap_error_mean_m': _f(np.mean(ok)),
-            'gap_error_max_abs_m': _f(np.max(np.abs(ok))), 'gap_error_samples': int(ok.size),
+    return {'gap_error_rms_m': json_float(rms(ok)), 'gap_error_mean_m': json_float(np.mean(ok)),
+            'gap_error_max_abs_m': json_float(np.max(np.abs(ok))), 'gap_error_samples': int(ok.size),
             'gap_error_undefined_samples': int(sel.size - ok.size)}
 
 
@@ -378,5 +379,5 @@ def string_ratios(values, predecessors):
         if pred is None:
             continue
         a, b = values.get(ns), values.get(pred)
-        out[ns] = _f(a / b) if a is not None and b is not None and b > 0.0 else None
+        out[ns] = json_float(a / b) if a is not None and b is not None and b > 0.0 else None
     return out

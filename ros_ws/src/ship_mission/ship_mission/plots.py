@@ -54,7 +54,8 @@ CAPTIONS = {
 }
 
 
-def _colours(n):
+def colours(n):
+    """``n`` line colours, the plots' cycle (tab10, repeated past ten)."""
     cmap = plt.get_cmap('tab10')
     return [cmap(i % 10) for i in range(n)]
 
@@ -63,7 +64,8 @@ def _label(ns):
     return ns if ns else '/'
 
 
-def _save(fig, path):
+def save_figure(fig, path):
+    """Write ``fig`` as the PNG ``path`` at the plots' resolution, close it; returns the path."""
     fig.tight_layout()
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
@@ -73,7 +75,7 @@ def _save(fig, path):
 SETTLE_GID = 'settling'   # the shaded span's matplotlib gid, so a test can find it
 
 
-def _shade_settle(ax, t0, settle_s, start=None):
+def shade_settle(ax, t0, settle_s, start=None):
     """Shade the settling window: ``settle_s`` from ``start`` (the vessel's first sample, s)
     on an axis whose time starts at ``t0``; nothing when settle_s is 0 or None."""
     if settle_s:
@@ -127,7 +129,7 @@ def plot_track(vessels, path, arrows=20, traffic=None, waypoints=None):
     xs, ys = np.concatenate([np.ravel(a) for a in xs]), np.concatenate([np.ravel(a) for a in ys])
     arrow_len = 0.035 * max(np.ptp(xs) if xs.size else 0.0, np.ptp(ys) if ys.size else 0.0, 1.0)
     routes_drawn = []
-    for colour, (ns, v) in zip(_colours(len(vessels)), vessels.items()):
+    for colour, (ns, v) in zip(colours(len(vessels)), vessels.items()):
         r = v.route
         if r is not None and len(r.x) and not any(
                 len(o.x) == len(r.x) and np.array_equal(o.x, r.x) and np.array_equal(o.y, r.y) for o in routes_drawn):
@@ -147,7 +149,7 @@ def plot_track(vessels, path, arrows=20, traffic=None, waypoints=None):
                   angles='xy', scale_units='xy', scale=1.0, width=0.004, alpha=0.85, zorder=3)
         if traffic:
             _time_marks(ax, v, colour)
-    for colour, (name, tr) in zip(_colours(len(vessels) + len(traffic))[len(vessels):],
+    for colour, (name, tr) in zip(colours(len(vessels) + len(traffic))[len(vessels):],
                                   traffic.items()):
         if len(tr.x):
             ax.plot(tr.x, tr.y, '-', color=colour, lw=1.0, alpha=0.8, label=f'{name} (target)')
@@ -171,7 +173,7 @@ def plot_track(vessels, path, arrows=20, traffic=None, waypoints=None):
     ax.set_title('Track vs route (ENU), arrows: heading')
     ax.grid(True, alpha=0.3)
     ax.legend(loc='best', fontsize=8)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 TIME_MARK_S = 60.0
@@ -191,8 +193,8 @@ def plot_cross_track(vessels, path, settle_s=None):
     """Cross-track error (m, + = starboard of the path) vs time."""
     fig, ax = plt.subplots(figsize=(9, 4))
     t0 = _t0(vessels)
-    _shade_settle(ax, t0, settle_s)
-    for colour, (ns, v) in zip(_colours(len(vessels)), vessels.items()):
+    shade_settle(ax, t0, settle_s)
+    for colour, (ns, v) in zip(colours(len(vessels)), vessels.items()):
         e = v.cross_track_error
         if len(e.t):
             ax.plot(e.t - t0, e.v, color=colour, lw=1.2, label=_label(ns))
@@ -202,7 +204,7 @@ def plot_cross_track(vessels, path, settle_s=None):
     ax.set_title('Cross-track error')
     ax.grid(True, alpha=0.3)
     ax.legend(loc='best', fontsize=8)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _t0(vessels):
@@ -222,9 +224,9 @@ def plot_heading(vessels, path, settle_s=None):
     left axis, ENU yaw on the right (module docstring); the settling window shaded."""
     fig, axes = _rows(vessels, 'Heading vs command')
     t0 = _t0(vessels)
-    for ax, colour, (ns, v) in zip(axes, _colours(len(vessels)), vessels.items()):
+    for ax, colour, (ns, v) in zip(axes, colours(len(vessels)), vessels.items()):
         if len(v.t):
-            _shade_settle(ax, t0, _settle_of(settle_s, ns), v.t[0])
+            shade_settle(ax, t0, _settle_of(settle_s, ns), v.t[0])
             yaw = np.unwrap(v.yaw)
             ax.plot(v.t - t0, _compass_unwrapped(yaw), color=colour, lw=1.4,
                     label=f'{_label(ns)} heading')
@@ -239,7 +241,7 @@ def plot_heading(vessels, path, settle_s=None):
         ax.grid(True, alpha=0.3)
         ax.legend(loc='best', fontsize=8)
     axes[-1].set_xlabel('time (s)')
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_rudder(vessels, path, limit_rad=None, settle_s=None):
@@ -249,9 +251,9 @@ def plot_rudder(vessels, path, limit_rad=None, settle_s=None):
     one settling time (s) or {namespace: settling time}, from each vessel's first sample."""
     fig, axes = _rows(vessels, 'Rudder (+ turns to port)')
     t0 = _t0(vessels)
-    for ax, colour, (ns, v) in zip(axes, _colours(len(vessels)), vessels.items()):
+    for ax, colour, (ns, v) in zip(axes, colours(len(vessels)), vessels.items()):
         if len(v.t):
-            _shade_settle(ax, t0, _settle_of(settle_s, ns), v.t[0])
+            shade_settle(ax, t0, _settle_of(settle_s, ns), v.t[0])
         if len(v.rudder_cmd.t):
             ax.plot(v.rudder_cmd.t - t0, np.degrees(v.rudder_cmd.v), '--', color='k', lw=1.0, label='command')
         if len(v.rudder.t):
@@ -266,7 +268,7 @@ def plot_rudder(vessels, path, limit_rad=None, settle_s=None):
         if ax.get_legend_handles_labels()[0]:   # a light target has no rudder: no legend
             ax.legend(loc='best', fontsize=8)
     axes[-1].set_xlabel('time (s)')
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_over_ground(vessels, path, settle_s=None):
@@ -276,8 +278,8 @@ def plot_over_ground(vessels, path, settle_s=None):
     fig, (a_sog, a_cog, a_drift) = plt.subplots(3, 1, figsize=(9, 8.4), sharex=True)
     fig.suptitle('Over ground: speed, course, drift')
     t0 = _t0(vessels)
-    _shade_settle(a_sog, t0, _first_settle(settle_s))
-    for colour, (ns, v) in zip(_colours(len(vessels)), vessels.items()):
+    shade_settle(a_sog, t0, _first_settle(settle_s))
+    for colour, (ns, v) in zip(colours(len(vessels)), vessels.items()):
         if len(v.t) < 2:
             continue
         sog, cog, drift = over_ground(v.t, v.x, v.y, v.yaw)
@@ -301,7 +303,7 @@ def plot_over_ground(vessels, path, settle_s=None):
         ax.grid(True, alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(loc='best', fontsize=8)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 KNOT_MPS = 1852.0 / 3600.0
@@ -331,7 +333,7 @@ def plot_ranges(vessels, traffic, path):
     fig, ax = plt.subplots(figsize=(9, 4))
     t0 = _t0(vessels)
     styles = ('-', '--', ':', '-.')
-    for colour, (ns, v) in zip(_colours(len(vessels)), vessels.items()):
+    for colour, (ns, v) in zip(colours(len(vessels)), vessels.items()):
         for i, (name, tr) in enumerate(traffic.items()):
             sel, dx, dy = relative_positions(v, tr)
             if not sel.size:
@@ -344,4 +346,4 @@ def plot_ranges(vessels, traffic, path):
     ax.set_title('Range to each target')
     ax.grid(True, alpha=0.3)
     ax.legend(loc='best', fontsize=8)
-    return _save(fig, path)
+    return save_figure(fig, path)

@@ -390,13 +390,13 @@ def _rclpy_qos_to_rosbags(profile):
                bool(profile.avoid_ros_namespace_conventions))
 
 
-def _message_class(msgtype):
+def message_class(msgtype):
     """'pkg/msg/Name' -> the rclpy message class (needed for type support, even for raw)."""
     pkg, sub, name = msgtype.split('/')
     return getattr(importlib.import_module(f'{pkg}.{sub}'), name)
 
 
-def _clock_ns(data):
+def clock_ns(data):
     """Serialized rosgraph_msgs/Clock -> ns. CDR: 4-byte encapsulation, int32 sec, uint32 nanosec."""
     sec, nsec = struct.unpack_from('<iI' if data[1] == 1 else '>iI', data, 4)
     return sec * 1_000_000_000 + nsec
@@ -534,7 +534,7 @@ class Recorder:
                 self.writer.write(tf_conn, t_ns, odometry_to_tf(typestore, data))
         if topic == CLOCK_TOPIC:
             def callback(data, conn=conn):
-                self._sim_ns = _clock_ns(data)
+                self._sim_ns = clock_ns(data)
                 write(conn, self._sim_ns if self.time_source == 'sim' else time.time_ns(), data)
         elif self.time_source == 'sim':
             # The message's own stamp where it has one, else the latest /clock; never before
@@ -550,7 +550,7 @@ class Recorder:
             def callback(data, conn=conn):
                 write(conn, time.time_ns(), data)
         callback = self._counted(topic, callback)
-        self._subs[topic] = self.node.create_subscription(_message_class(msgtype), topic, callback, qos, raw=True)
+        self._subs[topic] = self.node.create_subscription(message_class(msgtype), topic, callback, qos, raw=True)
         self.on_subscribe(topic, msgtype)
 
     @property

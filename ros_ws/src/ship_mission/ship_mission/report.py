@@ -102,8 +102,8 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
         # wall-clock matter) describes the recording, not the vessel: it goes with the record,
         # so the vessel's metrics repeat bit for bit.
         rec = record['vessels'].setdefault(ns, {})
-        rec['bag_end_s'] = metrics._f(bag_end[ns] - v.t[0])
-        rec['tail_after_finish_s'] = metrics._f(bag_end[ns] - v.t[-1]) if ends[ns][0] is not None else 0.0
+        rec['bag_end_s'] = metrics.json_float(bag_end[ns] - v.t[0])
+        rec['tail_after_finish_s'] = metrics.json_float(bag_end[ns] - v.t[-1]) if ends[ns][0] is not None else 0.0
         result['vessels'][ns] = m
     own = {ns: v for ns, v in data.vessels.items() if ns not in traffic}
     if traffic:
@@ -241,7 +241,7 @@ def _prepare_platoon(bag_dir, data, platoon):
     names = {**bagmod.DEFAULT_TOPICS, 'gap_error': 'gap_error'}
     wanted = {f'{ns}/{rel}': (ns, key) for ns in platoon for key, rel in names.items()
               if key != 'route'}
-    reader = bagmod._open(bag_dir)
+    reader = bagmod.open_bag(bag_dir)
     try:
         conns = [c for c in reader.connections if c.topic in wanted]
         log = {c.topic: [] for c in conns}
@@ -398,8 +398,8 @@ def plot_platoon(gaps, rows, out_dir, settle_s=None):
     out = Path(out_dir)
     fig, ax = plt.subplots(figsize=(9, 4))
     t0 = min((g.t[0] for g in gaps.values() if len(g.t)), default=0.0)
-    plots._shade_settle(ax, t0, settle_s)
-    for colour, (ns, g) in zip(plots._colours(len(rows))[1:], gaps.items()):
+    plots.shade_settle(ax, t0, settle_s)
+    for colour, (ns, g) in zip(plots.colours(len(rows))[1:], gaps.items()):
         if len(g.t):
             ax.plot(g.t - t0, g.v, color=colour, lw=1.2, label=f'{ns} (after {rows[ns]["predecessor"]})')
     ax.axhline(0.0, color='k', lw=0.8)
@@ -408,7 +408,7 @@ def plot_platoon(gaps, rows, out_dir, settle_s=None):
     ax.set_title('Platoon gap error (along the route)')
     ax.grid(True, alpha=0.3)
     ax.legend(loc='best', fontsize=8)
-    files = [plots._save(fig, out / 'gap_error.png')]
+    files = [plots.save_figure(fig, out / 'gap_error.png')]
 
     names = list(rows)
     peak = [rows[n]['xte_peak_m'] or 0.0 for n in names]
@@ -426,5 +426,5 @@ def plot_platoon(gaps, rows, out_dir, settle_s=None):
     ax.set_title('Along the string (labels: peak ratio to the predecessor)')
     ax.grid(True, axis='y', alpha=0.3)
     ax.legend(loc='best', fontsize=8)
-    files.append(plots._save(fig, out / 'platoon_string.png'))
+    files.append(plots.save_figure(fig, out / 'platoon_string.png'))
     return files

@@ -36,7 +36,8 @@ from ship_mission.console import progress_line
 from ship_mission.domain import LeaseError, lease_domain_id
 from ship_mission.processes import REPO, ProcessGroup, install_env
 from ship_mission.node_checks import RCLPY_PARAMETERS, node_parameter_names  # noqa: F401 (the launcher's API)
-from ship_mission.scenario import ScenarioError, route_plan, scenario_origin, scenario_text, start_pose
+from ship_mission.scenario import (TARGETS_KEY, ScenarioError, route_plan, scenario_origin,
+                                   scenario_text, start_pose, target_record)
 from ship_mission.waves import wave_filter_parameters
 from ship_mission.wind_block import wind_meta, wind_parameters
 from ship_guidance.nav_display import DEFAULT_DISPLAY_RATE_HZ
@@ -667,6 +668,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
                 limit = float(make_model(spec.model).rudder_max)
                 meta += ['--meta', f'mission.rudder_limit_rad/{spec.namespace}={limit!r}']
             meta += wind_meta(scenario.vessels)
+            meta += ['--meta', f'{TARGETS_KEY}={target_record(scenario)}']
             # A platoon's followers run behind the master's /clock: wall log times, which
             # ship_mission.report maps onto each vessel's own odometry stamps.
             source = 'sim' if scenario.platoon is None else 'wall'

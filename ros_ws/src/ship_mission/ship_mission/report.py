@@ -14,8 +14,9 @@ platoon's early finishers) on the last leg's extension, and how long depends on 
 timing. Metrics and plots cover start to completion, so identical lockstep runs give identical
 numbers; the record's ``bag_end_s`` and ``tail_after_finish_s`` say what was cut.
 
-Traffic: a namespace with odometry only (no route, rudder or heading command: a light target)
-and each target on ais_node's ``/targets`` (by child_frame_id) is no vessel: ``metrics['traffic']``
+Traffic: the scenario's light targets (each a namespace with odometry only) and each target on
+ais_node's ``/targets`` (by child_frame_id) are no vessels; the launcher records which they are
+in the bag (``recorded_targets``), from the scenario's ``targets``. ``metrics['traffic']``
 holds per target its track metrics (ship_mission.metrics.track_metrics, source ``light`` or ``ais``)
 and its closest approach to every vessel (ship_mission.encounter.min_distance: distance, time,
 bearing, side), over the time the vessels' own records cover (their completion cut; so
@@ -77,7 +78,7 @@ def analyse_bag(bag_dir, out_dir=None, settle_s=None, rudder_limit_rad=None, top
               'record': record, 'vessels': {}}
     if data.recovered:
         result['recovered'] = data.recovered
-    traffic = _traffic_tracks(bag_dir, data)
+    traffic = traffic_tracks(bag_dir, data)
     for ns, v in data.vessels.items():
         if ns in traffic:
             continue
@@ -149,18 +150,35 @@ def route_waypoints(run_dir, ns):
     return ned_to_enu_xy(wp[:, 0], wp[:, 1])
 
 
-#: A vessel's topics besides odom: a namespace with none of them (odometry only) is a light
-#: target (traffic_node publishes nothing else).
-_VESSEL_TOPICS = ('route', 'rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_error', 'progress')
+#: A vessel's topics besides odom: a namespace with none of them (odometry only) is taken for a
+#: light target in a bag that does not record its targets (recorded_targets).
+VESSEL_TOPICS = ('route', 'rudder', 'rudder_cmd', 'heading_cmd', 'cross_track_error', 'progress')
 
 
-def _traffic_tracks(bag_dir, data):
-    """{name: (source, track)} of the targets of a run: the namespaces with odometry only
-    ('light') and the targets on ais_node's /targets ('ais', ship_mission.encounter.target_tracks)."""
+def recorded_targets(custom_data):
+    """The run's targets as the launcher recorded them from its scenario (custom_data key
+    ship_mission.scenario.TARGETS_KEY): {'light': [namespace, ...], 'full': [...], 'ais': bool};
+    None for a bag without that record (not written by the launcher, or before it kept one)."""
+    from ship_mission.scenario import TARGETS_KEY
+    text = custom_data.get(TARGETS_KEY)
+    return None if text is None else json.loads(text)
+
+
+def traffic_tracks(bag_dir, data):
+    """{name: (source, track)} of the targets of a run: its light targets ('light') and the
+    targets on ais_node's /targets ('ais', ship_mission.encounter.target_tracks), as the bag
+    records them (recorded_targets). A bag without that record falls back on what it holds: the
+    namespaces with odometry only, and /targets if it was recorded."""
     from ship_mission.encounter import target_tracks
-    out = {ns: ('light', v) for ns, v in data.vessels.items()
-           if all(t in v.missing for t in _VESSEL_TOPICS)}
-    if '/targets' in data.topics:
+    kinds = recorded_targets(data.custom_data)
+    if kinds is not None:
+        light = [ns for ns in kinds['light'] if ns in data.vessels]
+        ais = kinds['ais'] and '/targets' in data.topics
+    else:
+        light = [ns for ns, v in data.vessels.items() if all(t in v.missing for t in VESSEL_TOPICS)]
+        ais = '/targets' in data.topics
+    out = {ns: ('light', data.vessels[ns]) for ns in light}
+    if ais:
         out.update((name, ('ais', tr)) for name, tr in target_tracks(bag_dir).items())
     return out
 

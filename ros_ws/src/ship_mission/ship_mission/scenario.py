@@ -87,6 +87,7 @@ section instead of `vessels:`; its schema and checks are in ship_mission.platoon
 as the same VesselSpec list (with `predecessor` and `spacing` set for the followers), so the
 rest of the launcher and the analysis treat both alike.
 """
+import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -153,6 +154,23 @@ class Scenario:
     bag_compression: str = DEFAULT_COMPRESSION   #: the recorder's --compression
     #: the `aivdm_out:` block as written (ship_mission.aivdm_block checks it), None without one
     aivdm_out: dict = None
+    #: {namespace: 'full' | 'light'} of the `traffic:` entries, in file order: full vessels
+    #: (their own graph, analysed as vessels) or light targets (traffic_node). AIS targets are
+    #: named by their data: ``ais`` says whether the run has any.
+    targets: dict = field(default_factory=dict)
+
+
+#: The bag's custom_data key under which the launcher records a run's targets by kind
+#: (``target_record``), so that the analysis reads them (ship_mission.report.recorded_targets).
+TARGETS_KEY = 'mission.targets'
+
+
+def target_record(scenario):
+    """The text stored under TARGETS_KEY: JSON {'light': [namespace, ...], 'full': [...],
+    'ais': whether ais_node publishes targets}; namespaces with a leading '/' as in the bag."""
+    kinds = {kind: [f'/{ns}' for ns, k in scenario.targets.items() if k == kind]
+             for kind in ('light', 'full')}
+    return json.dumps({**kinds, 'ais': scenario.ais is not None}, sort_keys=True)
 
 
 def check_name(name, file):
@@ -252,7 +270,7 @@ def _parse_scenario(data, path):
     need(not ('ais' in data and 'platoon' in data), path, 'ais',
           'AIS targets are not supported beside a platoon')
     platoon = None
-    light = []
+    light, targets = [], {}
     if 'platoon' in data:
         platoon, specs = parse_platoon(data['platoon'], path, lockstep_timeout)
     else:
@@ -270,6 +288,7 @@ def _parse_scenario(data, path):
                     if not (isinstance(v, dict) and 'light' in v)}
             light = _parse_light({ns: v for ns, v in traffic.items() if ns not in full}, path)
             specs += _parse_vessels(full, 'traffic', TRAFFIC_KEYS, path, traffic=True)
+            targets = {ns: 'full' if ns in full else 'light' for ns in traffic}
     need(not ('traffic' in data and 'platoon' in data), path, 'traffic',
           'traffic is not supported beside a platoon')
     ais = _parse_ais(data['ais'], path) if 'ais' in data else None
@@ -287,7 +306,7 @@ def _parse_scenario(data, path):
         record=bool(data.get('record', True)),
         lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light,
         ais=ais, display=_parse_display(data.get('display', {}), path),
-        bag_compression=compression, aivdm_out=data.get('aivdm_out'))
+        bag_compression=compression, aivdm_out=data.get('aivdm_out'), targets=targets)
 
 
 def _parse_ais(ais, path):

@@ -3,8 +3,10 @@
 #   changed). `make demo` installs requirements/runtime.txt only; `make test` adds the extras
 #   (test, learning, sweep, browser), each its own stamp file in .venv, and Chromium
 #   (scripts/ensure_test_tools.py).
-# The venv also gets one .pth file naming the packages' source folders and scripts/, so that
-# `.venv/bin/python scripts/X.py` and pytest import ship_* and mission without sys.path edits.
+# Imports (doc/guide/install.md): scripts import the ship_* packages from the colcon install, so
+# the targets that run them source install/setup.bash first ($(WITH_INSTALL)); pytest imports
+# them from the source folders pytest.ini names (tests/conftest.py hands the same to the
+# processes tests start).
 SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
@@ -12,22 +14,22 @@ PY := $(VENV)/bin/python
 WS := ros_ws
 SRC_FILES := $(shell find $(WS)/src -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null)
 SCENARIO ?= scenarios/flagship_mariner.yaml
-# Folders the venv's shipnav.pth puts on sys.path: every package of ros_ws/src, and scripts/.
-PATH_DIRS := $(abspath $(sort $(dir $(wildcard $(WS)/src/*/package.xml))) scripts)
+# What `source install/setup.bash` gives a shell (PYTHONPATH, AMENT_PREFIX_PATH, ...), for a recipe.
+WITH_INSTALL := source $(WS)/install/setup.bash &&
 PYTEST_ARGS ?=
 # pytest worker processes for `make test` (pytest-xdist; 0 runs the suite in one process). A test
 # file stays on one worker (--dist loadfile): its module-scoped runs are made once.
 TEST_JOBS ?= 2
 
-.PHONY: all venv venv-sweep venv-test paths build demo lint docs test bench clean distclean
+.PHONY: all venv venv-sweep venv-test build demo lint docs test bench clean distclean
 
 all: build
 
-venv: $(VENV)/.installed paths
+venv: $(VENV)/.installed
 # Ray and the learning environment for scripts/sweep.py --ray (its message names this target).
-venv-sweep: $(VENV)/.installed-sweep paths
+venv-sweep: $(VENV)/.installed-sweep
 # Everything the test suite needs.
-venv-test: $(VENV)/.installed-test $(VENV)/.installed-sweep $(VENV)/.installed-browser paths
+venv-test: $(VENV)/.installed-test $(VENV)/.installed-sweep $(VENV)/.installed-browser
 
 # pip without -q: a first install takes minutes and should show what it is doing. Each stage
 # ends with one line giving its time and the venv's size.
@@ -51,17 +53,10 @@ $(VENV)/.installed-sweep: $(VENV)/.installed-learning
 # Files that others include (-r): a change remakes the stamps of the files that include them.
 $(VENV)/.installed-sweep $(VENV)/.installed-docs: requirements/http.txt
 
-# Runs every time (cheap) and rewrites the .pth only when PATH_DIRS changed (a package added,
-# removed or renamed, or the checkout moved). A venv serves one checkout: one shared by several
-# checkouts imports from whichever ran make last (the old list is printed when it is replaced).
-paths: $(VENV)/.installed
-	@pth=$$($(PY) -c 'import sysconfig; print(sysconfig.get_path("purelib"))')/shipnav.pth; \
-	  new=$$(printf '%s\n' $(PATH_DIRS)); old=$$(cat $$pth 2>/dev/null); \
-	  if [ "$$new" != "$$old" ]; then \
-	    printf '%s\n' "$$new" > $$pth && echo "wrote $$pth:" && sed 's/^/  /' $$pth && \
-	    if [ -n "$$old" ]; then echo "  (it named:"; echo "$$old" | sed 's/^/  /'; echo "  )"; fi; fi
-
-build: $(WS)/install/.built paths
+# A venv made before the imports went through the install may still hold the shipnav.pth that
+# put the source folders on every interpreter's path: removed, so that nothing imports by it.
+build: $(WS)/install/.built
+	@rm -f $(VENV)/lib/python3*/site-packages/shipnav.pth
 
 $(WS)/install/.built: $(VENV)/.installed $(SRC_FILES)
 	cd $(WS) && source ../$(VENV)/bin/activate && \
@@ -71,7 +66,7 @@ $(WS)/install/.built: $(VENV)/.installed $(SRC_FILES)
 	@echo "built $(WS)/install (source $(WS)/install/setup.bash to use it)"
 
 demo: build
-	$(PY) scripts/run_mission.py $(SCENARIO)
+	$(WITH_INSTALL) $(PY) scripts/run_mission.py $(SCENARIO)
 
 # The rules are in ruff.toml.
 lint: $(VENV)/.installed-test
@@ -79,19 +74,19 @@ lint: $(VENV)/.installed-test
 
 # The documentation site (mkdocs.yml) into site/: strict, so a broken link, anchor or repository
 # path fails it; offline (the theme and its assets come from the wheel).
-docs: $(VENV)/.installed-docs paths
-	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --quiet
+docs: build $(VENV)/.installed-docs
+	$(WITH_INSTALL) NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --quiet
 	@echo "built site/ (open site/index.html)"
 
 # ensure_test_tools.py installs the test tools (Chromium, gpsdecode) as root with apt-get, or says which
 # tests will skip and the command that installs it.
 test: build venv-test lint docs
-	@$(PY) scripts/ensure_test_tools.py
+	@$(WITH_INSTALL) $(PY) scripts/ensure_test_tools.py
 	$(PY) -m pytest -n $(TEST_JOBS) --dist loadfile $(PYTEST_ARGS)
 
 # The benchmarks use every extra: gymnasium (controllers), Ray (sweep), websockets (live view).
 bench: build venv-test
-	$(PY) scripts/bench.py
+	$(WITH_INSTALL) $(PY) scripts/bench.py
 
 clean:
 	rm -rf $(WS)/build $(WS)/install $(WS)/log

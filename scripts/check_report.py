@@ -4,14 +4,14 @@
     scripts/check_report.py runs/latest/report.html [--screenshot shot.png] [--full-page] [--json]
 
 Fails (exit 1, one line per problem) on console errors, uncaught exceptions, images that did not
-decode or requests that left the file (mission.browser_check); exit 2 when no Chromium is
+decode or requests that left the file (ship_mission.browser_check); exit 2 when no Chromium is
 installed (Debian: apt-get install chromium). Prints the images' sizes, or the result as JSON.
 """
 import argparse
 import json
 import sys
 
-from mission.browser_check import check_page, find_chromium, problems
+from ship_mission.browser_check import check_page, find_chromium, problems
 
 
 def main(argv=None):

@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
-"""Closest approach and the own ship's alteration of a two-ship run (mission.encounter).
+"""Closest approach and the own ship's alteration of a two-ship run (ship_mission.encounter).
 
     scripts/encounter_report.py runs/latest [--own vessel_0 --target target_0]
 """
 import sys
 from pathlib import Path
 
-from mission.bag import BagError
-from mission.cli_args import OneLineParser
-from mission.encounter import encounter_report
+from ship_mission.bag import BagError
+from ship_mission.cli_args import OneLineParser
+from ship_mission.encounter import encounter_report
 
 
 def main(argv=None):

@@ -13,7 +13,7 @@ import shutil
 import subprocess
 import sys
 
-from mission.browser_check import find_chromium
+from ship_mission.browser_check import find_chromium
 
 #: (what, how to find it, Debian package, the test that skips without it)
 TOOLS = (

@@ -39,7 +39,7 @@ Setup (the same for every controller):
   'ilos_lead' = the same with integral LOS (sigma = U0 / 4) for the steady drift of a current,
   tuned by the same procedure (``--tune --tune-controller ilos_lead``; TUNED_ILOS).
 
-Wind and waves (``--condition``, mission.conditions: calm, wind10, wind20; issue 14): the wind
+Wind and waves (``--condition``, ship_mission.conditions: calm, wind10, wind20; issue 14): the wind
 loads enter the plant (learning.env's ``wind``: relative wind from the velocity over ground,
 each model's own force equations); the gusts and the wave-frequency motion of start i (seed
 conditions.SEED + i, the same for every controller and current) are its own; the waves are
@@ -56,7 +56,7 @@ Metrics per run: cumulative Gaussian (mean over starts), mean and max |e| (m), m
 over the last 500 s (settled), rudder activity = mean |d delta / dt| of the actual rudder
 (deg/s), its total variation over the episode (deg), mean |delta| (deg) and the fraction of
 samples with the rudder at its limit. Output: <out>.json, <out>.md (also printed) and <out>.html (the same tables,
-mission.html_report).
+ship_mission.html_report).
 """
 import json
 import math
@@ -80,7 +80,7 @@ from ship_autopilot.wave_filter import WaveFilter
 from ship_sim.environment.sea_state import ShipWaves, rao_table_for
 from ship_sim.allocator import tune_allocator
 from ship_sim.models import cards, make_model
-from mission.conditions import (CONDITIONS, SEED, Condition, route_course, sea_state,
+from ship_mission.conditions import (CONDITIONS, SEED, Condition, route_course, sea_state,
                                 wind_field)
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -154,7 +154,7 @@ def run(model, route, controller, starts, current, duration, policy_file=None, t
     ``tuning``: (omega_n_nd, lookahead_L) for 'los_lead' / 'ilos_lead' instead of TUNED /
     TUNED_ILOS. ``current_field``: a ship_sim.current.OceanCurrent of shape (len(starts),)
     advanced every step (a varying current) instead of the constant one of the starts.
-    ``condition``: wind and waves (mission.conditions name or Condition; module docstring;
+    ``condition``: wind and waves (ship_mission.conditions name or Condition; module docstring;
     ``seeds``: per start, see ``disturbances``), ``wave_filter`` the classical autopilots'
     wave filter; ``activity`` adds the max |e| of the second half,
     the rudder's total variation and its saturated fraction (the batched loop has no such
@@ -251,7 +251,7 @@ def wave_filters(seas):
 
 def disturbances(condition, routes, model, route_index, seeds=None):
     """(WindField of shape (k,) or None, batch ShipWaves of k sea states or None, the k
-    SeaStates or None) of a condition (a mission.conditions name or Condition) for k episodes
+    SeaStates or None) of a condition (a ship_mission.conditions name or Condition) for k episodes
     on ``routes[route_index[i]]`` (one course). ``seeds``: one int per episode, its gusts and
     waves (a stream each, so an episode does not depend on the others); default Table I's,
     SEED + i for episode i."""
@@ -460,10 +460,10 @@ def markdown(results, models, controllers, duration, n_starts):
 
 
 def html_page(path, results, models, controllers, duration, n_starts):
-    """<out>.html (mission.html_report.batch_page): Table I (the paper's rows, then ours) and one
+    """<out>.html (ship_mission.html_report.batch_page): Table I (the paper's rows, then ours) and one
     row per (ship, current, controller) case with every metric. No run folders: these are
     in-process simulations, so the rows link nowhere."""
-    from mission.html_report import batch_page
+    from ship_mission.html_report import batch_page
     cols = [(m, c) for m in models for c in CURRENTS]
     table1 = [[name] + [table[m][CURRENTS.index(c)] for m, c in cols] for name, table in SEED_TABLE.items()]
     table1 += [[LABELS[ctrl]] + [results.get(f'{m}/{c}/{ctrl}', {}).get('gaussian') for m, c in cols]
@@ -485,7 +485,7 @@ def html_page(path, results, models, controllers, duration, n_starts):
 
 def main(argv=None):
     tune_allocator()   # its pools are forked from here and inherit it
-    from mission.cli_args import OneLineParser, integer, number
+    from ship_mission.cli_args import OneLineParser, integer, number
     p = OneLineParser(description=__doc__.split('\n')[0])
     p.add_argument('--quick', action='store_true',
                    help='1 start state, 300 s episodes (a smoke run for make bench)')
@@ -508,7 +508,7 @@ def main(argv=None):
     p.add_argument('--grid', default=None, metavar='K1,K2/D1,D2',
                    help='with --tune: omega_n values (U/L) / look-aheads (L) instead of TUNE_GRID')
     p.add_argument('--condition', default='calm', choices=tuple(CONDITIONS),
-                   help='wind and waves (mission.conditions; default %(default)s); not calm: '
+                   help='wind and waves (ship_mission.conditions; default %(default)s); not calm: '
                         "'_<condition>' is appended to --out")
     p.add_argument('--wave-filter', action='store_true',
                    help="the classical autopilots filter heading and yaw rate (ship_autopilot."

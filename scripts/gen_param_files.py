@@ -16,7 +16,7 @@ import sys
 import textwrap
 from pathlib import Path
 
-from mission.processes import format_param
+from ship_mission.processes import format_param
 
 REPO = Path(__file__).resolve().parent.parent
 WIDTH = 100
@@ -28,7 +28,7 @@ def config_path(schema):
 
 def yaml_value(value):
     """A scalar or list as a ROS parameter file writes it: as `-p` takes it
-    (mission.processes.format_param: floats keep a '.', so that YAML reads them as floats and
+    (ship_mission.processes.format_param: floats keep a '.', so that YAML reads them as floats and
     rclpy's static types match), strings as YAML dumps them."""
     if isinstance(value, (bool, int, float, list, tuple)):
         return format_param(value)

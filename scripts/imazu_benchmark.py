@@ -38,8 +38,8 @@ from pathlib import Path
 from imazu.cases import SINGLE, load_cases
 from imazu.runner import LIMIT_S, METHODS, SHIPS, RunEnd, case_scenario, write_scenario
 from imazu.storage import load_runs, save_runs
-from mission.cli_args import OneLineParser, integer, number, out_folder
-from mission.scenario import MIN_DURATION_S
+from ship_mission.cli_args import OneLineParser, integer, number, out_folder
+from ship_mission.scenario import MIN_DURATION_S
 from ship_sim.allocator import tune_allocator
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -333,10 +333,10 @@ def markdown_tables(summary, cases):
 
 
 def html_page(path, per_run, summary, cases, plots=True):
-    """index.html (mission.html_report.batch_page): the totals per ship and method, then one row
+    """index.html (ship_mission.html_report.batch_page): the totals per ship and method, then one row
     per case x ship x method, its first cell linking to the case's plot (case_NN.png, embedded
     in the page below the tables with summary.png first)."""
-    from mission.html_report import batch_page, figure_id
+    from ship_mission.html_report import batch_page, figure_id
     totals = [[key, g['runs'], g['collisions'], g['near_misses'], g['below_safe'],
                g['min_distance_m'], g['rule_score_mean'], g['rule_score_single_target_mean'],
                g['path_deviation_m_mean'], g['time_lost_s_mean'], g['return_to_route_s_mean'],

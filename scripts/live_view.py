@@ -3,8 +3,8 @@
 
 A Foxglove WebSocket server (foxglove-sdk) on 127.0.0.1 (``--host`` to change) that advertises
 every topic of the graph in this ROS_DOMAIN_ID (or the ``--topics`` given) with its ROS 2
-schema and forwards the CDR messages untouched (mission.live_bridge), plus ``/tf`` from every
-vessel's odom. Clients reach it through mission.live_front, which also accepts the protocol's
+schema and forwards the CDR messages untouched (ship_mission.live_bridge), plus ``/tf`` from every
+vessel's odom. Clients reach it through ship_mission.live_front, which also accepts the protocol's
 old subprotocol name ``foxglove.websocket.v1`` (older Foxglove and Lichtblick releases, the
 ``@foxglove/ws-protocol`` client). Open it in Foxglove or
 Lichtblick with "Open connection" -> "Foxglove WebSocket" -> ws://127.0.0.1:8765, then import
@@ -20,9 +20,9 @@ import os
 import sys
 import time
 
-from mission.live_bridge import LiveBridge
-from mission.live_front import SubprotocolFront
-from mission.recorder import DEFAULT_EXCLUDE
+from ship_mission.live_bridge import LiveBridge
+from ship_mission.live_front import SubprotocolFront
+from ship_mission.recorder import DEFAULT_EXCLUDE
 
 
 def lower_priority(n):
@@ -71,7 +71,7 @@ def main(argv=None):
 
     context = foxglove.Context()
     # The sdk's server on a free loopback port, behind the front that clients reach
-    # (mission.live_front: the protocol's old name, subscriptions right after an advertisement).
+    # (ship_mission.live_front: the protocol's old name, subscriptions right after an advertisement).
     try:
         server = foxglove.start_server(name='shipnav', host='127.0.0.1', port=0,
                                        capabilities=[foxglove.Capability.Time],

@@ -10,11 +10,11 @@ apps. This script fetches studio-base, React and ReactDOM with ``npm pack`` into
 (``--cache``; nothing is added to the project's dependencies), writes a page that mounts ``App``
 with an in-memory layout store holding scripts/live_view_layout.json, serves it on 127.0.0.1,
 starts a lockstep run of SCENARIO with ``--live``, and opens the page in headless Chromium
-(Playwright with the system's Chromium, as mission.browser_check) connected to the run.
+(Playwright with the system's Chromium, as ship_mission.browser_check) connected to the run.
 
 Studio 1.48 predates the protocol's new name: it offers only the subprotocol
 ``foxglove.websocket.v1``, which foxglove-sdk servers refuse (HTTP 400; the live view's own
-front, mission.live_front, now accepts it too). A relay here accepts the old name and forwards
+front, ship_mission.live_front, now accepts it too). A relay here accepts the old name and forwards
 every frame both ways under the new one; it also lets the page connect before the run serves.
 
 Prints the console errors of the page; exit code 0 when the screenshot was saved and the app
@@ -35,8 +35,8 @@ import threading
 import time
 from pathlib import Path
 
-from mission.browser_check import CHROMIUM_ARGS, find_chromium
-from mission.live_front import OLD_SUBPROTOCOL, SDK_SUBPROTOCOLS
+from ship_mission.browser_check import CHROMIUM_ARGS, find_chromium
+from ship_mission.live_front import OLD_SUBPROTOCOL, SDK_SUBPROTOCOLS
 
 REPO = Path(__file__).resolve().parents[1]
 LAYOUT = REPO / 'scripts' / 'live_view_layout.json'

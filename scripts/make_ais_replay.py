@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 
-from mission.cli_args import OneLineParser, integer, number
+from ship_mission.cli_args import OneLineParser, integer, number
 from ship_guidance.ais_replay import replay_lines
 from ship_sim.light_traffic import make_traffic
 from ship_sim.safe_load import InputError, load_json

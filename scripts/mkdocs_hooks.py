@@ -8,6 +8,7 @@ cannot serve those files: such a link becomes the path in code type, after check
 exists (a missing one is a warning, which fails the strict build). Links to a package's
 ``doc/*.md`` become links to its page under ``science/``.
 """
+import importlib.util
 import logging
 import posixpath
 import re
@@ -18,7 +19,7 @@ from mkdocs.structure.files import File
 log = logging.getLogger('mkdocs.plugins.shipnav')
 
 REPO = Path(__file__).resolve().parent.parent
-PACKAGES = ('ship_sim', 'ship_guidance', 'ship_autopilot', 'ship_planner')
+PACKAGES = ('ship_sim', 'ship_guidance', 'ship_autopilot', 'ship_planner', 'ship_mission')
 # Markdown links outside code: [text](target) where target is relative (no scheme, no anchor-only).
 LINK = re.compile(r'(!?)\[([^\]]*)\]\((?![a-z][a-z0-9+.-]*:|#)([^)\s]+?)(#[^)\s]*)?\)')
 FENCE = re.compile(r'^(```|~~~)')
@@ -44,9 +45,18 @@ def api_modules():
             yield pkg, '.'.join(parts)
 
 
+def _sibling_script(name):
+    """The module scripts/<name>.py, loaded from its file: mkdocs loads this hook from its file
+    too, so scripts/ is not on the path (the packages come from the sourced install)."""
+    spec = importlib.util.spec_from_file_location(name, Path(__file__).with_name(f'{name}.py'))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def on_files(files, config):
     # The parameter reference, rendered from the nodes' schemas at every build: it cannot drift.
-    from gen_param_files import reference_markdown
+    reference_markdown = _sibling_script('gen_param_files').reference_markdown
     files.append(File.generated(config, 'guide/parameters.md', content=reference_markdown()))
     for uri, src in science_pages():
         files.append(File.generated(config, uri, abs_src_path=str(src)))

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mission import bag as bagmod
-from mission.processes import REPO
+from ship_mission import bag as bagmod
+from ship_mission.processes import REPO
 from ship_sim.safe_load import load_json_file
 
 ANGLES = (30, 45, 60, 90)

@@ -4,25 +4,25 @@
     scripts/replay_bag.py BAG_DIR [--out DIR] [--settle S] [--rudder-limit-deg D]
         [--reward-step S] [--episode S] [--progress-topic NAME] [--no-plots]
 
-Writes into --out (default: the directory that holds the bag); report.html (mission.html_report)
+Writes into --out (default: the directory that holds the bag); report.html (ship_mission.html_report)
 takes the scenario, run summary and node logs from the bag's own run folder. Definitions of the metrics:
-scripts/mission/metrics.py. Exit codes: 0 done, 2 not a bag / nothing to analyse.
+ros_ws/src/ship_mission/ship_mission/metrics.py. Exit codes: 0 done, 2 not a bag / nothing to analyse.
 """
 import math
 import sys
 from pathlib import Path
 
-from mission import metrics
-from mission.bag import BagError
-from mission.cli_args import OneLineParser, number
-from mission.integrity import summary_line
-from mission.report import analyse_bag, traffic_lines
+from ship_mission import metrics
+from ship_mission.bag import BagError
+from ship_mission.cli_args import OneLineParser, number
+from ship_mission.integrity import summary_line
+from ship_mission.report import analyse_bag, traffic_lines
 
 
 def main(argv=None):
     p = OneLineParser(description=__doc__.split('\n\n')[0])
     p.add_argument('bag', help='rosbag2 directory (one without metadata.yaml, left by a killed '
-                   'recorder, is recovered first: mission.bag_recovery)')
+                   'recorder, is recovered first: ship_mission.bag_recovery)')
     p.add_argument('--out', default=None, help='output directory (default: the bag\'s parent)')
     p.add_argument('--settle', type=number(0.0), default=None, metavar='S',
                    help='seconds excluded at the start (default: 10 %% of the run)')

@@ -6,21 +6,21 @@
     scripts/run_seed_scenarios.py --only course_change --only quarter_circle
     scripts/run_seed_scenarios.py scenarios/figure_eight_003.yaml 'scenarios/curved_*.yaml'
 
-A matrix file (mission.matrix, e.g. scenarios/course_changes_004.yaml) gives all its scenarios,
+A matrix file (ship_mission.matrix, e.g. scenarios/course_changes_004.yaml) gives all its scenarios,
 in the order of their names (as separate files sorted by name would); --only picks by name.
-Each scenario goes through mission.launcher.run_scenario (one process per node, lockstep, a
+Each scenario goes through ship_mission.launcher.run_scenario (one process per node, lockstep, a
 bag), all on one ROS_DOMAIN_ID leased for the batch (quiet_domain_lease). The bag is then analysed
-with mission.report.analyse_bag (the run folder's metrics.json and plots, whole run), given the
+with ship_mission.report.analyse_bag (the run folder's metrics.json and plots, whole run), given the
 rudder limit of the vessel model so that saturation is counted. Everything lands in one batch
 folder, runs/seeds-<time>/ (runs/seeds-latest points at it): one run folder per scenario,
 results.json (per run: scenario, spec summary, outcome, the table's metrics of vessel_0; the
 claim checks), results.md, the table that is also printed, and index.html, the same tables with
-each run linked to its report.html (mission.html_report). A failed run is recorded as such
+each run linked to its report.html (ship_mission.html_report). A failed run is recorded as such
 and the batch goes on; a run whose bag came out incomplete is run once more (``--retries``).
 Exit code 1 if any run failed, 130 on Ctrl-C (the table of the runs so far is still written).
 ``--reanalyse BATCH_DIR`` recomputes the table of an earlier batch from its bags.
 
-The table's metrics are mission.metrics.vessel_metrics over [start + settle_s, the time the
+The table's metrics are ship_mission.metrics.vessel_metrics over [start + settle_s, the time the
 guidance declared the route finished] (or the end of the run): the launcher stops the nodes a
 few sim seconds after route_complete, and that tail is cut (``metrics_to_finish``). Extras:
 - ``ref_xte_*``: the cross-track error against a REFERENCE path other than the route followed.
@@ -41,7 +41,7 @@ few sim seconds after route_complete, and that tail is cut (``metrics_to_finish`
 The seeds' claims become checks on the rows (``claim_checks``): reproduced yes / NO, or n/a
 when a run it needs is missing or failed.
 
-Units in the table: metres, degrees, seconds; reward = mission.metrics cumulative Gaussian reward
+Units in the table: metres, degrees, seconds; reward = ship_mission.metrics cumulative Gaussian reward
 (Martinsen and Lekkas 2018 eq. 8, sigma 10 m, sampled every 0.1 s, whole run).
 """
 import fnmatch
@@ -56,11 +56,11 @@ from pathlib import Path
 
 import numpy as np
 
-from mission.cli_args import OneLineParser, integer, number
-from mission.domain import DomainLease, LeaseError
-from mission.launcher import MissionFailed, run_scenario
-from mission.processes import REPO
-from mission.scenario import ScenarioError, load_scenario, load_scenarios
+from ship_mission.cli_args import OneLineParser, integer, number
+from ship_mission.domain import DomainLease, LeaseError
+from ship_mission.launcher import MissionFailed, run_scenario
+from ship_mission.processes import REPO
+from ship_mission.scenario import ScenarioError, load_scenario, load_scenarios
 from ship_sim.safe_load import load_json_file, load_yaml_file
 
 SCENARIO_DIR = REPO / 'scenarios'
@@ -103,7 +103,7 @@ GROUPS = (  # (name prefix, heading in the table)
 
 
 def quiet_domain_lease(probe_s=1.5):
-    """A ROS_DOMAIN_ID for the whole batch (mission.domain.DomainLease, the lease every graph
+    """A ROS_DOMAIN_ID for the whole batch (ship_mission.domain.DomainLease, the lease every graph
     on this machine takes) on which a probe node also sees no other node: a launcher that does
     not lease would otherwise mix its messages into ours."""
     return DomainLease(accept=lambda did: _domain_is_quiet(did, probe_s))
@@ -131,7 +131,7 @@ def _domain_is_quiet(domain_id, probe_s):
 
 
 def find_scenarios(patterns, only):
-    """The scenarios (mission.scenario.Scenario, checked) of files/globs (default: the seed
+    """The scenarios (ship_mission.scenario.Scenario, checked) of files/globs (default: the seed
     scenarios), filtered by --only substrings or globs on the scenario's name or its file's
     stem. A matrix file's scenarios come sorted by name. ScenarioError for a bad file."""
     files = []
@@ -203,12 +203,12 @@ def rudder_per_leg(route, rudder, leg, model, rudder_max):
 
 def metrics_to_finish(bag_dir, namespace, settle_s, rudder_limit_rad, ref_route=None,
                       rudder_from_leg=None, per_leg=None, step_response=False):
-    """mission.metrics.vessel_metrics over [start, route finished] (or the whole run if it never
-    finishes; mission.report's cut), plus the ref_* and rudder-after-leg extras; ``per_leg``
+    """ship_mission.metrics.vessel_metrics over [start, route finished] (or the whole run if it never
+    finishes; ship_mission.report's cut), plus the ref_* and rudder-after-leg extras; ``per_leg``
     (route, model) adds rudder_legs, ``step_response`` the course-change extras."""
-    from mission import bag as bagmod
-    from mission.metrics import cross_track_stats, project_on_route, vessel_metrics
-    from mission.report import vessel_completion, vessel_until
+    from ship_mission import bag as bagmod
+    from ship_mission.metrics import cross_track_stats, project_on_route, vessel_metrics
+    from ship_mission.report import vessel_completion, vessel_until
     whole = bagmod.read_bag(bag_dir, namespaces=[namespace]).vessels[namespace]
     t_fin, _ = vessel_completion(whole)
     v = whole if t_fin is None else vessel_until(whole, t_fin)
@@ -255,10 +255,10 @@ def metrics_to_finish(bag_dir, namespace, settle_s, rudder_limit_rad, ref_route=
 
 def course_change_metrics(v, heading_cmd, rudder, t_steady, rudder_limit_rad):
     """Lee 2004 Figs. 5.7-5.18 extras of a course change: the heading step response
-    (mission.metrics.step_response_stats, steady window from settle_s) and the rudder's use over
+    (ship_mission.metrics.step_response_stats, steady window from settle_s) and the rudder's use over
     the whole manoeuvre (from the step on: mean |rudder|, total variation per second = mean
     |rudder rate|, time at the limit), prefixed ``manoeuvre_rudder``."""
-    from mission.metrics import rudder_stats, rudder_time_at_limit, step_response_stats
+    from ship_mission.metrics import rudder_stats, rudder_time_at_limit, step_response_stats
     out = step_response_stats(heading_cmd.t, heading_cmd.v, v.t, v.yaw, t_steady)
     if rudder is not None and out['step_time_s'] is not None:
         t0 = out['step_time_s']
@@ -280,7 +280,7 @@ def spec_summary(scenario):
 def analyse_run(scenario, run, make_pngs=True):
     """The run folder's metrics.json + plots (whole run, as run_mission.py writes them) and,
     returned, the table's metrics (up to the end of the route, with the extras)."""
-    from mission.report import analyse_bag
+    from ship_mission.report import analyse_bag
     limit = rudder_limit(scenario.vessels[0])
     analyse_bag(run / 'bag', run, settle_s=scenario.settle_s, rudder_limit_rad=limit,
                 make_pngs=make_pngs)
@@ -357,7 +357,7 @@ def bag_problem(result, scenario):
 
 
 def run_one(scenario, batch_dir, quick, wall_timeout_s, verbose, domain_id, retries=1):
-    """Run + analyse one scenario (mission.scenario.Scenario); returns its result dict (never
+    """Run + analyse one scenario (ship_mission.scenario.Scenario); returns its result dict (never
     raises for a failed run). A run whose bag came out incomplete is run again, up to
     ``retries`` times."""
     if quick:
@@ -796,9 +796,9 @@ def main(argv=None):
 
 
 def html_index(batch, results, claims, header):
-    """batch/index.html (mission.html_report.batch_page): the runs grouped as in results.md,
+    """batch/index.html (ship_mission.html_report.batch_page): the runs grouped as in results.md,
     each scenario linked to its run's report.html, then the claims with their evidence."""
-    from mission.html_report import batch_page
+    from ship_mission.html_report import batch_page
     grouped = {}
     for r in results:
         title = next((t for p, t in GROUPS if r['scenario'].startswith(p)), 'Other scenarios')

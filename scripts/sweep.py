@@ -20,7 +20,7 @@ summary.json (per grid cell: mean and 95 % confidence interval of each metric), 
 sweep; metric against each random parameter), run.json
 (backend, workers, chunking, chunks rerun after a lost worker or node, wall time,
 throughput), index.html (the summary table and every
-plot embedded, one self-contained page: mission.html_report.batch_page). Exit codes: 0 done, 1 a chunk failed,
+plot embedded, one self-contained page: ship_mission.html_report.batch_page). Exit codes: 0 done, 1 a chunk failed,
 2 a bad sweep file or arguments.
 
 Test-only: SHIPNAV_SWEEP_FAIL_ONCE=<file> kills the first worker process that starts a chunk
@@ -40,7 +40,7 @@ os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')
 from montecarlo import results
 from montecarlo.backends import SweepRunError
 from montecarlo.driver import rerun_line, run_sweep
-from mission.cli_args import OneLineParser, integer, number, out_folder
+from ship_mission.cli_args import OneLineParser, integer, number, out_folder
 from montecarlo.spec import MAX_EPISODES, PARAMETERS, REPO, SweepError, check_size, load
 from ship_sim.allocator import tune_allocator
 
@@ -178,7 +178,7 @@ def main(argv=None):
 
 def html_index(path, sweep, summary, group_by, kind, run, plots=()):
     """index.html: the summary table (as summary.md) and the plots embedded."""
-    from mission.html_report import batch_page
+    from ship_mission.html_report import batch_page
     header, rows = results.summary_rows(summary, group_by, kind)
     return batch_page(
         path, f'Sweep {sweep.name}', header, rows,

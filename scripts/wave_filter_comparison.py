@@ -105,7 +105,7 @@ def flagship_run(variant, duration=1250.0):
     from ship_planner.route_loader import load_route
     from ship_sim.current import OceanCurrent
     from ship_sim.environment.sea_state import superpose
-    from mission.waves import wave_filter_parameters, wave_parameters
+    from ship_mission.waves import wave_filter_parameters, wave_parameters
     scenario = Path(__file__).resolve().parents[1] / 'scenarios' / 'flagship_mariner_waves.yaml'
     from ship_sim.safe_load import load_yaml_file
     spec = load_yaml_file(scenario)['vessels']['vessel_0']
@@ -223,7 +223,7 @@ def plot(results, out):
 
 
 def main():
-    from mission.cli_args import OneLineParser, number
+    from ship_mission.cli_args import OneLineParser, number
     ap = OneLineParser(description=__doc__.split('\n')[0])
     ap.add_argument('--quick', action='store_true', help='1200 s runs, the Mariner only')
     ap.add_argument('--models', nargs='+', default=list(model_names('mss')))

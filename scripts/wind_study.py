@@ -8,16 +8,16 @@ and rudder activity (issue 14, wind part).
     .venv/bin/python scripts/wind_study.py --scenario scenarios/platoon_mariner_5.yaml \
         --conditions wind10 --runs runs/wind_study_platoon
 
-Each run is the scenario with a top-level `wind:` block (mission.wind_block; from
+Each run is the scenario with a top-level `wind:` block (ship_mission.wind_block; from
 --direction-deg, gusts of sd --gust-fraction x speed, Gauss-Markov time constant
---time-constant, seed --seed; 0 m/s is the scenario unchanged), run by mission.launcher in
+--time-constant, seed --seed; 0 m/s is the scenario unchanged), run by ship_mission.launcher in
 lockstep (so each row repeats bit for bit). Written to --runs: one run folder per speed, the
 variant scenario files, wind_study.json and wind_study.md (the table). Metrics are the
-launcher's (mission.metrics) after the scenario's settle_s: cross-track error RMS / max,
+launcher's (ship_mission.metrics) after the scenario's settle_s: cross-track error RMS / max,
 heading error RMS, mean |rudder|, mean |rudder rate| (total variation per second) and the total
 variation over the window.
 
-``--conditions`` runs the study's wind-and-wave conditions instead (mission.conditions: calm,
+``--conditions`` runs the study's wind-and-wave conditions instead (ship_mission.conditions: calm,
 wind10, wind20, directions relative to the route's overall course): the wind as a top-level
 `wind:` block, the sea as each vessel's `waves:` block (vessel i of a platoon: seed SEED + i).
 """
@@ -28,11 +28,11 @@ from pathlib import Path
 
 import yaml
 
-from mission import conditions
-from mission.cli_args import OneLineParser, integer, number
+from ship_mission import conditions
+from ship_mission.cli_args import OneLineParser, integer, number
 from montecarlo.spec import PARAMETERS
-from mission.launcher import MissionFailed, check_scenario, run_scenario
-from mission.scenario import ScenarioError, load_scenario
+from ship_mission.launcher import MissionFailed, check_scenario, run_scenario
+from ship_mission.scenario import ScenarioError, load_scenario
 from ship_sim.safe_load import load_yaml_file
 
 REPO = Path(__file__).resolve().parents[1]
@@ -58,7 +58,7 @@ def variant(source, speed, args, folder):
 
 
 def condition_variant(source, name, folder, start_timeout=None):
-    """Copy of the scenario file in condition ``name`` (mission.conditions), absolute routes;
+    """Copy of the scenario file in condition ``name`` (ship_mission.conditions), absolute routes;
     ``start_timeout`` (s): every simulator's lockstep_start_timeout (a loaded machine)."""
     from ship_planner.route_loader import load_route
     data = load_yaml_file(source)
@@ -139,7 +139,7 @@ def main(argv=None):
     ap.add_argument('--runs', type=Path, default=REPO / 'runs' / 'wind_study')
     ap.add_argument('--quick', action='store_true', help='300 s runs (development)')
     ap.add_argument('--conditions', nargs='+', choices=tuple(conditions.CONDITIONS),
-                    help='wind-and-wave conditions (mission.conditions) instead of --speeds')
+                    help='wind-and-wave conditions (ship_mission.conditions) instead of --speeds')
     ap.add_argument('--start-timeout', type=number(above=0.0, hi=1e5), default=None,
                     help="with --conditions: every simulator's lockstep_start_timeout (s), for "
                          'many vessels on a loaded machine (timing only, not the physics)')

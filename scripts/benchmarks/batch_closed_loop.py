@@ -13,7 +13,7 @@ Three figures side by side, all Mariner, h = 0.1 s:
   closed loop / plant-only says how close it gets;
 - the batched loop with a Gauss-Markov current per episode (CURRENT_SD, a seed each) at
   N = 10 000, a fifth of the simulated time, and its ratio to the constant current's CPU rate;
-- the batched loop in wind and waves (mission.conditions wind20, a seed per episode) at
+- the batched loop in wind and waves (ship_mission.conditions wind20, a seed per episode) at
   N = 100 and 1 000, one run of a fifth of the simulated time, and its ratio to the calm
   loop's CPU rate at the same N.
 
@@ -39,7 +39,7 @@ from . import batched, closed_loop_inprocess, common
 GOAL_N = 10_000
 GOAL_RATE = 1_000_000.0
 SIZES = (100, 1_000, 10_000)
-#: Wind and waves (mission.conditions wind20: gusts, loads, 100 x 8 wave components per
+#: Wind and waves (ship_mission.conditions wind20: gusts, loads, 100 x 8 wave components per
 #: episode): N and a fifth of the simulated time (its cost per step is the wave motion's).
 WAVES_SIZES = (100, 1_000)
 SIM_S, QUICK_SIM_S = 100.0, 20.0
@@ -59,7 +59,7 @@ def episodes(n, seed=1):
 def batch_rate(route_name, n, sim_s, repeats, condition='calm', current_sd=None):
     """(best wall rate, best CPU rate, set-up s, fewest minor faults per step) of
     BatchClosedLoop, ILOS + PD, in a
-    mission.conditions ``condition`` (a seed per episode, as a sweep's; the sea states' set-up
+    ship_mission.conditions ``condition`` (a seed per episode, as a sweep's; the sea states' set-up
     is in the set-up time). ``current_sd``: (speed sd m/s, direction sd rad) of a Gauss-Markov
     current about each episode's (CURRENT_TIME_CONSTANT_S, a seed per episode)."""
     from ship_sim.current import OceanCurrent

@@ -29,7 +29,7 @@ import pstats
 import statistics
 import time
 
-from mission.scenario import load_scenario, start_pose
+from ship_mission.scenario import load_scenario, start_pose
 
 from . import common
 
@@ -71,7 +71,7 @@ def build_vessel(scenario, spec):
     cur = spec.current
     current = (OceanCurrent(cur.get('speed_mps', 0.0), math.radians(cur.get('direction_deg', 0.0)))
                if cur else None)
-    # the start yaw travels to vessel_node in degrees (mission.launcher.node_parameters)
+    # the start yaw travels to vessel_node in degrees (ship_mission.launcher.node_parameters)
     psi = float(yaw_to_psi(math.radians(math.degrees(yaw))))
     sim = VesselSimulator(model, dt=scenario.dt_s, north=y, east=x, psi=psi, speed=spec.speed,
                           current=current)

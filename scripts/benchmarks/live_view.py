@@ -6,7 +6,7 @@ launcher's parameters, the recorder with its handshake and the vessel's nav_disp
 - ``demo graph``: without the live view;
 - ``demo graph + live, no client``: with scripts/live_view.py serving the graph (it subscribes
   nothing while no client listens);
-- ``demo graph + live + client``: with a Foxglove protocol client (mission.foxglove_client, in
+- ``demo graph + live + client``: with a Foxglove protocol client (ship_mission.foxglove_client, in
   the bench process) subscribed to every advertised topic from the start, every message of
   every topic forwarded to it.
 Each runs REPEATS times, interleaved with the order rotated every repeat (ABC, BCA, CAB, ...),

@@ -6,10 +6,10 @@ LOCALHOST):
 
 - ``graph``: the flagship scenario (scenarios/flagship_mariner.yaml: one Mariner, 10 Hz
   control, ILOS + PD) in lockstep for SIM_TIME_S of sim time, its four nodes started with the
-  very parameters the mission launcher writes (mission.launcher.node_parameters), no bag
+  very parameters the mission launcher writes (ship_mission.launcher.node_parameters), no bag
   recorder. The launcher's own progress monitor (an rclpy node following /clock) is not
   started: it is no part of the graph and would take CPU from it.
-- ``graph + recorder``: the same with the launcher's bag recorder (scripts/mission/recorder.py,
+- ``graph + recorder``: the same with the launcher's bag recorder (ros_ws/src/ship_mission/ship_mission/recorder.py,
   MCAP, every topic), as ``make demo`` records: lossless, the simulator waits for the
   recorder's acknowledgements (vessel_node ``lockstep_record_topic``).
 - ``graph + recorder, no handshake``: the recorder without that handshake (as before it
@@ -56,7 +56,7 @@ import sys
 import time
 from pathlib import Path
 
-from mission.processes import INSTALL, ProcessGroup, executable, install_env
+from ship_mission.processes import INSTALL, ProcessGroup, executable, install_env
 
 from . import common
 
@@ -139,7 +139,7 @@ def _domain_id():
     run (a lock per id, held until the process ends), so no other run or test shares it; the
     runs of the bench use it one after the other, each in its own namespace."""
     try:
-        from mission.domain import lease_domain_id
+        from ship_mission.domain import lease_domain_id
     except ImportError:  # a launcher without leases: a domain from the pid
         return 80 + os.getpid() % 20
     return lease_domain_id()
@@ -155,11 +155,11 @@ def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL, h
     ``display``: also the vessel's nav_display_node, as the launcher starts it;
     ``live``: also the live view (scripts/live_view.py, as ``--live`` starts it), None: not;
     'idle': no client; 'client': a Foxglove protocol client subscribed to every topic (in this
-    process, mission.foxglove_client)."""
-    from mission.launcher import (DISPLAY_NODE, LIVE_VIEW, NODES, RECORDER, display_every,
+    process, ship_mission.foxglove_client)."""
+    from ship_mission.launcher import (DISPLAY_NODE, LIVE_VIEW, NODES, RECORDER, display_every,
                                   display_parameters, node_parameters, record_ack_arg,
                                   write_params)
-    from mission.scenario import load_scenario
+    from ship_mission.scenario import load_scenario
     scenario = load_scenario(SCENARIO)
     scenario.stepping = 'lockstep'
     scenario.duration_s = steps * scenario.dt_s
@@ -195,7 +195,7 @@ def graph_run(steps, record, label, log_root, overrides=None, install=INSTALL, h
                 _wait_for(lambda: 'live view: ws://' in view.output(), START_TIMEOUT_S, [view],
                           'the live view')
                 if live == 'client':
-                    from mission.foxglove_client import FoxgloveClient
+                    from ship_mission.foxglove_client import FoxgloveClient
                     client = FoxgloveClient(f'ws://127.0.0.1:{port}')
             f = write_params(run, ns, exe, params[exe])
             group.start_argv(f'{ns}/{exe}', [executable(pkg, exe, install), '--ros-args', '-r',

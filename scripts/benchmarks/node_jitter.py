@@ -1,7 +1,7 @@
 """Section ``node_jitter``: timing regularity of odom from a realtime ``vessel_node`` process.
 
 The installed ``vessel_node`` (colcon install tree, run the way ``ros2 run`` runs it, via
-``mission.processes``) is started alone in its own ROS_DOMAIN_ID and a unique namespace with
+``ship_mission.processes``) is started alone in its own ROS_DOMAIN_ID and a unique namespace with
 ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, in realtime mode at 10 Hz and at 50 Hz odom rate. This
 process subscribes to its odom (QoS ship_sim.ros.qos.STREAM, as every subscriber does) and,
 after a warm-up, records for ``DURATION_S`` (``--quick``: ``QUICK_DURATION_S``):
@@ -32,7 +32,7 @@ import statistics
 import time
 from pathlib import Path
 
-from mission.processes import ProcessGroup, install_env, ros_args
+from ship_mission.processes import ProcessGroup, install_env, ros_args
 
 from . import common
 

@@ -1,7 +1,7 @@
 """Section ``realtime_latency``: odom -> rudder_cmd latency of the flagship graph in realtime.
 
 The flagship scenario's four nodes (scenarios/flagship_mariner.yaml, parameters from
-mission.launcher.node_parameters, stepping_mode realtime x1, 10 Hz, autopilot pairing
+ship_mission.launcher.node_parameters, stepping_mode realtime x1, 10 Hz, autopilot pairing
 'latest': one rudder_cmd per odom) run from the colcon install tree in an own ROS_DOMAIN_ID and
 namespace, no recorder. This process subscribes to ``odom`` and ``rudder_cmd`` (QoS
 ship_sim.ros.qos.STREAM, SingleThreadedExecutor: rclpy's EventsExecutor cannot hand over the
@@ -30,7 +30,7 @@ import collections
 import os
 import time
 
-from mission.processes import INSTALL, ProcessGroup, executable, install_env
+from ship_mission.processes import INSTALL, ProcessGroup, executable, install_env
 
 from . import common
 from .lockstep import SCENARIO, _domain_id, proc_stat
@@ -88,8 +88,8 @@ def measure(window, install=INSTALL):
     from nav_msgs.msg import Odometry
     from rclpy.executors import SingleThreadedExecutor
     from std_msgs.msg import Float64
-    from mission.launcher import NODES, node_parameters, write_params
-    from mission.scenario import load_scenario
+    from ship_mission.launcher import NODES, node_parameters, write_params
+    from ship_mission.scenario import load_scenario
     from ship_sim.ros.qos import STREAM
 
     scenario = load_scenario(SCENARIO)

@@ -58,7 +58,7 @@ def batch_rows(quick=False):
     """CPU us per step of a batch's wave motion, all 6 DOF against surge, sway and yaw (the
     same numbers: tests/unit/test_sea_state.py), blocks alternated so both see the same load."""
     import numpy as np
-    from mission.conditions import CONDITIONS, sea_state
+    from ship_mission.conditions import CONDITIONS, sea_state
     from ship_sim.environment.sea_state import ShipWaves, rao_table_for
     from ship_sim.environment.wave_rao import SURGE_SWAY_YAW
     rows = []

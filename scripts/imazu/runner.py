@@ -277,7 +277,7 @@ def run_scenario(path, progress=None, end=None):
     import time
 
     from benchmarks.closed_loop_inprocess import build_vessel
-    from mission.scenario import load_scenario
+    from ship_mission.scenario import load_scenario
 
     from ship_autopilot.steering import HeadingSteering
     from ship_guidance import colav_io

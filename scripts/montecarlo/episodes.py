@@ -88,11 +88,11 @@ def _current_field(chunk):
 
 
 def weather(ep):
-    """The episode's wind and sea: a mission.conditions name, or a Condition of the explicit
+    """The episode's wind and sea: a ship_mission.conditions name, or a Condition of the explicit
     keys (spec.WEATHER; 'calm' when they are all zero)."""
     if ep['condition'] != 'calm' or (ep['wind_speed_mps'] == 0.0 and ep['wave_height_m'] == 0.0):
         return ep['condition']
-    from mission.conditions import Condition
+    from ship_mission.conditions import Condition
     return Condition.custom(ep['wind_speed_mps'], ep['wind_direction_deg'], ep['wave_height_m'],
                             ep['wave_period_s'], ep['wave_direction_deg'])
 

@@ -28,7 +28,7 @@ differences between cells are paired; ``paired: false`` keys the draws by episod
 instead. The same child also gives the episode's own ``seed`` (a varying current's noise).
 Drawing never depends on which process runs the episode, so the table does not either.
 
-Wind and waves: either ``condition`` (a mission.conditions name: calm, wind10, wind20, the
+Wind and waves: either ``condition`` (a ship_mission.conditions name: calm, wind10, wind20, the
 three conditions of Table I, directions relative to the route's overall course) or the
 explicit keys (WEATHER: wind speed and the direction it blows from, significant wave height,
 peak period and the direction the waves travel, absolute; gusts, spectrum (Modified PM),
@@ -79,7 +79,7 @@ PARAMETERS = {
     'start_cross_m': (0.0, 'number', (-1e4, 1e4), 'start offset, m (+ starboard)'),
     'start_heading_deg': (0.0, 'number', (-180.0, 180.0), 'start heading - path angle, deg'),
     'condition': ('calm', 'condition', None,
-                  'wind and waves of mission.conditions (calm, wind10, wind20)'),
+                  'wind and waves of ship_mission.conditions (calm, wind10, wind20)'),
     'wind_speed_mps': (0.0, 'number', (0.0, 60.0), 'mean wind speed, m/s (gusts sd 10 %)'),
     'wind_direction_deg': (0.0, 'number', (-1e4, 1e4),
                            'wind blows from, deg clockwise from north'),
@@ -185,7 +185,7 @@ def _check_value(where, name, value):
                              f'{", ".join(METHODS)}')
         return value
     if kind == 'condition':
-        from mission.conditions import CONDITIONS
+        from ship_mission.conditions import CONDITIONS
         if value not in CONDITIONS:
             raise SweepError(f'{where}: condition {value!r} unknown; allowed: '
                              f'{", ".join(CONDITIONS)}')

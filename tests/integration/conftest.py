@@ -4,8 +4,8 @@ import contextlib
 import pytest
 
 from harness import RosGraph
-from mission.domain import DomainLease, LeaseError
-from mission.processes import LOOPBACK_PROFILE, install_env
+from ship_mission.domain import DomainLease, LeaseError
+from ship_mission.processes import LOOPBACK_PROFILE, install_env
 from test_launcher import Launch
 
 

@@ -6,7 +6,7 @@ pytest fixtures because there is no launch_testing wheel here:
 
 - every test gets its own ROS_DOMAIN_ID (1..101, never 0, unique among this user's graphs
   through a lock file per id, starting at an offset from the pid) and Fast DDS on the loopback
-  interface only (mission.processes.LOOPBACK_PROFILE, unicast discovery on 127.0.0.1), so
+  interface only (ship_mission.processes.LOOPBACK_PROFILE, unicast discovery on 127.0.0.1), so
   parallel tests and other graphs never see each other;
 - nodes run as ``ros2 run`` would run them: ``ros_ws/install/<pkg>/lib/<pkg>/<exe>`` with the
   environment ``install/setup.bash`` would set (AMENT_PREFIX_PATH, PYTHONPATH, ... computed
@@ -42,8 +42,8 @@ import yaml
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 
-from mission.encounter import colav_messages
-from mission.processes import die_with_parent, executable, format_param
+from ship_mission.encounter import colav_messages
+from ship_mission.processes import die_with_parent, executable, format_param
 from ship_sim.ros.qos import STREAM
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -56,13 +56,13 @@ SIGTERM_TIMEOUT = 3.0
 
 # -- environment of the install tree --------------------------------------------------------
 
-# install_env, executable and format_param live in scripts/mission/processes.py (one place
+# install_env, executable and format_param live in ros_ws/src/ship_mission/ship_mission/processes.py (one place
 # for the launcher, the benchmarks and the tests).
 
 
 # -- domain ids ---------------------------------------------------------------------------------
 
-# DomainLease (an exclusive ROS_DOMAIN_ID per test) is mission.domain's, shared with the
+# DomainLease (an exclusive ROS_DOMAIN_ID per test) is ship_mission.domain's, shared with the
 # launcher, the seed-scenario batch and the benchmarks.
 
 

@@ -14,8 +14,8 @@ ais_node on sim time, in lockstep.
 - A light target on timed waypoints (target_wp, far to the north) is at its closed-form
   position (piecewise linear in time, on from its last leg after the last waypoint) and
   heading at every step, stamped at the own steps; colav_node sees both targets.
-- metrics.json has both as `traffic` (source ais / light, closest approach to the own ship),
-  not as vessels.
+- metrics.json has both as `traffic` (source ais / light, as the launcher recorded them in
+  the bag; closest approach to the own ship), not as vessels.
 - The record is complete (/targets_sync is acknowledged every step) and a second run gives
   identical metrics, colav messages and target odometry (colav_node waits for each step's AIS
   targets).
@@ -28,8 +28,9 @@ import pytest
 import yaml
 
 import make_ais_replay
-from mission.bag import read_bag
-from mission.encounter import alteration, decision_rows, min_distance, target_tracks
+from ship_mission.bag import read_bag, read_custom_data
+from ship_mission.encounter import alteration, decision_rows, min_distance, target_tracks
+from ship_mission.scenario import TARGETS_KEY
 from ship_guidance.ais import KNOT
 from ship_guidance.colav_params import ColavParams
 
@@ -133,6 +134,9 @@ def test_own_ship_avoids_an_ais_target_head_on_identically_twice(launch):
     n_targets = decision_rows(first / 'bag', OWN)[:, 5]
     assert (n_targets == 2).all(), 'colav_node saw both targets at every decision'
 
+    # the launcher recorded the scenario's targets in the bag; the analysis read them from there
+    assert json.loads(read_custom_data(first / 'bag')[TARGETS_KEY]) == \
+        {'light': [f'/{WAYPOINT_TARGET}'], 'full': [], 'ais': True}
     traffic = metrics['traffic']
     assert set(traffic) == {f'ais_{mmsi}', f'/{WAYPOINT_TARGET}'}
     assert f'/{WAYPOINT_TARGET}' not in metrics['vessels']

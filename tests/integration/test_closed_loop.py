@@ -41,7 +41,7 @@ from nav_msgs.msg import Odometry
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import Bool, Float64, Float64MultiArray
 
-from mission.scenario import load_scenario, start_pose
+from ship_mission.scenario import load_scenario, start_pose
 from ship_autopilot.gains import autopilot_gains
 from ship_guidance.los import linear_loop_matrix
 from ship_planner.route_loader import load_route

@@ -15,8 +15,8 @@ import time
 
 import pytest
 
-from mission.bag import read_bag
-from mission.bag_recovery import scan
+from ship_mission.bag import read_bag
+from ship_mission.bag_recovery import scan
 
 from test_launcher import NS, SCENARIO, run_processes
 

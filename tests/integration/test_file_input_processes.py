@@ -7,7 +7,7 @@
    YAML or to a FIFO is logged once and the last good route stays published (a late joiner gets
    it); the node stays up, a good edit is published again, and the node ends with exit code 0;
 3. every parameter a node declares is in its package's config list, which the launcher's check
-   (mission.launcher.node_parameter_names) reads: the check never refuses a valid key (the
+   (ship_mission.launcher.node_parameter_names) reads: the check never refuses a valid key (the
    unit tests check the other direction: every listed key is one of the file's keys);
 4. a run on a full disk (2 MB tmpfs) fails with exit code 1 and no traceback, and what the
    launcher wrote (parameter files, the scenario copy, run.json if any) is whole;
@@ -24,7 +24,7 @@ import yaml
 from nav_msgs.msg import Path as PathMsg
 
 from harness import REPO_ROOT
-from mission.launcher import node_parameter_names
+from ship_mission.launcher import node_parameter_names
 from ship_sim.ros.qos import LATCHED
 
 NS = '/vessel_0'

@@ -22,8 +22,8 @@ import yaml
 from harness import run_to_duration
 from imazu.cases import load_cases
 from imazu.runner import case_scenario, run_scenario, write_scenario
-from mission.bag import read_bag
-from mission.encounter import decision_rows
+from ship_mission.bag import read_bag
+from ship_mission.encounter import decision_rows
 
 from ship_guidance.colav_io import MODE_CODES
 

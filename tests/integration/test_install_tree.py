@@ -117,6 +117,10 @@ BAD_PARAMETER = {
     'aivdm_out_node': ('vessels', 'no_json'),
     'tracker_node': ('process_noise', '-1.0'),
 }
+#: Executables that are not nodes: their arguments, and a bad one of them (refused the same way).
+BAD_ARGUMENTS = {
+    'run_mission': ('duration', ['scenarios/flagship_mariner.yaml', '--duration', '-1']),
+}
 
 
 @pytest.fixture(scope='module')
@@ -140,11 +144,27 @@ def test_executables_run_and_refuse_a_bad_parameter_in_one_line(pkg, setup_bash_
 
 def _refuse_bad_parameters(pkg, env):
     for exe in console_scripts(pkg):
-        assert exe in BAD_PARAMETER, f'add a bad parameter for {exe} to BAD_PARAMETER'
-        name, value = BAD_PARAMETER[exe]
-        proc = subprocess.run([str(INSTALL / pkg / 'lib' / pkg / exe), '--ros-args', '-p',
-                               f'{name}:={value}'], capture_output=True, text=True, env=env,
-                              timeout=60)
+        assert exe in BAD_PARAMETER or exe in BAD_ARGUMENTS, \
+            f'add a bad parameter for {exe} to BAD_PARAMETER (or BAD_ARGUMENTS)'
+        if exe in BAD_ARGUMENTS:
+            name, args = BAD_ARGUMENTS[exe]
+        else:
+            name, value = BAD_PARAMETER[exe]
+            args = ['--ros-args', '-p', f'{name}:={value}']
+        proc = subprocess.run([str(INSTALL / pkg / 'lib' / pkg / exe), *args], capture_output=True,
+                              text=True, env=env, timeout=60, cwd=REPO)
         assert proc.returncode == 2, proc.stderr[-2000:]
         lines = proc.stderr.strip().splitlines()
         assert len(lines) == 1 and name in lines[0] and exe in lines[0], proc.stderr
+
+
+def test_run_mission_is_installed_where_ros2_run_finds_it():
+    """`ros2 run ship_mission run_mission` runs <prefix>/lib/ship_mission/run_mission: in a shell
+    that sourced install/setup.bash and nothing else (no PYTHONPATH of the tests' source
+    folders) it imports ship_mission and answers --help with the launcher's options."""
+    exe = INSTALL / 'ship_mission' / 'lib' / 'ship_mission' / 'run_mission'
+    env = {k: v for k, v in os.environ.items() if k != 'PYTHONPATH'}
+    proc = subprocess.run(['bash', '-c', f'source {INSTALL}/setup.bash && exec {exe} --help'],
+                          capture_output=True, text=True, env=env, timeout=60, cwd='/')
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout.startswith('usage: run_mission') and '--domain-id' in proc.stdout

@@ -27,7 +27,7 @@ import numpy as np
 import pytest
 import yaml
 
-from mission.bag import read_bag
+from ship_mission.bag import read_bag
 from ship_planner.route_loader import load_route
 from ship_sim.frames import ned_to_enu_xy
 

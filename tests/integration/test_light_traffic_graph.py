@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 import yaml
 
-from mission.bag import read_bag
-from mission.encounter import alteration, decision_rows, min_distance
+from ship_mission.bag import read_bag
+from ship_mission.encounter import alteration, decision_rows, min_distance
 from ship_guidance.colav_params import ColavParams
 
 from harness import REPO_ROOT, run_complete

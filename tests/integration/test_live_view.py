@@ -9,7 +9,7 @@ from rosbags.rosbag2 import Reader
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from harness import REPO_ROOT
-from mission.foxglove_client import FoxgloveClient
+from ship_mission.foxglove_client import FoxgloveClient
 
 FLAGSHIP = REPO_ROOT / 'scenarios' / 'flagship_mariner.yaml'
 ODOM, RUDDER_CMD = '/vessel_0/odom', '/vessel_0/rudder_cmd'

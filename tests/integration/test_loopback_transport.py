@@ -1,4 +1,4 @@
-"""Fast DDS confined to the loopback interface (mission.processes.LOOPBACK_PROFILE, the
+"""Fast DDS confined to the loopback interface (ship_mission.processes.LOOPBACK_PROFILE, the
 integration tests' default and `run_mission.py --loopback-only`): a node started with it binds
 UDP sockets on 127.0.0.1 only, while the same node without it binds 0.0.0.0 (doc/security.md);
 both still discover each other on one domain."""
@@ -9,7 +9,7 @@ import subprocess
 
 import pytest
 
-from mission.processes import LOOPBACK_PROFILE
+from ship_mission.processes import LOOPBACK_PROFILE
 
 NODE_PARAMS = {'model': 'mariner', 'stepping_mode': 'lockstep'}   # idles until a step
 

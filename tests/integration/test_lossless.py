@@ -9,7 +9,7 @@ test, which is how messages were lost before: bursts of 100 odom or 10 /clock st
 For the flagship on its first two legs (one vessel, completed route) and a 3-vessel platoon
 (duration-limited), run twice under load:
 - every step is in each bag: odom stamps are exactly k * dt for k = 0 .. last, /clock the
-  same, and every per-step topic has one message per step (mission.integrity finds nothing
+  same, and every per-step topic has one message per step (ship_mission.integrity finds nothing
   missing; the answer to the very last step may be in flight when the graph is stopped);
 - the two runs' metrics are identical (but for the two that say how long the graph ran on
   after completion: the launcher's reaction time), and so is every message of every topic up to the
@@ -26,8 +26,8 @@ import pytest
 import yaml
 from rosbags.highlevel import AnyReader
 
-from mission.bag import read_bag
-from mission.integrity import record_integrity
+from ship_mission.bag import read_bag
+from ship_mission.integrity import record_integrity
 
 from harness import REPO_ROOT, _die_with_parent
 from test_launcher import Launch

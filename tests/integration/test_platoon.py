@@ -5,7 +5,7 @@ Vessels: three NPS AUV IIs (2.2 m, 1 m/s, PD zeta 0.8, omega_n 1.348 rad/s from 
 a fast loop, so the whole run takes seconds) on the two-corner test route
 (data/routes/auv_two_corners.yaml, 50 m north, 90 deg starboard, 40 m east, 90 deg port, R 10 m).
 The scenario is written here as a `platoon:` section and every node parameter comes from the
-launcher's own code (mission.platoon, mission.launcher.node_parameters), so this tests the glue
+launcher's own code (ship_mission.platoon, ship_mission.launcher.node_parameters), so this tests the glue
 too: follower_node steering at /vessel_<i-1>/odom, lockstep waits, the odom subscriber counts
 (the test node takes the recorder's place). Spacing 5 m with min_lookahead_m 4 m: above the
 no-amplification look-ahead 4 zeta U / omega_n = 2.37 m of ship_guidance.follower (x 1.2 for the
@@ -43,9 +43,9 @@ from nav_msgs.msg import Odometry
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import Bool, String
 
-from mission.launcher import check_scenario, node_parameters, vessel_nodes
-from mission.platoon import STEP0_LINE, start_order
-from mission.scenario import load_scenario
+from ship_mission.launcher import check_scenario, node_parameters, vessel_nodes
+from ship_mission.platoon import STEP0_LINE, start_order
+from ship_mission.scenario import load_scenario
 from ship_guidance.string_stability import single_vessel_matrix
 from ship_planner.route_loader import load_route
 from ship_sim.models import make_model

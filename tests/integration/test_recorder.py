@@ -1,4 +1,5 @@
-"""scripts/mission/recorder.py as a real process against a test node publishing a tiny graph.
+"""ship_mission.recorder as a real process, as the launcher starts it, against a test node
+publishing a tiny graph.
 
 The test node latches a route *before* the recorder starts (a late recorder must still get it,
 through transient_local), then publishes /clock, odom and rudder for N steps. The recorder is
@@ -12,7 +13,6 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,12 +24,12 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import NavSatFix
 from std_msgs.msg import Float64, UInt64
 
-from mission.bag import read_bag
-from mission.bag_check import cross_check
-from mission.processes import die_with_parent
+from ship_mission.bag import read_bag
+from ship_mission.bag_check import cross_check
+from ship_mission.launcher import RECORDER
+from ship_mission.processes import die_with_parent
 from ship_sim.ros.qos import LATCHED, RECORD_ACK, STREAM
 
-RECORDER = Path(__file__).resolve().parents[2] / 'scripts' / 'mission' / 'recorder.py'
 NS = '/vessel_0'
 STEP_NS = 100_000_000
 N = 200

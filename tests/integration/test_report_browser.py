@@ -24,7 +24,7 @@ import tempfile
 import pytest
 
 from harness import REPO_ROOT, _die_with_parent
-from mission.browser_check import find_chromium
+from ship_mission.browser_check import find_chromium
 from test_launcher import SCENARIO, run_processes
 
 CHECK = REPO_ROOT / 'scripts' / 'check_report.py'
@@ -90,8 +90,8 @@ def test_run_report_loads_in_chromium_with_every_plot_decoded(launch, tmp_path):
     assert len(result['anchors']) >= 4 and all(a['found'] for a in result['anchors'])
     # each metric row as a reader sees it: name, the unit shown (degrees for angles), the
     # value converted, the description, the metrics.json key
-    from mission.metric_info import VESSEL, plain_name, shown
-    from mission.html_report import fmt
+    from ship_mission.metric_info import VESSEL, plain_name, shown
+    from ship_mission.html_report import fmt
     metrics = json.loads((run_dir / 'metrics.json').read_text())
     lines = set(result['text'].splitlines())
     for ns, m in metrics['vessels'].items():

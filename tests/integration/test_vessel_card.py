@@ -17,8 +17,8 @@ import pytest
 
 from ship_autopilot.gains import autopilot_gains, heading_loop_design, nomoto_gains
 from ship_sim import models
-from mission.launcher import check_scenario
-from mission.scenario import ScenarioError, load_scenario
+from ship_mission.launcher import check_scenario
+from ship_mission.scenario import ScenarioError, load_scenario
 
 from harness import REPO_ROOT
 

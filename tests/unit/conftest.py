@@ -7,7 +7,7 @@ import pytest
 @functools.cache
 def _domain_id():
     # One ROS_DOMAIN_ID of the shared lease scheme for this pytest process (held until it ends).
-    from mission.domain import LeaseError, lease_domain_id
+    from ship_mission.domain import LeaseError, lease_domain_id
     try:
         return lease_domain_id()
     except LeaseError as exc:

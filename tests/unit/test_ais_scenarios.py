@@ -1,4 +1,4 @@
-"""AIS targets in a scenario's `ais:` section (mission.scenario, mission.launcher), the replay
+"""AIS targets in a scenario's `ais:` section (ship_mission.scenario, ship_mission.launcher), the replay
 encoding behind its file (ship_guidance.ais_replay) and colav_node's per-step completeness of a
 many-target topic (ship_guidance.colav_io.SyncedSource)."""
 import math
@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import make_ais_replay
-from mission.launcher import (AIS_SYNC, AIS_TARGETS, ais_parameters, check_scenario,
+from ship_mission.launcher import (AIS_SYNC, AIS_TARGETS, ais_parameters, check_scenario,
                               node_parameters, record_ack_args, traffic_parameters)
-from mission.scenario import ScenarioError, load_scenario
+from ship_mission.scenario import ScenarioError, load_scenario
 from ship_guidance.ais import KNOT, AisTracker, parse_replay
 from ship_guidance.ais_replay import replay_lines
 from ship_guidance.colav_io import SyncedSource

@@ -1,13 +1,13 @@
-"""The scenario's `aivdm_out:` block -> aivdm_out_node parameters (mission.aivdm_block)."""
+"""The scenario's `aivdm_out:` block -> aivdm_out_node parameters (ship_mission.aivdm_block)."""
 import json
 from pathlib import Path
 
 import pytest
 import yaml
 
-from mission.aivdm_block import MMSI_BASE, aivdm_parameters
-from mission.fields import ScenarioError
-from mission.scenario import load_scenario
+from ship_mission.aivdm_block import MMSI_BASE, aivdm_parameters
+from ship_mission.fields import ScenarioError
+from ship_mission.scenario import load_scenario
 from ship_sim.environment.wind import WIND_PROFILES
 
 REPO = Path(__file__).resolve().parents[2]
@@ -57,7 +57,7 @@ def test_lockstep_simulator_and_traffic_count_the_node_among_their_subscribers(t
     # Publisher counts carry no names: were aivdm_out_node's subscriptions not counted, they
     # could meet a simulator's count before its autopilot had matched, and step 0 would go out
     # without it (the run then stalls waiting for a rudder_cmd that never comes).
-    from mission.launcher import node_parameters, traffic_parameters
+    from ship_mission.launcher import node_parameters, traffic_parameters
     with_block = scenario(tmp_path, {'file': 'out.nmea'})
     without = scenario(tmp_path, None)
     for s in (with_block, without):

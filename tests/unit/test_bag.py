@@ -1,5 +1,5 @@
 """Bag round trip: messages built with rclpy classes, serialized by rclpy, written through the
-recorder's BagWriter, read back with mission.bag and compared exactly; metadata.yaml; errors;
+recorder's BagWriter, read back with ship_mission.bag and compared exactly; metadata.yaml; errors;
 replay_bag.py end to end."""
 import json
 import math
@@ -16,8 +16,8 @@ from rosbags.typesys import Stores, get_typestore
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension
 
-from mission import bag as bagmod
-from mission.recorder import BagWriter, reliable_qos
+from ship_mission import bag as bagmod
+from ship_mission.recorder import BagWriter, reliable_qos
 
 NS = 1_000_000_000
 FINISH_INDEX = 150  # progress 'finished' flag set from this message on
@@ -212,7 +212,7 @@ def test_replay_bag_writes_metrics_and_plots(synthetic, tmp_path):
 
 
 def test_each_vessel_gets_its_own_stored_rudder_limit(synthetic, tmp_path):
-    from mission.report import analyse_bag
+    from ship_mission.report import analyse_bag
     path, _, _ = synthetic
     result = analyse_bag(path, tmp_path, make_pngs=False)
     assert result['vessels']['/vessel_0']['rudder_limit_rad'] == pytest.approx(0.6)
@@ -220,11 +220,11 @@ def test_each_vessel_gets_its_own_stored_rudder_limit(synthetic, tmp_path):
 
 
 def test_the_plots_get_the_settle_window_metrics_json_has(synthetic, tmp_path, monkeypatch):
-    """mission.report hands the plots (shaded settling windows) the settle_s it writes to
+    """ship_mission.report hands the plots (shaded settling windows) the settle_s it writes to
     metrics.json, per vessel: one home for the window (tests/unit/test_report_plots.py checks
     that the plots shade exactly what they are given)."""
-    from mission import plots
-    from mission.report import analyse_bag
+    from ship_mission import plots
+    from ship_mission.report import analyse_bag
     seen, real = {}, plots.make_plots
 
     def spy(vessels, out, limits, settle, **kw):
@@ -234,7 +234,7 @@ def test_the_plots_get_the_settle_window_metrics_json_has(synthetic, tmp_path, m
     result = analyse_bag(synthetic[0], tmp_path, html=False)
     assert seen['settle'] == {ns: v['settle_s'] for ns, v in result['vessels'].items()}
     assert len(seen['settle']) == 2 and all(v > 0 for v in seen['settle'].values())
-    from mission.metric_info import VESSEL   # and each key the vessels get has its description
+    from ship_mission.metric_info import VESSEL   # and each key the vessels get has its description
     assert set().union(*result['vessels'].values()) <= set(VESSEL)
 
 

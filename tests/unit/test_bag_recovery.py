@@ -1,4 +1,4 @@
-"""mission.bag_recovery: a bag whose recorder was killed, or whose file was cut short, is read
+"""ship_mission.bag_recovery: a bag whose recorder was killed, or whose file was cut short, is read
 back up to its torn end, and its integrity report says what is lost, never "complete"."""
 import math
 import os
@@ -11,11 +11,11 @@ from nav_msgs.msg import Odometry
 from rclpy.serialization import serialize_message
 from rosbags.highlevel import AnyReader
 
-from mission.bag import read_bag, read_custom_data
-from mission.bag_check import cross_check
-from mission.bag_recovery import RecoveryError, needs_recovery, recover_bag, scan
-from mission.integrity import record_integrity, summary_line
-from mission.recorder import COMPRESSIONS, BagWriter
+from ship_mission.bag import read_bag, read_custom_data
+from ship_mission.bag_check import cross_check
+from ship_mission.bag_recovery import RecoveryError, needs_recovery, recover_bag, scan
+from ship_mission.integrity import record_integrity, summary_line
+from ship_mission.recorder import COMPRESSIONS, BagWriter
 
 FLOAT64 = 'std_msgs/msg/Float64'
 

@@ -1,4 +1,4 @@
-"""mission.recorder.BagWriter writes bags as Jazzy's rosbag2 does, and fails cleanly."""
+"""ship_mission.recorder.BagWriter writes bags as Jazzy's rosbag2 does, and fails cleanly."""
 import errno
 import struct
 
@@ -17,8 +17,8 @@ from sensor_msgs.msg import NavSatFix
 from std_msgs.msg import Float64
 from visualization_msgs.msg import Marker, MarkerArray
 
-from mission.bag_check import cross_check
-from mission.recorder import (COMPRESSIONS, TF_TYPE, BagWriter, header_stamp_at, odometry_to_tf,
+from ship_mission.bag_check import cross_check
+from ship_mission.recorder import (COMPRESSIONS, TF_TYPE, BagWriter, header_stamp_at, odometry_to_tf,
                               stamp_ns)
 
 FLOAT64 = 'std_msgs/msg/Float64'

@@ -4,7 +4,7 @@
   Table I, one vessel on the float paths) to 1e-12 relative, per model and per controller
   (PD on LOS and ILOS, fuzzy PID, the learned policy), with and without current: the batch
   only stacks the same arithmetic, so any larger difference is a fork of the logic.
-- In wind and waves (mission.conditions wind10, wind20: wind loads in the plant, the
+- In wind and waves (ship_mission.conditions wind10, wind20: wind loads in the plant, the
   wave-frequency motion superposed on what is measured) likewise, per model and controller;
   with a seed per episode an episode equals its single-vessel run whatever its batch.
 - The batched guidance equals one Guidance per vessel on a waypoint route with corners and an

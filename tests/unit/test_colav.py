@@ -367,7 +367,7 @@ def _plant_step(ship, step_deg, duration_s, tmp_path):
     (course minus heading, rad)."""
     from benchmarks.closed_loop_inprocess import build_vessel
     from imazu.runner import case_scenario, write_scenario
-    from mission.scenario import load_scenario
+    from ship_mission.scenario import load_scenario
 
     from ship_autopilot.steering import HeadingSteering
     from ship_sim.frames import psi_to_yaw

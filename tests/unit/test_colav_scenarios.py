@@ -1,12 +1,12 @@
 """Scenario parsing and launcher wiring of collision avoidance: a vessel's `colav:` block and
-the `traffic:` section (mission.scenario, mission.launcher)."""
+the `traffic:` section (ship_mission.scenario, ship_mission.launcher)."""
 from pathlib import Path
 
 import pytest
 
-from mission.launcher import (COLAV_REMAP, check_scenario, node_parameters, node_remaps,
+from ship_mission.launcher import (COLAV_REMAP, check_scenario, node_parameters, node_remaps,
                               vessel_nodes)
-from mission.scenario import ScenarioError, load_scenario
+from ship_mission.scenario import ScenarioError, load_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
 HEAD_ON = ROOT / 'scenarios' / 'head_on_mariner_2.yaml'
@@ -108,7 +108,7 @@ def test_realtime_simulator_waits_for_the_nodes_that_follow_its_odom():
     came), autopilot and colav_node follow its odom; a node that never does is warned about."""
     from types import SimpleNamespace
 
-    from mission.launcher import _wait_for_odom_subscribers
+    from ship_mission.launcher import wait_for_odom_subscribers
     sc = load_scenario(HEAD_ON)
     own = sc.vessels[0]
     joined = []   # subscribers of /vessel_0/odom appear one per spin
@@ -125,12 +125,12 @@ def test_realtime_simulator_waits_for_the_nodes_that_follow_its_odom():
 
     group = SimpleNamespace(failed=lambda: [])
     said = []
-    _wait_for_odom_subscribers(Monitor(), own, group, said.append)
+    wait_for_odom_subscribers(Monitor(), own, group, said.append)
     assert len(joined) == 4 and said == []     # waited for all three of its own namespace
     joined[:] = [('guidance_node', '/vessel_0')]
 
     class Stuck(Monitor):
         def spin(self, seconds):
             pass
-    _wait_for_odom_subscribers(Stuck(), own, group, said.append, timeout_s=0.05)
+    wait_for_odom_subscribers(Stuck(), own, group, said.append, timeout_s=0.05)
     assert len(said) == 1 and 'autopilot_node, colav_node of /vessel_0' in said[0]

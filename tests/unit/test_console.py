@@ -1,6 +1,6 @@
-"""The terminal's progress lines and closing summary (mission.console; issue 27 item 5).
+"""The terminal's progress lines and closing summary (ship_mission.console; issue 27 item 5).
 
-Metrics come from mission.metrics.vessel_metrics on synthetic straight-line runs (the same
+Metrics come from ship_mission.metrics.vessel_metrics on synthetic straight-line runs (the same
 function the launcher's analysis uses), so the lines are checked against what a run gives:
 - no nan, inf or None in any line; "n/a" until a value is defined, with the reason (a run
   shorter than its settling window, a route not completed);
@@ -15,8 +15,8 @@ import re
 import numpy as np
 import pytest
 
-from mission.console import NA, metric_text, progress_line, summary_line
-from mission.metrics import vessel_metrics
+from ship_mission.console import NA, metric_text, progress_line, summary_line
+from ship_mission.metrics import vessel_metrics
 
 UNDEFINED_WORDS = re.compile(r'\b(nan|inf|infinity|none)\b', re.IGNORECASE)
 ROUTE = ([0.0, 2000.0], [0.0, 0.0])     # a straight route east (ENU), done at 260 s
@@ -57,7 +57,7 @@ def test_progress_once_running_shows_the_numbers():
 def test_a_run_shorter_than_the_settling_window_reads_n_a_with_the_reason():
     m = straight_run(30.0, 200.0, 0.05, settle_s=200.0)
     before = copy.deepcopy(m)
-    # what mission.metrics gives such a run: no windowed statistics, a vanishing reward
+    # what ship_mission.metrics gives such a run: no windowed statistics, a vanishing reward
     assert m['xte_rms_m'] is None and m['rudder_mean_abs_rad'] is None
     assert 0.0 < m['reward_gaussian_integral_s'] < 1e-80     # 30 s of exp(-200)
     line = summary_line('/vessel_0', m)

@@ -4,8 +4,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from mission.launcher import display_every, display_parameters
-from mission.scenario import ScenarioError, load_scenario
+from ship_mission.launcher import display_every, display_parameters
+from ship_mission.scenario import ScenarioError, load_scenario
 
 from ship_planner.route_loader import load_route
 
@@ -67,7 +67,7 @@ def test_without_any_origin_the_display_uses_the_default_sea_area_not_0_0(tmp_pa
     node's default (its config file says the same) is the documented sea area; a scenario whose
     only origin is its `ais:` block's gets that one."""
     from ship_guidance.nav_display import DEFAULT_ORIGIN_DEG
-    from mission.scenario import scenario_origin as display_origin
+    from ship_mission.scenario import scenario_origin as display_origin
     sc = _variant(tmp_path, FLAGSHIP, None)
     assert display_origin(sc) is None and 'origin_lat_deg' not in display_parameters(sc, sc.vessels[0])
     config = yaml.safe_load((REPO / 'ros_ws' / 'src' / 'ship_guidance' / 'config' /

@@ -1,4 +1,4 @@
-"""Table I's in-process loop under wind and waves (issue 14, item 4; mission.conditions).
+"""Table I's in-process loop under wind and waves (issue 14, item 4; ship_mission.conditions).
 
 - the learning environment's wind (learning.env ``wind``) is the simulator's: the same
   WindField, the same current and rudder commands give the states of ship_sim.simulator's
@@ -19,9 +19,9 @@ import numpy as np
 import pytest
 
 import evaluate_controllers as ec
-from mission import conditions
-from mission.waves import wave_parameters
-from mission.wind_block import check_wind
+from ship_mission import conditions
+from ship_mission.waves import wave_parameters
+from ship_mission.wind_block import check_wind
 from ship_autopilot.learning.env import EnvConfig, PathFollowingBatch
 from ship_guidance.path import Line, Route
 from ship_planner.route_loader import load_route

@@ -1,4 +1,4 @@
-"""mission.domain: the per-user lock directory is refused unless it is ours alone, lock files
+"""ship_mission.domain: the per-user lock directory is refused unless it is ours alone, lock files
 are never opened through a symlink, and a full directory names who holds the ids."""
 import os
 import subprocess
@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from mission import domain
-from mission.domain import DOMAIN_IDS, DomainLease, NoFreeDomain, UnsafeLockDir
+from ship_mission import domain
+from ship_mission.domain import DOMAIN_IDS, DomainLease, NoFreeDomain, UnsafeLockDir
 
 SCRIPTS = Path(__file__).resolve().parents[2] / 'scripts'
 
@@ -67,7 +67,7 @@ def test_a_symlinked_lock_file_is_refused(tmp_path):
 def test_all_ids_taken_gives_one_line_naming_the_holder(tmp_path):
     locks = tmp_path / 'locks'
     holder = subprocess.Popen(
-        [sys.executable, '-c', 'import sys\nfrom mission.domain import DomainLease, DOMAIN_IDS\n'
+        [sys.executable, '-c', 'import sys\nfrom ship_mission.domain import DomainLease, DOMAIN_IDS\n'
          f'ls = [DomainLease(directory={str(locks)!r}) for _ in DOMAIN_IDS]\n'
          'print("held", flush=True)\nsys.stdin.read()'],
         cwd=SCRIPTS, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
@@ -104,8 +104,8 @@ def test_lock_dir_is_per_user(tmp_path):
 
 
 def test_run_mission_refuses_an_unsafe_lock_dir_in_one_line(tmp_path, monkeypatch):
-    from mission.launcher import MissionFailed, run_scenario
-    from mission.scenario import load_scenario
+    from ship_mission.launcher import MissionFailed, run_scenario
+    from ship_mission.scenario import load_scenario
     bad = tmp_path / 'locks'
     bad.mkdir(mode=0o755)
     bad.chmod(0o755)

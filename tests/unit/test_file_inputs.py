@@ -32,10 +32,10 @@ from pathlib import Path
 import pytest
 import yaml
 
-from mission.launcher import (RCLPY_PARAMETERS, MissionFailed, check_scenario, make_run_dir,
+from ship_mission.launcher import (RCLPY_PARAMETERS, MissionFailed, check_scenario, make_run_dir,
                               node_parameter_names,
                               write_run_json)
-from mission.scenario import MAX_STEPS, ScenarioError, load_scenario, load_scenarios
+from ship_mission.scenario import MAX_STEPS, ScenarioError, load_scenario, load_scenarios
 from ship_planner.route_loader import RouteError, load_route
 from ship_planner.route_data import MAX_COORDINATE_M, MAX_ROUTE_LENGTH_M, MAX_ROUTE_SAMPLES
 from ship_planner.yaml_route_reader import Loader, parse_route_yaml
@@ -298,7 +298,7 @@ def test_the_valid_keys_are_the_packages_config_lists(package, node):
         assert f'{extra}: [' in cfg.read_text()
 
 
-#: every shipped scenario: a plain file's one, each of a matrix file's (mission.matrix)
+#: every shipped scenario: a plain file's one, each of a matrix file's (ship_mission.matrix)
 SCENARIOS = [s for f in sorted((ROOT / 'scenarios').glob('*.yaml')) for s in load_scenarios(f)]
 
 

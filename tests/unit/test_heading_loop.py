@@ -1,9 +1,9 @@
 """One PD design for every user (ship_guidance.heading_loop, gains.heading_loop_design)
-and one ROS_DOMAIN_ID lease (mission.domain)."""
+and one ROS_DOMAIN_ID lease (ship_mission.domain)."""
 import numpy as np
 import pytest
 
-from mission.domain import DomainLease
+from ship_mission.domain import DomainLease
 from ship_autopilot.gains import ZETA, autopilot_gains, heading_loop_design, nomoto_gains
 from ship_guidance.heading_loop import pd_design, pd_gains
 

@@ -1,4 +1,4 @@
-"""HTML reports (mission.html_report): self-contained (every image a data URI that decodes to the
+"""HTML reports (ship_mission.html_report): self-contained (every image a data URI that decodes to the
 plot's own bytes, nothing fetched from anywhere), everything shown escaped, the node logs'
 warnings and errors picked out, batch links relative so a copied batch folder keeps working."""
 import base64
@@ -8,7 +8,7 @@ import re
 
 import pytest
 
-from mission import html_report
+from ship_mission import html_report
 
 PNG_1x1 = base64.b64decode('iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGA'
                            'WjR9awAAAABJRU5ErkJggg==')  # a 1 x 1 PNG
@@ -202,7 +202,7 @@ def test_imazu_index_embeds_the_summary_and_every_case_plot_and_links_rows_to_th
 
 
 def test_run_report_gives_every_metric_a_unit_and_description_and_shows_angles_in_degrees(run_folder):
-    from mission import metric_info
+    from ship_mission import metric_info
     run, metrics, _ = run_folder
     metrics['vessels']['/vessel_0'] = {'xte_rms_m': 12.5, 'rudder_max_abs_rad': 0.5,
                                        'rudder_total_variation_rad_per_s': 0.01, 'finished': True}

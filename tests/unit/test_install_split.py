@@ -1,7 +1,7 @@
 """The requirements split (issue 27 item 5): `make demo` installs requirements/runtime.txt only.
 
-- Every module of the demo's path (the four packages' nodes and science modules, mission.*,
-  run_mission.py) imports in a fresh interpreter in which every package that only the extras
+- Every module of the demo's path (the five packages' nodes and science modules, ship_mission
+  among them, and run_mission.py) imports in a fresh interpreter in which every package that only the extras
   install (test, learning, sweep, browser) raises ImportError; the modules that need an extra
   are the few named below, and they are not on the demo's path.
 - Pins are exact (==) and each package is pinned in one file; requirements.txt names every
@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from mission.browser_check import find_chromium
+from ship_mission.browser_check import find_chromium
 
 REPO = Path(__file__).resolve().parents[2]
 REQ = REPO / 'requirements'
@@ -64,9 +64,6 @@ def demo_modules():
         for f in sorted((root / root.name).rglob('*.py')):
             parts = list(f.relative_to(root).with_suffix('').parts)
             mods.append('.'.join(parts[:-1] if parts[-1] == '__init__' else parts))
-    mods += ['mission'] + [f'mission.{f.stem}' for f in sorted((REPO / 'scripts' / 'mission')
-                                                               .glob('*.py'))
-                           if f.stem != '__init__']
     return [m for m in mods + ['run_mission'] if m not in NEEDS_EXTRA]
 
 
@@ -140,8 +137,8 @@ def test_sweep_with_ray_missing_names_the_make_target():
         import sweep
         sys.exit(sweep.main(sys.argv[1:]))
     '''
-    r = run_blocked(code, '/nonexistent/sweep-out',
-                    env=dict(os.environ, PYTHONPATH=str(REPO / 'scripts')))
+    # scripts/ and the packages' source folders: PYTHONPATH as tests/conftest.py sets it
+    r = run_blocked(code, '/nonexistent/sweep-out')
     assert r.returncode == 2, r.stderr[-2000:]
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and 'ray' in lines[0] and 'make venv-sweep' in lines[0], r.stderr
@@ -157,7 +154,7 @@ def test_ensure_test_tools_without_them_names_what_is_skipped(tmp_path):
         sys.argv = ['ensure_test_tools.py']
         runpy.run_path('scripts/ensure_test_tools.py', run_name='__main__')
     '''
-    env = dict(os.environ, PATH=str(tmp_path), PYTHONPATH=str(REPO / 'scripts'))
+    env = dict(os.environ, PATH=str(tmp_path))   # PYTHONPATH: tests/conftest.py's folders
     r = subprocess.run([sys.executable, '-c', textwrap.dedent(code)], cwd=REPO, env=env,
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr[-2000:]

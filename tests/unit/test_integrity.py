@@ -1,9 +1,9 @@
-"""mission.integrity: missing steps are counted from the stamps, wherever they are."""
+"""ship_mission.integrity: missing steps are counted from the stamps, wherever they are."""
 import numpy as np
 from types import SimpleNamespace
 
-from mission.bag import Series
-from mission.integrity import record_integrity, stamp_gaps, summary_line
+from ship_mission.bag import Series
+from ship_mission.integrity import record_integrity, stamp_gaps, summary_line
 
 DT = 0.1
 

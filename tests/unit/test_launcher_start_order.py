@@ -1,5 +1,5 @@
-"""The launcher's start order of the simulators (mission.launcher.simulator_start_plan) and its
-wait for a simulator's step 0 (mission.launcher._wait_for_ready), without DDS."""
+"""The launcher's start order of the simulators (ship_mission.launcher.simulator_start_plan) and its
+wait for a simulator's step 0 (ship_mission.launcher.wait_for_ready), without DDS."""
 import dataclasses
 import time
 from pathlib import Path
@@ -7,8 +7,8 @@ from types import SimpleNamespace
 
 import pytest
 
-from mission.launcher import MissionFailed, _wait_for_ready, simulator_start_plan
-from mission.scenario import load_scenario
+from ship_mission.launcher import MissionFailed, wait_for_ready, simulator_start_plan
+from ship_mission.scenario import load_scenario
 
 SCENARIOS = Path(__file__).resolve().parents[2] / 'scenarios'
 
@@ -25,7 +25,7 @@ def wait(proc, others, seconds=0.3):
     group = SimpleNamespace(failed=lambda: [p for p in [proc, *others] if p.returncode is not None])
     monitor = SimpleNamespace(ready={'vessel_1': False}, spin=time.sleep)
     t0 = time.monotonic()
-    _wait_for_ready(proc, 'vessel_1', {'lockstep_start_timeout': seconds - 15.0}, monitor, group)
+    wait_for_ready(proc, 'vessel_1', {'lockstep_start_timeout': seconds - 15.0}, monitor, group)
     return time.monotonic() - t0
 
 

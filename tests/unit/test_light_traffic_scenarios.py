@@ -1,11 +1,14 @@
-"""Light targets in a scenario's `traffic:` section (mission.scenario, mission.launcher)."""
+"""Light targets in a scenario's `traffic:` section (ship_mission.scenario, ship_mission.launcher)
+and how the analysis tells them from vessels (ship_mission.report)."""
 import json
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
-from mission.launcher import check_scenario, node_parameters, record_ack_args, traffic_parameters
-from mission.scenario import ScenarioError, load_scenario
+from ship_mission.launcher import check_scenario, node_parameters, record_ack_args, traffic_parameters
+from ship_mission.report import VESSEL_TOPICS, traffic_tracks
+from ship_mission.scenario import TARGETS_KEY, ScenarioError, load_scenario, target_record
 
 from ship_sim.light_traffic import parse_targets
 
@@ -43,6 +46,39 @@ def test_waypoint_light_targets_mix_with_full_traffic_vessels(scenario_variant):
     params, _ = node_parameters(sc, sc.vessels[0], 0, record=True)
     assert params['colav_node']['target_topics'] == ['/target_3/odom', '/target_1/odom',
                                                      '/target_2/odom']
+    # the loader records each target's kind, and the launcher stores that record in the bag
+    assert sc.targets == {'target_1': 'light', 'target_2': 'light', 'target_3': 'full'}
+    assert json.loads(target_record(sc)) == {'light': ['/target_1', '/target_2'],
+                                             'full': ['/target_3'], 'ais': False}
+
+
+def test_scenarios_without_traffic_or_with_ais_record_so():
+    flagship = load_scenario(ROOT / 'scenarios' / 'flagship_mariner.yaml')
+    assert flagship.targets == {}
+    assert json.loads(target_record(flagship)) == {'light': [], 'full': [], 'ais': False}
+    ais = load_scenario(ROOT / 'scenarios' / 'head_on_ais_mariner.yaml')
+    assert ais.targets == {'target_wp': 'light'}
+    assert json.loads(target_record(ais))['ais'] is True
+
+
+def _bag_data(custom_data, **missing):
+    """A stand-in for ship_mission.bag.BagData: namespaces with their missing topics."""
+    return SimpleNamespace(custom_data=custom_data, topics={},
+                           vessels={ns: SimpleNamespace(missing=m) for ns, m in missing.items()})
+
+
+def test_the_analysis_takes_the_light_targets_from_the_record_not_the_topics():
+    only_odom = list(VESSEL_TOPICS)
+    # /target_1 recorded with odometry only but a full vessel by the record (its other topics
+    # excluded from the bag, say): a vessel; /target_2 a light target by the record
+    data = _bag_data({TARGETS_KEY: json.dumps({'light': ['/target_2'], 'full': ['/target_1'],
+                                               'ais': False})},
+                     **{'/vessel_0': [], '/target_1': only_odom, '/target_2': only_odom})
+    assert {name: source for name, (source, _) in traffic_tracks('unused', data).items()} == \
+        {'/target_2': 'light'}
+    # a bag without the record (not the launcher's): the namespaces with odometry only
+    data.custom_data = {}
+    assert sorted(traffic_tracks('unused', data)) == ['/target_1', '/target_2']
 
 
 @pytest.mark.parametrize('light, key', [

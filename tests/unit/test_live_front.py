@@ -1,4 +1,4 @@
-"""mission.live_front against a stand-in for the foxglove-sdk server that behaves as the sdk does:
+"""ship_mission.live_front against a stand-in for the foxglove-sdk server that behaves as the sdk does:
 only the new subprotocol names, and a subscription that arrives before the sdk has entered a
 just-advertised channel in its table refused with ``Unknown channel ID``."""
 import asyncio
@@ -10,7 +10,7 @@ import time
 
 import pytest
 
-from mission.live_front import OLD_SUBPROTOCOL, SDK_SUBPROTOCOLS, SubprotocolFront
+from ship_mission.live_front import OLD_SUBPROTOCOL, SDK_SUBPROTOCOLS, SubprotocolFront
 
 
 class _Sdk:
@@ -119,7 +119,7 @@ def test_a_client_without_a_foxglove_subprotocol_is_refused(front):
 
 
 def test_a_port_in_use_is_refused_with_the_reason():
-    from mission.live_front import FrontError
+    from ship_mission.live_front import FrontError
     with socket.socket() as taken:
         taken.bind(('127.0.0.1', 0))
         taken.listen()

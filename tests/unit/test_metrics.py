@@ -1,11 +1,11 @@
-"""mission.metrics against hand-computed values (synthetic signals, no ROS)."""
+"""ship_mission.metrics against hand-computed values (synthetic signals, no ROS)."""
 import json
 import math
 
 import numpy as np
 import pytest
 
-from mission import metrics as m
+from ship_mission import metrics as m
 
 
 def test_rms_of_a_sine_over_whole_periods_is_amplitude_over_sqrt2():

@@ -19,7 +19,7 @@ import pytest
 import yaml
 
 import gen_param_files
-from mission.launcher import RCLPY_PARAMETERS, node_parameter_names
+from ship_mission.launcher import RCLPY_PARAMETERS, node_parameter_names
 from ship_sim.param_schema import all_schemas, check_param, node_schema
 
 REPO = Path(__file__).resolve().parents[2]
@@ -117,7 +117,7 @@ def built_nodes(tmp_path, monkeypatch):
     import rclpy
 
     from conftest import _domain_id
-    from mission.processes import install_env
+    from ship_mission.processes import install_env
     # route_node finds its default route through the ament index of the install tree.
     monkeypatch.setenv('AMENT_PREFIX_PATH', install_env()['AMENT_PREFIX_PATH'])
     def free_udp_port():
@@ -228,7 +228,7 @@ def test_a_deprecated_name_still_sets_the_parameter_with_a_warning(make_node):
 
 
 def test_scenario_keys_under_a_deprecated_name_are_checked_by_the_new_rules():
-    from mission.node_checks import section_problems
+    from ship_mission.node_checks import section_problems
     assert section_problems('ship_sim', 'vessel_node', {'depth': 30.0}) == []
     [(key, bad)] = section_problems('ship_sim', 'vessel_node', {'depth': -1.0})
     assert key == 'depth' and "'water_depth_m'" in bad

@@ -1,5 +1,5 @@
-"""Platoon scenarios (mission.platoon): parsing, refusals, per-vessel node parameters, the
-stability checks, and the platoon part of the analysis (mission.report, mission.metrics).
+"""Platoon scenarios (ship_mission.platoon): parsing, refusals, per-vessel node parameters, the
+stability checks, and the platoon part of the analysis (ship_mission.report, ship_mission.metrics).
 No ROS graph is started.
 
 - the shipped 5-vessel scenario wires a string: follower_node with the predecessor's odom, the
@@ -24,10 +24,10 @@ import numpy as np
 import pytest
 import yaml
 
-from mission import metrics
-from mission.launcher import check_scenario, node_parameters, vessel_nodes
-from mission.platoon import autopilot_design, follow_lookahead
-from mission.scenario import ScenarioError, load_scenario
+from ship_mission import metrics
+from ship_mission.launcher import check_scenario, node_parameters, vessel_nodes
+from ship_mission.platoon import autopilot_design, follow_lookahead
+from ship_mission.scenario import ScenarioError, load_scenario
 from ship_autopilot.gains import nomoto_gains
 from ship_autopilot.pd import pd_gains
 from ship_guidance.node_defaults import FOLLOWER_DEFAULTS, GUIDANCE_DEFAULTS
@@ -374,7 +374,7 @@ def _synthetic_platoon_bag(path):
     from rclpy.serialization import serialize_message
     from rosgraph_msgs.msg import Clock
     from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension
-    from mission.recorder import BagWriter, reliable_qos
+    from ship_mission.recorder import BagWriter, reliable_qos
 
     n, ms = 400, 1_000_000
     lead_xte = 5.0 * np.sin(np.arange(n) / 30.0)
@@ -425,14 +425,14 @@ def _synthetic_platoon_bag(path):
 
 
 def test_platoon_analysis_times_follower_topics_by_its_own_steps(tmp_path):
-    from mission.report import analyse_bag
+    from ship_mission.report import analyse_bag
     lead_xte = _synthetic_platoon_bag(tmp_path / 'bag')
     m = analyse_bag(tmp_path / 'bag', tmp_path, settle_s=5.0, make_pngs=True,
                     platoon={'/vessel_0': None, '/vessel_1': '/vessel_0'})
-    from mission import bag as bagmod
+    from ship_mission import bag as bagmod
     # what the analysis saw, re-read the same way: every follower message at its own step
     data = bagmod.read_bag(tmp_path / 'bag')
-    from mission.report import prepare_records
+    from ship_mission.report import prepare_records
     gaps, ends, _ = prepare_records(tmp_path / 'bag', data, {'/vessel_0': None,
                                                              '/vessel_1': '/vessel_0'})
     assert ends == {'/vessel_0': (25.0, 'guidance'), '/vessel_1': (30.0, 'guidance')}

@@ -14,8 +14,8 @@ import math
 import numpy as np
 import pytest
 
-from mission.processes import REPO
-from mission.scenario import load_scenario, start_pose
+from ship_mission.processes import REPO
+from ship_mission.scenario import load_scenario, start_pose
 from ship_autopilot.gains import build_autopilot, heading_loop_design
 from ship_guidance.guidance import Guidance
 from ship_planner.route_loader import load_route

@@ -1,6 +1,6 @@
 """What the run's plots and tables tell a mariner: compass headings, the drift over ground, the
 settling window the metrics leave out, the route's waypoints, a unit and description for every
-metric metrics.json writes (mission.plots, mission.metrics.over_ground, mission.metric_info,
+metric metrics.json writes (ship_mission.plots, ship_mission.metrics.over_ground, ship_mission.metric_info,
 ship_sim.frames.yaw_to_compass_deg)."""
 import math
 from pathlib import Path
@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 import yaml
 
-from mission import metric_info, metrics, plots, report
-from mission.bag import Series
+from ship_mission import metric_info, metrics, plots, report
+from ship_mission.bag import Series
 from ship_sim.frames import yaw_to_compass_deg
 
 REPO = Path(__file__).resolve().parents[2]
@@ -76,7 +76,7 @@ def test_rudder_and_heading_plots_shade_the_window_the_metrics_exclude(tmp_path,
     m = {ns: metrics.vessel_metrics(v.t, v.x, v.y, v.yaw, rudder=(v.rudder.t, v.rudder.v),
                                     rudder_limit_rad=math.radians(40.0)) for ns, v in vessels.items()}
     figs = {}
-    monkeypatch.setattr(plots, '_save', lambda fig, path: figs.setdefault(path.name, fig))
+    monkeypatch.setattr(plots, 'save_figure', lambda fig, path: figs.setdefault(path.name, fig))
     plots.make_plots(vessels, tmp_path, math.radians(40.0), {ns: r['settle_s'] for ns, r in m.items()})
     t0 = 3.0
     want = [(v.t[0] - t0, m[ns]['settle_s']) for ns, v in vessels.items()]
@@ -102,7 +102,7 @@ def test_route_waypoints_are_the_route_files_own_points(tmp_path):
 
 def test_track_plot_marks_and_numbers_the_waypoints(tmp_path, monkeypatch):
     figs = {}
-    monkeypatch.setattr(plots, '_save', lambda fig, path: figs.setdefault(path.name, fig))
+    monkeypatch.setattr(plots, 'save_figure', lambda fig, path: figs.setdefault(path.name, fig))
     wp = (np.array([0.0, 0.0, 1800.0]), np.array([0.0, 2000.0, 3500.0]))
     plots.plot_track({'/a': _vessel(0.0, 100)}, tmp_path / 'track.png', waypoints={'/a': wp})
     ax = figs['track.png'].axes[0]

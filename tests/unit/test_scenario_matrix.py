@@ -1,9 +1,9 @@
-"""Scenario matrices (mission.matrix): one file expanding to the scenarios of a grid.
+"""Scenario matrices (ship_mission.matrix): one file expanding to the scenarios of a grid.
 
 - the expansion: one scenario per combination of the axes, the first axis slowest; rules apply
   in order to the combinations they match; strings filled in from the variables, a lone
   ``{name}`` keeping the variable's type; bad matrices refused in one line naming the key;
-- mission.scenario: load_scenarios gives every scenario of a matrix, load_scenario the one named;
+- ship_mission.scenario: load_scenarios gives every scenario of a matrix, load_scenario the one named;
   scenario_text is the mapping of that one scenario;
 - scenarios/course_changes_004.yaml expands to exactly the 32 course-change files it replaced
   (read from the repository's history).
@@ -16,8 +16,8 @@ import pytest
 import yaml
 
 from ship_sim.schema import VESSEL_NODE
-from mission.matrix import expand
-from mission.scenario import ScenarioError, load_scenario, load_scenarios, scenario_text
+from ship_mission.matrix import expand
+from ship_mission.scenario import ScenarioError, load_scenario, load_scenarios, scenario_text
 from ship_planner.yaml_route_reader import Loader
 
 ROOT = Path(__file__).resolve().parents[2]

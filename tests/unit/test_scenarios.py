@@ -1,6 +1,6 @@
 """The shipped scenario files and what the seed batch relies on (cheap: no ROS graph is started).
 
-- every scenario of scenarios/*.yaml loads (mission.scenario.load_scenarios: a plain file's one,
+- every scenario of scenarios/*.yaml loads (ship_mission.scenario.load_scenarios: a plain file's one,
   each of a matrix file's), its route loads, and the launcher can derive the node parameters
   from it;
 - every seed scenario cites its source document by author and year (SEED_DOCUMENTS), asks
@@ -22,8 +22,8 @@ import re
 import pytest
 import yaml
 
-from mission.launcher import node_parameters
-from mission.scenario import load_scenario, load_scenarios
+from ship_mission.launcher import node_parameters
+from ship_mission.scenario import load_scenario, load_scenarios
 from ship_guidance.los import critical_lookahead
 from ship_planner.route_loader import load_route
 from ship_sim.simulator import VesselSimulator
@@ -257,7 +257,7 @@ def test_runner_claim_checks_on_hand_made_rows():
 @pytest.mark.parametrize('value, expected', [(None, 'zstd'), ('lz4', 'lz4'), ('none', 'none'),
                                              ('gzip', None)])
 def test_bag_compression_key(tmp_path, value, expected):
-    from mission.scenario import ScenarioError
+    from ship_mission.scenario import ScenarioError
     src = ROOT / 'scenarios' / 'flagship_mariner.yaml'
     data = yaml.safe_load(src.read_text())
     for v in data['vessels'].values():

@@ -1,13 +1,13 @@
 """Sea states, RAO scaling and the scenario `waves:` block (ship_sim.environment.sea_state,
-mission.waves)."""
+ship_mission.waves)."""
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from mission.fields import ScenarioError
-from mission.waves import wave_filter_parameters, wave_parameters
+from ship_mission.fields import ScenarioError
+from ship_mission.waves import wave_filter_parameters, wave_parameters
 from ship_sim.environment.sea_state import (MODEL_RAO, SeaState, ShipWaves,
                                             mean_drift_upper_bound, pm_peak_frequency,
                                             rao_table_for)
@@ -92,8 +92,8 @@ def test_an_enabled_wave_filter_is_tuned_to_the_vessels_sea():
 
 
 def test_scenario_with_waves_gives_the_nodes_their_parameters():
-    from mission.launcher import node_parameters
-    from mission.scenario import load_scenario
+    from ship_mission.launcher import node_parameters
+    from ship_mission.scenario import load_scenario
     root = Path(__file__).resolve().parents[2]
     sc = load_scenario(root / 'scenarios' / 'flagship_mariner_waves.yaml')
     params, _ = node_parameters(sc, sc.vessels[0], 0, record=True)

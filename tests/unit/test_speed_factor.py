@@ -4,8 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from mission.launcher import node_parameters
-from mission.scenario import load_scenario
+from ship_mission.launcher import node_parameters
+from ship_mission.scenario import load_scenario
 from ship_sim.simulator import VesselSimulator
 from ship_sim.speed_factor import scaled_shaft
 

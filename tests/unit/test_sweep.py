@@ -210,7 +210,7 @@ def test_wind_and_waves_rows_follow_their_seed_whatever_the_chunking():
         BASE, duration_s=10.0, controller='ilos', wind_speed_mps=15.0, wind_direction_deg=90.0,
         wave_height_m=3.0, wave_period_s=9.0, wave_direction_deg=270.0)}, 'x.yaml')
     row = run_sweep(explicit, 'local', workers=1, chunk_size=1, progress=False)[0][0]
-    from mission.conditions import Condition
+    from ship_mission.conditions import Condition
     direct = ec.run('mariner', mc_episodes._route(ep['route_key']), 'ilos',
                     [mc_episodes._start(spec.expand(explicit)[0], 0)], 0.0, 10.0,
                     condition=Condition.custom(15.0, 90.0, 3.0, 9.0, 270.0),

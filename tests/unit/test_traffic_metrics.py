@@ -1,15 +1,15 @@
-"""Targets in a run's analysis: track metrics (mission.metrics.track_metrics), the closest
-approach between tracks sampled at different times (mission.encounter.min_distance) and the
-traffic plots (mission.plots)."""
+"""Targets in a run's analysis: track metrics (ship_mission.metrics.track_metrics), the closest
+approach between tracks sampled at different times (ship_mission.encounter.min_distance) and the
+traffic plots (ship_mission.plots)."""
 import math
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from mission import plots
-from mission.encounter import min_distance
-from mission.metrics import track_metrics
+from ship_mission import plots
+from ship_mission.encounter import min_distance
+from ship_mission.metrics import track_metrics
 
 
 def _straight(t, x0, y0, course_deg, speed):
@@ -53,7 +53,7 @@ def test_closest_approach_needs_overlapping_times():
 
 
 def test_traffic_plots_are_written(tmp_path):
-    from mission.bag import Series
+    from ship_mission.bag import Series
     empty = Series(np.zeros(0), np.zeros(0))
     own = _straight(np.arange(0.0, 300.0, 0.1), 0.0, 0.0, 90.0, 5.0)
     vessel = SimpleNamespace(**vars(own), route=None, rudder=empty, rudder_cmd=empty,

@@ -1,13 +1,13 @@
-"""The scenario `wind:` block (mission.wind_block): checked, inherited, passed to vessel_node."""
+"""The scenario `wind:` block (ship_mission.wind_block): checked, inherited, passed to vessel_node."""
 import json
 import pathlib
 
 import pytest
 
-from mission.fields import ScenarioError
-from mission.launcher import node_parameters
-from mission.scenario import load_scenario
-from mission.wind_block import wind_meta
+from ship_mission.fields import ScenarioError
+from ship_mission.launcher import node_parameters
+from ship_mission.scenario import load_scenario
+from ship_mission.wind_block import wind_meta
 
 SCENARIOS = pathlib.Path(__file__).resolve().parents[2] / 'scenarios'
 FLAGSHIP = SCENARIOS / 'flagship_mariner.yaml'

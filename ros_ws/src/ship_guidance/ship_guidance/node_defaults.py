@@ -1,7 +1,7 @@
 """Defaults of the guidance nodes' parameters that the launcher needs too (pure, no rclpy).
 
 guidance_node and follower_node declare these parameters with these values; the launcher's
-platoon check (scripts/mission/platoon.py) fills the keys a scenario leaves out from them; the
+platoon check (ros_ws/src/ship_mission/ship_mission/platoon.py) fills the keys a scenario leaves out from them; the
 packages' config/*.yaml list the same values (tests/unit/test_platoon_config.py checks it).
 """
 

@@ -21,7 +21,7 @@ so the rules can be tested without DDS, with a fake clock (any callable returnin
   pairing of messages"): every producer publishes exactly one message per step, so the n-th
   message of one stream belongs with the n-th of another. The simulator pairs its steps with
   rudder_cmd, the autopilot odom with heading_cmd; ``paired_record`` is the same rule applied
-  to a whole recorded topic (mission.bag).
+  to a whole recorded topic (ship_mission.bag).
 """
 import collections
 import math

@@ -7,7 +7,7 @@ is read from there:
 - the node declares them (ship_sim.ros.params.NodeParameters.param / declare_schema);
 - ``scripts/gen_param_files.py`` writes each package's config/<node>.yaml from it;
 - the launcher checks scenario keys and values against it before anything starts
-  (mission.launcher.node_parameter_names, mission.node_checks);
+  (ship_mission.launcher.node_parameter_names, ship_mission.node_checks);
 - the documentation's parameter reference (doc/guide/parameters.md) is rendered from it.
 
 The value checks here (``problem``) are the ones NodeParameters applies to start values and

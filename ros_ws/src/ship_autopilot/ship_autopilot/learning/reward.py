@@ -4,7 +4,7 @@
           - c_delta ((delta_c,k - delta_c,k-1) / delta_max)^2
 
 The Gaussian term alone is what their Table I accumulates: the training environment (learning.env)
-and the run metrics (scripts/mission/metrics.py) both score with ``gaussian_reward``. The choices
+and the run metrics (ros_ws/src/ship_mission/ship_mission/metrics.py) both score with ``gaussian_reward``. The choices
 behind the rudder term and psi_max are in learning.env's docstring.
 """
 import math

@@ -1,7 +1,7 @@
 """Where the fields of a serialized nav_msgs/Odometry lie, for reading them without deserialising.
 
 Two readers use this layout: ``conversions.odometry_to_ned`` (one message on a node's hot path,
-with ``struct``) and ``scripts/mission/bag.py`` (thousands of bag messages at once, with numpy).
+with ``struct``) and ``ros_ws/src/ship_mission/ship_mission/bag.py`` (thousands of bag messages at once, with numpy).
 The offset functions take plain ints or numpy integer arrays alike. No rclpy import here, so the
 bag tools can use it without a ROS installation.
 

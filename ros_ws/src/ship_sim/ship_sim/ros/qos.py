@@ -16,7 +16,7 @@
   transient_local subscription that matches late gets the steps it missed from the publisher's
   history. rclpy's own (best-effort, volatile) /clock subscriptions match CLOCK as before; a
   CLOCK_STEPS subscription needs a transient_local /clock publisher.
-- RECORD_ACK: the recorder's per-vessel acknowledgements (mission.recorder -> vessel_node in
+- RECORD_ACK: the recorder's per-vessel acknowledgements (ship_mission.recorder -> vessel_node in
   lockstep). Reliable + transient_local: the recorder sends its first one as soon as it has
   matched the simulator's publishers, which can be before the simulator's subscription has
   matched the recorder's; volatile, that first one was lost, nothing else came before step 0

@@ -13,11 +13,9 @@ def _finished(r):
 
 
 def _max_rudder(r):
+    """The largest rudder angle, '(limit)' when the metrics counted samples at the limit."""
     text = f"{r['rudder_max_abs_deg']:.1f}"
-    limit = r.get('rudder_limit_deg')
-    if limit is not None and r['rudder_max_abs_deg'] >= limit - 1e-9:
-        text += ' (limit)'
-    return text
+    return text + ' (limit)' if r.get('rudder_saturated_fraction') else text
 
 
 def _calm(data):

@@ -110,7 +110,7 @@ def test_the_flagship_sentence_is_the_wind_study_run_without_wind():
 def test_the_conditions_table_marks_a_rudder_at_its_limit_and_a_run_that_did_not_finish():
     from results_pages.studies import render
     data = {'rows': [_wind_row(condition='calm'),
-                     _wind_row(condition='wind20', rudder_max_abs_deg=40.0, finished=False,
+                     _wind_row(condition='wind20', rudder_max_abs_deg=39.99993, finished=False,
                                rudder_saturated_fraction=0.008)]}
     lines = render('wind_study', 'conditions', data).splitlines()
     assert lines[2].startswith('| calm | 1150.0 | 13.71 / 27.04 |') and '| 36.7 |' in lines[2]

@@ -3,8 +3,9 @@ from results_pages.registry import table
 from results_pages.tables import fmt
 
 
-def _value(v):
-    return fmt(v, '.4g') if isinstance(v, float) else fmt(v, '')
+def _value(v, unit):
+    text = fmt(v, '.4g') if isinstance(v, float) else fmt(v, '')
+    return f'{text} {unit}' if unit else text
 
 
 @table('bench', 'goals')
@@ -16,8 +17,8 @@ def goals(data):
         if s.get('error'):
             lines.append(f"| {name} | section failed: {s['error']} | | | |")
         for g in s.get('goals', []):
-            lines.append(f"| {name} | {g['text']} | {_value(g['value'])} {g['unit']} | "
-                         f"{g['relation']} {_value(g['target'])} {g['unit']} | "
+            lines.append(f"| {name} | {g['text']} | {_value(g['value'], g['unit'])} | "
+                         f"{g['relation']} {_value(g['target'], g['unit'])} | "
                          f"{'yes' if g['met'] else '**no**'} |")
     quick = ' (`--quick`: shorter timings)' if data['args'].get('quick') else ''
     return '\n'.join(lines) + (f"\n\nSections {', '.join(data['sections'])}{quick}; "

@@ -141,3 +141,17 @@ def test_platoon_and_encounter_tables_read_the_runs_metrics():
     assert '| s | vessel_0 | t1 (light) |' in text
     text = render('encounters', 'alterations', {'runs': {'s': run}})
     assert '| s | vessel_0 | 0.0 | +45 | +89.8 | no | 10 / 20 | 500 | 24 |' in text
+
+
+def test_benchmark_goals_show_value_target_and_verdict_per_section():
+    from results_pages.studies import render
+    data = {'args': {'quick': True}, 'machine': {'cpu_model': 'cpu'}, 'sections': {
+        'colav': {'goals': [{'text': 'decision', 'value': 18.591, 'target': 10, 'unit': 'ms',
+                             'relation': '<', 'met': False}]},
+        'waves': {'goals': [{'text': 'ratio', 'value': 0.97834, 'target': 1.25, 'unit': '',
+                             'relation': '<', 'met': True}]},
+        'sweep': {'error': 'RuntimeError: no ray', 'goals': []}}}
+    text = render('bench', 'goals', data)
+    assert '| colav | decision | 18.59 ms | < 10 ms | **no** |' in text
+    assert '| waves | ratio | 0.9783 | < 1.25 | yes |' in text
+    assert '| sweep | section failed: RuntimeError: no ray |' in text and '`--quick`' in text

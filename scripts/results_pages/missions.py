@@ -54,7 +54,8 @@ def _closest_rows(metrics):
     for name, t in metrics.get('traffic', {}).items():
         for own, d in (t.get('closest_approach') or {}).items():
             if d:
-                rows.append({'own': own.strip('/'), 'other': f"{name} ({t.get('source')})",
+                rows.append({'own': own.strip('/'),
+                             'other': f"{name.strip('/')} ({t.get('source')})",
                              **d})
     return rows
 

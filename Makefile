@@ -73,9 +73,11 @@ lint: $(VENV)/.installed-test
 	$(VENV)/bin/ruff check .
 
 # The documentation site (mkdocs.yml) into site/: strict, so a broken link, anchor or repository
-# path fails it; offline (the theme and its assets come from the wheel).
+# path fails it; offline (the theme and its assets come from the wheel). Not --quiet: it raises
+# mkdocs' log level above WARNING, so warnings are neither shown nor counted and strict mode
+# passed a broken link; the INFO lines are filtered instead (pipefail keeps mkdocs' exit code).
 docs: build $(VENV)/.installed-docs
-	$(WITH_INSTALL) NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --quiet
+	set -o pipefail; $(WITH_INSTALL) NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build 2>&1 | { grep -v '^INFO ' || true; }
 	@echo "built site/ (open site/index.html)"
 
 # ensure_test_tools.py installs the test tools (Chromium, gpsdecode) as root with apt-get, or says which

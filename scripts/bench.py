@@ -34,6 +34,7 @@ from pathlib import Path
 
 from benchmarks import SECTIONS, section_function
 from benchmarks.common import REPO, format_section, machine_info
+from results_pages.provenance import provenance
 from ship_sim.allocator import tune_allocator
 
 DEFAULT_OUT = REPO / 'bench' / 'results' / 'bench.json'
@@ -74,7 +75,8 @@ def main(argv=None):
           f"load {machine.get('load_avg_1min', float('nan')):.2f}, "
           f"Python {machine['python']}, numpy {machine['numpy']}, {machine['date']}"
           + (' [quick]' if args.quick else ''))
-    report = {'machine': machine, 'args': {'only': args.sections, 'quick': args.quick},
+    # provenance: doc/results/performance.md renders its generated table from this file
+    report = {'provenance': provenance(), 'machine': machine, 'args': {'only': args.sections, 'quick': args.quick},
               'sections': {}}
     failed = []
     for name in args.sections:

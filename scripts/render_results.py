@@ -22,13 +22,14 @@ def main(argv=None):
     ap.add_argument('--check', action='store_true', help='change nothing; exit 1 if a page differs')
     ap.add_argument('--root', type=Path, default=DOC, help='folder of the pages (default doc/)')
     args = ap.parse_args(argv)
-    stale = []
+    stale, broken = [], []
     for page in pages_with_blocks(args.root):
         try:
             new = render_page(page)
-        except (ResultsError, KeyError) as exc:
+        except (ResultsError, KeyError) as exc:   # the other pages are still rendered
             print(f'render_results: {exc}', file=sys.stderr)
-            return 2
+            broken.append(page)
+            continue
         old = page.read_text()
         if new == old:
             continue
@@ -45,7 +46,7 @@ def main(argv=None):
               + ', '.join(str(p) for p in stale)
               + ' (run .venv/bin/python scripts/render_results.py)', file=sys.stderr)
         return 1
-    return 0
+    return 2 if broken else 0
 
 
 if __name__ == '__main__':

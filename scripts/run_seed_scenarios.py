@@ -61,6 +61,7 @@ from ship_mission.domain import DomainLease, LeaseError
 from ship_mission.launcher import MissionFailed, run_scenario
 from ship_mission.processes import REPO
 from ship_mission.scenario import ScenarioError, load_scenario, load_scenarios
+from results_pages.provenance import provenance
 from ship_sim.safe_load import load_json_file, load_yaml_file
 
 SCENARIO_DIR = REPO / 'scenarios'
@@ -745,7 +746,8 @@ def main(argv=None):
         claims = claim_checks({r['scenario']: r for r in results})
         table = markdown(results, claims, f'## Seed scenarios (re-analysed): {len(results)} runs '
                          f'of {batch.name}')
-        write_results(batch, results, claims, table, old.get('quick'), old.get('wall_time_s'))
+        write_results(batch, results, claims, table, old.get('quick'), old.get('wall_time_s'),
+                      provenance())
         return 0
 
     try:
@@ -757,6 +759,7 @@ def main(argv=None):
         print('\n'.join(f'{s.name}  ({s.file})' for s in scenarios))
         return 0
     stamp = datetime.now().strftime('%Y%m%d-%H%M%S')
+    started = provenance()     # the code the runs use is the code at their start
     batch = Path(args.runs) / f'seeds{"-quick" if args.quick else ""}-{stamp}'
     batch.mkdir(parents=True)
     latest = Path(args.runs) / 'seeds-latest'
@@ -791,7 +794,8 @@ def main(argv=None):
     claims = claim_checks({r['scenario']: r for r in results})
     header = (f'## Seed scenarios{" (quick: durations x%g)" % QUICK_FACTOR if args.quick else ""}'
               f': {len(results)} runs in {wall:.0f} s wall ({stamp})')
-    write_results(batch, results, claims, markdown(results, claims, header), args.quick, wall)
+    write_results(batch, results, claims, markdown(results, claims, header), args.quick, wall,
+                  started)
     return code
 
 
@@ -825,11 +829,14 @@ def html_index(batch, results, claims, header):
                       sections=sections)
 
 
-def write_results(batch, results, claims, table, quick, wall):
+def write_results(batch, results, claims, table, quick, wall, started):
+    """results.md, index.html and results.json; ``started``: the provenance at the start (the
+    results page doc/results/seed_scenarios.md renders its claims from results.json)."""
     (batch / 'results.md').write_text(table + '\n')
     html_index(batch, results, claims, table.splitlines()[0])
     with open(batch / 'results.json', 'w') as fh:
-        json.dump({'batch': str(batch), 'quick': quick, 'wall_time_s': wall, 'runs': results,
+        json.dump({'provenance': started, 'batch': str(batch), 'quick': quick,
+                   'wall_time_s': wall, 'runs': results,
                    'claims': [{'claim': c, 'reproduced': v, 'evidence': e} for c, v, e in claims]},
                   fh, indent=2, allow_nan=False, default=str)
     print()

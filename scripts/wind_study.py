@@ -33,6 +33,7 @@ from ship_mission.cli_args import OneLineParser, integer, number
 from montecarlo.spec import PARAMETERS
 from ship_mission.launcher import MissionFailed, check_scenario, run_scenario
 from ship_mission.scenario import ScenarioError, load_scenario
+from results_pages.provenance import provenance
 from ship_sim.safe_load import load_yaml_file
 
 REPO = Path(__file__).resolve().parents[1]
@@ -91,18 +92,28 @@ def condition_variant(source, name, folder, start_timeout=None):
     return path
 
 
+def _shown(path):
+    """A path as the results file keeps it: relative to the repository when inside it."""
+    path = Path(path).resolve()
+    return str(path.relative_to(REPO)) if path.is_relative_to(REPO) else str(path)
+
+
 def row(speed, m):
     """Table row of one vessel's metrics (angles in deg)."""
     span = m['duration_s'] - m['settle_s']
     rate = m['rudder_total_variation_rad_per_s']
     return {'wind_mps': speed, 'finished': m['finished'],
+            'time_to_complete_s': m.get('time_to_complete_s'),
             'xte_rms_m': m['xte_rms_m'], 'xte_max_m': m['xte_max_abs_m'],
             'heading_rms_deg': math.degrees(m['heading_error_rms_rad']),
             'rudder_mean_abs_deg': math.degrees(m['rudder_mean_abs_rad']),
             'rudder_max_abs_deg': math.degrees(m['rudder_max_abs_rad']),
             'rudder_rate_mean_abs_deg_s': math.degrees(rate),
             'rudder_tv_deg': math.degrees(rate * span),
-            'rudder_saturated_fraction': m['rudder_saturated_fraction']}
+            'rudder_saturated_fraction': m['rudder_saturated_fraction'],
+            'rudder_limit_deg': (math.degrees(m['rudder_limit_rad'])
+                                 if m.get('rudder_limit_rad') is not None else None),
+            'reward_gaussian_sum': m.get('reward_gaussian_sum')}
 
 
 COLUMNS = [('condition', 'condition', '{}'), ('wind_mps', 'wind (m/s)', '{:g}'), ('vessel', 'vessel', '{}'),
@@ -144,6 +155,7 @@ def main(argv=None):
                     help="with --conditions: every simulator's lockstep_start_timeout (s), for "
                          'many vessels on a loaded machine (timing only, not the physics)')
     args = ap.parse_args(argv)
+    started = provenance()     # the code the runs use is the code at their start
     args.runs.mkdir(parents=True, exist_ok=True)
     rows = []
     cases = ([(conditions.CONDITIONS[c].wind_speed, c) for c in args.conditions]
@@ -164,7 +176,7 @@ def main(argv=None):
             run, metrics = run_scenario(scenario, runs_root=args.runs, progress=lambda s: None)
             for ns, m in metrics['vessels'].items():
                 rows.append({'vessel': ns, **row(speed, m), 'condition': cond or '-',
-                             'run': str(run)})
+                             'run': _shown(run)})
                 print(table(rows[-1:]).splitlines()[-1], flush=True)
     except ScenarioError as exc:
         print(f'wind_study: {exc}', file=sys.stderr)
@@ -173,8 +185,10 @@ def main(argv=None):
         print(f'wind_study: FAILED: {exc}', file=sys.stderr)
         return 1
     text = table(rows)
+    # provenance: the results pages (doc/results/wind_waves.md, flagship.md) render from this
     (args.runs / 'wind_study.json').write_text(json.dumps(
-        {'scenario': str(args.scenario), 'conditions': args.conditions,
+        {'provenance': started, 'scenario': _shown(args.scenario), 'quick': args.quick,
+         'conditions': args.conditions,
          'direction_deg': args.direction_deg,
          'gust_fraction': args.gust_fraction, 'time_constant_s': args.time_constant,
          'seed': args.seed, 'rows': rows}, indent=1))

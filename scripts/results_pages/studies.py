@@ -83,3 +83,7 @@ from results_pages import mss_accuracy  # noqa: E402, F401
 from results_pages import string_stability  # noqa: E402, F401
 from results_pages import nomoto  # noqa: E402, F401
 from results_pages import table1  # noqa: E402, F401
+from results_pages import wind_study  # noqa: E402, F401
+from results_pages import missions  # noqa: E402, F401
+from results_pages import seed_scenarios  # noqa: E402, F401
+from results_pages import bench  # noqa: E402, F401

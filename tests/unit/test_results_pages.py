@@ -86,3 +86,72 @@ def test_table1_policy_is_compared_with_the_best_classical_loop_of_each_column()
     assert '| mariner 0 m/s | lead | 2.5 | 4.0 | 4.0 |' in text
     assert '| mariner 0.9 m/s | LOS + PD | 2.0 | 3.0 | 3.0 |' in text
     assert 'error' in render('table1', 'reward', {**data, 'seed_table': {}})
+
+
+def _wind_row(**kw):
+    row = {'vessel': '/vessel_0', 'condition': '-', 'wind_mps': 0.0, 'finished': True,
+           'time_to_complete_s': 1150.0, 'xte_rms_m': 13.71, 'xte_max_m': 27.04,
+           'heading_rms_deg': 4.44, 'rudder_mean_abs_deg': 5.43, 'rudder_max_abs_deg': 36.7,
+           'rudder_rate_mean_abs_deg_s': 0.4406, 'rudder_tv_deg': 419.0,
+           'rudder_saturated_fraction': 0.0, 'rudder_limit_deg': 40.0,
+           'reward_gaussian_sum': 6473.2}
+    return {**row, **kw}
+
+
+def test_the_flagship_sentence_is_the_wind_study_run_without_wind():
+    from results_pages.studies import render
+    data = {'rows': [_wind_row(wind_mps=10.0, xte_rms_m=99.0), _wind_row()]}
+    text = render('wind_study', 'flagship', data)
+    assert 'completed in 1150 s' in text and 'RMS cross-track 13.7 m, max 27.0 m' in text
+    with pytest.raises(KeyError, match='without wind'):
+        render('wind_study', 'flagship', {'rows': data['rows'][:1]})
+
+
+def test_the_conditions_table_marks_a_rudder_at_its_limit_and_a_run_that_did_not_finish():
+    from results_pages.studies import render
+    data = {'rows': [_wind_row(condition='calm'),
+                     _wind_row(condition='wind20', rudder_max_abs_deg=39.99993, finished=False,
+                               rudder_saturated_fraction=0.008)]}
+    lines = render('wind_study', 'conditions', data).splitlines()
+    assert lines[2].startswith('| calm | 1150.0 | 13.71 / 27.04 |') and '| 36.7 |' in lines[2]
+    assert lines[3].startswith('| wind20 | no |') and '| 40.0 (limit) |' in lines[3]
+    assert '| 0.8 | 6473 |' in lines[3]      # 0.008 of the samples, in %
+
+
+def test_platoon_and_encounter_tables_read_the_runs_metrics():
+    from results_pages.studies import render
+    vessels = {'/vessel_0': {'xte_rms_m': 10.0, 'xte_max_abs_m': 20.0, 'time_to_complete_s': 1300.0},
+               '/vessel_1': {'xte_rms_m': 15.0, 'xte_max_abs_m': 30.0, 'time_to_complete_s': None}}
+    platoon = {'/vessel_1': {'predecessor': '/vessel_0', 'string_peak_ratio': 1.5,
+                             'string_rms_ratio': 1.5, 'gap_error_rms_m': 22.0}}
+    data = {'runs': {'platoon_mariner_5': {'vessels': vessels, 'platoon': platoon}}}
+    lines = render('platoon', 'vessels', data).splitlines()
+    assert lines[2] == '| vessel_0 | - | 10.0 | 20.0 | n/a | n/a | n/a | 1300.0 |'
+    assert lines[3] == '| vessel_1 | vessel_0 | 15.0 | 30.0 | 1.50 | 1.50 | 22.0 | n/a |'
+    closest = {'min_distance_m': 991.7, 't_min_s': 265.7, 'side': 'port',
+               'bearing_at_min_deg': 254.5}
+    run = {'vessels': vessels, 'run': {'wall_time_s': 24.0, 'sim_time_s': 500.0},
+           'colav': {'vessel_0': {'alteration': {'first_avoid_s': 0.0, 'first_offset_deg': 45.0,
+                                                 'max_offset_deg': 89.8, 'last_resort': False},
+                                  'closest': {'vessel_1': closest}}},
+           'traffic': {'t1': {'source': 'light', 'closest_approach': {'/vessel_0': closest,
+                                                                      '/vessel_1': None}}}}
+    text = render('encounters', 'closest', {'runs': {'s': run}})
+    assert text.count('| 991.7 | 265.7 | port (254.5 deg from the bow) |') == 2
+    assert '| s | vessel_0 | t1 (light) |' in text
+    text = render('encounters', 'alterations', {'runs': {'s': run}})
+    assert '| s | vessel_0 | 0.0 | +45 | +89.8 | no | 10 / 20 | 500 | 24 |' in text
+
+
+def test_benchmark_goals_show_value_target_and_verdict_per_section():
+    from results_pages.studies import render
+    data = {'args': {'quick': True}, 'machine': {'cpu_model': 'cpu'}, 'sections': {
+        'colav': {'goals': [{'text': 'decision', 'value': 18.591, 'target': 10, 'unit': 'ms',
+                             'relation': '<', 'met': False}]},
+        'waves': {'goals': [{'text': 'ratio', 'value': 0.97834, 'target': 1.25, 'unit': '',
+                             'relation': '<', 'met': True}]},
+        'sweep': {'error': 'RuntimeError: no ray', 'goals': []}}}
+    text = render('bench', 'goals', data)
+    assert '| colav | decision | 18.59 ms | < 10 ms | **no** |' in text
+    assert '| waves | ratio | 0.9783 | < 1.25 | yes |' in text
+    assert '| sweep | section failed: RuntimeError: no ray |' in text and '`--quick`' in text

@@ -48,15 +48,17 @@ def summary(data):
 @table('reacting_traffic', 'breaks')
 def breaks(data):
     """The runs in which the own ship came inside a target's domain (near miss) or hull
-    (collision), or took a last-resort decision: where the own ship breaks."""
-    rows = [r for r in data['runs']
-            if r['collisions'] or r['near_misses'] or r['last_resort_decisions']]
+    (collision), took a last-resort decision or lost rule score: where the own ship breaks."""
+    rows = [r for r in data['runs'] if r['collisions'] or r['near_misses']
+            or r['last_resort_decisions'] or r['rule_score'] < 1.0]
     if not rows:
-        return 'No run ended in a collision, a near miss or a last-resort decision.\n'
+        return ('No run ended in a collision, a near miss, a last-resort decision or a rule '
+                'penalty.\n')
     return markdown_table([
         ('case', 'case', 'd'), ('behaviour', 'behaviour', ''), ('own ship', 'ship', ''),
         ('method', 'method', ''), ('collisions', 'collisions', 'd'),
         ('near misses', 'near_misses', 'd'), ('min distance m', 'min_distance_m', '.0f'),
+        ('rule score', 'rule_score', '.3f'),
         ('last-resort decisions', 'last_resort_decisions', 'd'),
     ], rows)
 

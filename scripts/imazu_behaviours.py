@@ -13,7 +13,8 @@ case's targets is not run there. A run ends as the benchmark's do (imazu.runner.
 scored by the benchmark's evaluator (scripts/imazu/evaluate.py) against the ship's run without
 traffic. Writes the results file of doc/results/reacting_traffic.md (render it with
 scripts/render_results.py): per run collisions, near misses, minimum distance, rule score,
-path deviation, and the targets' own largest alteration from their start course.
+path deviation, the evaluator's penalties per target, and the targets' own largest alteration
+from their start course.
 """
 import argparse
 import json
@@ -128,6 +129,8 @@ def main(argv=None):
             'path_deviation_m': round(run['path_deviation_m'], 1),
             'run_end': result.end, 'run_end_s': round(float(result.t[-1]), 1),
             'last_resort_decisions': sum(d[1] == 'last-resort' for d in result.decisions),
+            'penalties': {n: sorted(v['penalties']) for n, v in run['targets'].items()
+                          if v['penalties']},
             'target_alteration_deg': {n: round(target_alteration_deg(result.targets[n]), 1)
                                       for n in sorted(chosen)},
         })

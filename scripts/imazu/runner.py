@@ -18,9 +18,14 @@ build from it, in the order lockstep runs them, each step:
 with the messages' own arithmetic (the odometry round trip, the stamps in nanoseconds), so the
 graph in lockstep computes the same numbers (tests/integration/test_imazu_graph.py).
 
-Targets never avoid (light targets): where a case's target should give way to the own ship,
-it does not, the own ship stands on until Rule 17(a)(ii) / (b) and then acts; targets may pass
-through each other (only own ship - target distances are judged).
+By default targets never avoid (light targets, behaviour ``straight``): where a case's target
+should give way to the own ship, it does not, the own ship stands on until Rule 17(a)(ii) / (b)
+and then acts; targets may pass through each other (only own ship - target distances are
+judged). ``run_scenario(..., behaviours={name: behaviour})`` gives targets another behaviour
+(ship_guidance.reacting_traffic: reciprocal, turns_to_port, no_alteration); a reacting target
+is stepped after the own ship's decision at each step, on the states of that step, and a
+reciprocal one decides with the own ship's colav (method, parameters, model, period). The node
+graph has no reacting targets (traffic_node refuses them), so such a run is this runner's only.
 """
 import dataclasses
 import functools
@@ -270,10 +275,12 @@ def build_colav(colav_params, has_shaft):
     return make_colav(method, params, ship), period
 
 
-def run_scenario(path, progress=None, end=None):
+def run_scenario(path, progress=None, end=None, behaviours=None):
     """RunResult of the scenario's first vessel (see the module docstring); with ``end`` (a
     RunEnd) the run stops at the first sample where ``end.done``, else after the scenario's
-    duration (end 'limit' with ``end``, 'duration' without)."""
+    duration (end 'limit' with ``end``, 'duration' without); ``behaviours``: {target name:
+    behaviour} (ship_guidance.reacting_traffic; absent or all straight: light targets as
+    given, the same numbers as without)."""
     import time
 
     from benchmarks.closed_loop_inprocess import build_vessel
@@ -298,6 +305,15 @@ def run_scenario(path, progress=None, end=None):
     # trim's shaft speed (no node publishes shaft_cmd); None without a shaft (the Mariner).
     shaft_cmd = sim.shaft_command
     traffic = make_traffic(scenario.light) if scenario.light else None
+    reacting = traffic is not None and any(b != 'straight' for b in (behaviours or {}).values())
+    if reacting:
+        from ship_guidance.reacting_traffic import ReactingTraffic
+        if colav is None:
+            raise ValueError('reacting targets need an own ship with colav (their model and method)')
+        traffic = ReactingTraffic(
+            traffic, behaviours, colav.ship, decision_period_s=period,
+            colav_factory=lambda: build_colav(spec.colav_params, bool(sim.model.has_shaft))[0],
+            lookahead_m=float(spec.guidance_params.get('lookahead_m', GUIDANCE['lookahead_m'])))
     names = sorted(traffic.names) if traffic else []
     order = [traffic.names.index(n) for n in names] if traffic else []
     steps = int(round(scenario.duration_s / dt)) + 1
@@ -342,6 +358,8 @@ def run_scenario(path, progress=None, end=None):
             if end is not None and targets and end.done(o.t, state, targets):
                 steps, reason = k + 1, 'clear'
                 break
+            if reacting and k + 1 < steps:
+                traffic.step(t_ns / colav_io.NS_PER_S, state, dt)
         rudder = steer.update(o.t, o.psi, o.r, steer.decode(cmd))
         if progress is not None and k % 5000 == 0:
             progress(k, steps)

@@ -87,3 +87,4 @@ from results_pages import wind_study  # noqa: E402, F401
 from results_pages import missions  # noqa: E402, F401
 from results_pages import seed_scenarios  # noqa: E402, F401
 from results_pages import bench  # noqa: E402, F401
+from results_pages import reacting_traffic  # noqa: E402, F401

@@ -99,3 +99,27 @@ def test_a_light_entry_takes_no_vessel_keys(scenario_variant):
         d['traffic']['target_1']['model'] = 'mariner'
     with pytest.raises(ScenarioError, match=r'traffic\.target_1\.model: unknown key'):
         load_scenario(scenario_variant(CROSSING, change))
+
+
+def test_a_light_target_may_carry_a_closed_form_behaviour(scenario_variant):
+    sc = load_scenario(scenario_variant(CROSSING, lambda d: d['traffic']['target_1']['light']
+                                        .update({'behaviour': 'no_alteration'})))
+    assert sc.light[0]['behaviour'] == 'no_alteration'
+    # traffic_node's parameter takes it, and the target moves as without it
+    tp = traffic_parameters(sc)
+    assert parse_targets(tp['targets']).state(300.0) == \
+        parse_targets(json.dumps([{k: v for k, v in sc.light[0].items() if k != 'behaviour'}])
+                      ).state(300.0)
+
+
+@pytest.mark.parametrize('behaviour, why', [
+    ('zigzag', "behaviour 'zigzag' unknown; one of straight, reciprocal"),
+    ('reciprocal', "behaviour 'reciprocal' needs the other ships' states"),
+    ('turns_to_port', "behaviour 'turns_to_port' needs the other ships' states"),
+])
+def test_a_behaviour_the_graph_cannot_move_is_refused_in_one_line(scenario_variant, behaviour,
+                                                                  why):
+    with pytest.raises(ScenarioError, match=r'traffic\.target_1\.light: ' + why) as info:
+        load_scenario(scenario_variant(CROSSING, lambda d: d['traffic']['target_1']['light']
+                                       .update({'behaviour': behaviour})))
+    assert '\n' not in str(info.value)

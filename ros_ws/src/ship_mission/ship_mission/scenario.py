@@ -38,6 +38,8 @@
                                              #   speed from (x_m, y_m) ENU at t = 0 (default 0/0)
       target_2:                              #   or timed waypoints [t_s, x_m, y_m] (ENU, times
         light: {waypoints: [[0, 0, 0], [600, 0, 4000]]}   # strictly increasing), straight legs
+                                             # either may add `behaviour: no_alteration`
+                                             # (ship_sim.light_traffic.behaviour_problem)
     ais:                                     # optional: AIS targets from a replay file
       file: ais/head_on_target.nmea          #   NMEA replay (ship_guidance.ais.parse_replay),
                                              #   relative to this file, fed on sim time
@@ -370,8 +372,8 @@ def _parse_light(entries, path):
         unknown(v, {'light'}, path, where + '.')
         light = v['light']
         need(isinstance(light, dict), path, where + '.light', 'a mapping')
-        unknown(light, {'x_m', 'y_m', 'course_deg', 'speed_mps', 'waypoints'}, path,
-                where + '.light.')
+        unknown(light, {'x_m', 'y_m', 'course_deg', 'speed_mps', 'waypoints', 'behaviour'},
+                path, where + '.light.')
         target = {'name': ns, **light}
         try:
             make_traffic([target])

@@ -11,6 +11,13 @@ Frames: NED (north, east, course clockwise from north) like every pure module (s
 ``parse_targets`` reads the scenario / node parameter form, which is ENU (x east, y north)
 like the rest of a scenario, course clockwise from north like ``current.direction_deg``.
 
+Behaviour (optional key ``behaviour``, issue 31 item 4): how a target reacts to the others,
+one of BEHAVIOURS (default ``straight``), described with its trigger and rule breach in
+ship_guidance.reacting_traffic. This module moves targets in closed form from the time alone,
+so it takes only the behaviours that move so (``straight``, and ``no_alteration``: a head-on or
+give-way target that never alters); the others need the other ships' states at every step and
+are refused here with the reason (the in-process Imazu runner moves them).
+
 Bounds (ship_sim.bounds): positions within MAX_COORDINATE_M of the origin and speeds (given, or
 of each leg between waypoints) at most MAX_SPEED_MPS; a target beyond them is refused.
 """
@@ -20,6 +27,23 @@ import numpy as np
 
 from ship_sim.bounds import MAX_COORDINATE_M, MAX_SPEED_MPS
 from ship_sim.safe_load import InputError, load_json, ros_name_problem
+
+
+#: Target behaviours (ship_guidance.reacting_traffic documents each): the one list of names.
+BEHAVIOURS = ('straight', 'reciprocal', 'turns_to_port', 'no_alteration')
+#: Behaviours a light target moves by in closed form (no other ship's state needed).
+CLOSED_FORM = ('straight', 'no_alteration')
+
+
+def behaviour_problem(value):
+    """None if ``value`` is a behaviour a light target can have here, else one line why not."""
+    if value not in BEHAVIOURS:
+        return f'behaviour {value!r} unknown; one of {", ".join(BEHAVIOURS)}'
+    if value not in CLOSED_FORM:
+        return (f'behaviour {value!r} needs the other ships\' states at every step, and light '
+                'targets move in closed form from the clock alone (traffic_node); only '
+                f'{", ".join(CLOSED_FORM)} here (scripts/imazu_behaviours.py runs the others)')
+    return None
 
 
 class LightTraffic:
@@ -146,9 +170,12 @@ def make_traffic(targets):
         if bad:
             raise ValueError(f'{where}: name {bad}')
         where = f'light target {name}'
-        keys = set(d) - {'name'}
+        keys = set(d) - {'name', 'behaviour'}
         const = {'x_m', 'y_m', 'course_deg', 'speed_mps'}
         try:
+            bad = behaviour_problem(d.get('behaviour', 'straight'))
+            if bad:
+                raise ValueError(bad)
             if keys == {'waypoints'}:
                 w = d['waypoints']
                 if not (isinstance(w, list) and all(isinstance(r, (list, tuple)) and len(r) == 3
@@ -184,7 +211,8 @@ def parse_targets(text):
     """LightTraffic from the JSON text of traffic_node's ``targets`` parameter: a list of
     ``{name, x_m, y_m, course_deg, speed_mps}`` (constant course and speed from (x_m, y_m) ENU
     at t = 0) or ``{name, waypoints: [[t_s, x_m, y_m], ...]}`` (ENU, times strictly
-    increasing). Raises ValueError naming the target and the problem."""
+    increasing), either with an optional ``behaviour`` (``behaviour_problem``). Raises
+    ValueError naming the target and the problem."""
     try:
         data = load_json(text)       # bounded: nesting, number length, keys given twice
     except InputError as exc:

@@ -145,7 +145,8 @@ TRAFFIC_NODE = NodeSchema('ship_sim', 'traffic_node', summary='light targets on 
                           params=(
     Param.of('targets', '[]', 'light targets as JSON: a list of {name, x_m, y_m, '
         'course_deg, speed_mps} or {name, waypoints: [[t_s, x_m, y_m], ...]} '
-        '(ENU; course clockwise from north)', check='light_targets', allowed='a JSON list of light targets',
+        '(ENU; course clockwise from north), each with an optional behaviour '
+        '(straight or no_alteration)', check='light_targets', allowed='a JSON list of light targets',
         read_only=True),
     Param.of('wait_subscribers', 0, 'subscribers every target topic must have '
         'before ~/ready turns true (the launcher waits for it in lockstep)', lo=0, hi=1000, read_only=True),

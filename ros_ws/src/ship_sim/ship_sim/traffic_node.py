@@ -14,7 +14,11 @@ and the launcher starts the simulators only then, so nobody misses step 0.
 
 Parameter ``targets``: the targets as JSON text (ROS 2 parameters carry no list of mappings),
 schema in ship_sim.light_traffic.parse_targets; a bad list is refused at start (exit 2, one
-line naming the target and the problem).
+line naming the target and the problem). A target's ``behaviour`` may be ``straight`` or
+``no_alteration`` (both the closed-form motion); the behaviours that react to other ships
+(``reciprocal``, ``turns_to_port``, ship_guidance.reacting_traffic) are refused there: this node
+moves targets from the clock alone, and a reacting target would need every other ship's state
+at each step, in lockstep a per-step wait on their odometry that the node graph does not have.
 """
 from nav_msgs.msg import Odometry
 from rclpy.node import Node

@@ -304,7 +304,7 @@ class BatchGuidance:
         n = self.n
         psi_c, cross, gamma, kappa = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
         leg = np.empty(n, dtype=np.int64)
-        guidance_step(self._geometry, pn, pe, dt, self.law == 'ilos',
+        guidance_step(*self._geometry, pn, pe, dt, self.law == 'ilos',
                       self.reset_integral_at_corners, self.lookahead, self.integral_gain,
                       self.lead, self.window, self.s, self.k, self.prev[0], self.prev[1],
                       self.integral, self.finished, psi_c, cross, gamma, kappa, leg)

@@ -23,104 +23,148 @@ from .path import HALF_PI, TWO_PI
 
 _wrap = wrap_angle
 
+# Columns of the leg table (route_geometry): one float row per leg, so the loop passes one
+# array to its helpers (a tuple of arrays is reference-counted array by array at every call).
+(IS_ARC, P0N, P0E, UN, UE, ANGLE, CN, CE, RADIUS, THETA0, DIR, SWEEP, LENGTH, START, END,
+ CURVATURE, MID_N, MID_E, MID_RADIUS) = range(19)
+# Columns of the stretch table: arc-length bounds, last leg and end point of each stretch.
+(LO, HI, END_LEG, END_N, END_E) = range(5)
+
 
 def route_geometry(route, g):
-    """The arrays of ``route`` and of BatchGuidance ``g`` the kernel reads (one tuple)."""
-    sweep = np.array([getattr(leg, 'sweep', 0.0) for leg in route.legs], dtype=float)
-    return (route._is_arc.astype(np.bool_), route._p0, route._unit, route._angle,
-            route._center, route._radius, route._theta0, route._dir, sweep,
-            np.asarray(route.leg_lengths, dtype=float), np.asarray(route.cumulative, dtype=float),
-            np.asarray(route.curvatures, dtype=float), g._ends, g._starts, g._lo, g._hi,
-            g._end_leg, g._end_ne, float(g.acceptance_radius), float(route.s_tol))
+    """(leg table, stretch table, acceptance radius, s_tol) of ``route`` and BatchGuidance
+    ``g``, the arrays the kernel reads."""
+    legs = np.zeros((len(route.legs), 19))
+    legs[:, IS_ARC] = route._is_arc
+    legs[:, [P0N, P0E]] = route._p0
+    legs[:, [UN, UE]] = route._unit
+    legs[:, ANGLE] = route._angle
+    legs[:, [CN, CE]] = route._center
+    legs[:, RADIUS] = route._radius
+    legs[:, THETA0] = route._theta0
+    legs[:, DIR] = route._dir
+    legs[:, SWEEP] = [getattr(leg, 'sweep', 0.0) for leg in route.legs]
+    legs[:, LENGTH] = route.leg_lengths
+    legs[:, START] = route.cumulative[:-1]
+    legs[:, END] = route.cumulative[1:]
+    legs[:, CURVATURE] = route.curvatures
+    legs[:, [MID_N, MID_E]] = g._leg_mid
+    legs[:, MID_RADIUS] = g._leg_radius
+    stretches = np.zeros((len(g._lo), 5))
+    stretches[:, LO], stretches[:, HI], stretches[:, END_LEG] = g._lo, g._hi, g._end_leg
+    stretches[:, [END_N, END_E]] = g._end_ne
+    return legs, stretches, float(g.acceptance_radius), float(route.s_tol)
 
 
-def _foot(geo, i, pn, pe, lo_local, hi_local):
+def _foot(legs, i, pn, pe, lo_local, hi_local):
     """Route.closest_on_legs for one leg i: (t, north, east, path angle, distance)."""
-    (is_arc, p0, unit, angle, center, radius, theta0, dirn) = geo[:8]
-    length = geo[9][i]
+    length = legs[i, LENGTH]
     ta = min(max(lo_local, 0.0), length)
     tb = min(max(hi_local, 0.0), length)
-    if not is_arc[i]:
-        t = min(max((pn - p0[i, 0]) * unit[i, 0] + (pe - p0[i, 1]) * unit[i, 1], ta), tb)
-        fn, fe = p0[i, 0] + t * unit[i, 0], p0[i, 1] + t * unit[i, 1]
-        return t, fn, fe, angle[i], math.hypot(fn - pn, fe - pe)
-    rad, d = radius[i], dirn[i]
-    phi = math.atan2(pe - center[i, 1], pn - center[i, 0])
-    t_free = ((d * (phi - theta0[i])) % TWO_PI) * rad
+    if legs[i, IS_ARC] == 0.0:
+        p0n, p0e, un, ue = legs[i, P0N], legs[i, P0E], legs[i, UN], legs[i, UE]
+        t = min(max((pn - p0n) * un + (pe - p0e) * ue, ta), tb)
+        fn, fe = p0n + t * un, p0e + t * ue
+        return t, fn, fe, legs[i, ANGLE], math.hypot(fn - pn, fe - pe)
+    rad, d, cn, ce, theta0 = (legs[i, RADIUS], legs[i, DIR], legs[i, CN], legs[i, CE],
+                              legs[i, THETA0])
+    phi = math.atan2(pe - ce, pn - cn)
+    t_free = ((d * (phi - theta0)) % TWO_PI) * rad
     ga = abs(_wrap((ta - t_free) / rad))
     gb = abs(_wrap((tb - t_free) / rad))
     t = t_free if (t_free >= ta and t_free <= tb) else (ta if ga <= gb else tb)
-    theta = theta0[i] + d * t / rad
-    fn = center[i, 0] + rad * math.cos(theta)
-    fe = center[i, 1] + rad * math.sin(theta)
+    theta = theta0 + d * t / rad
+    fn = cn + rad * math.cos(theta)
+    fe = ce + rad * math.sin(theta)
     return t, fn, fe, _wrap(theta + d * HALF_PI), math.hypot(fn - pn, fe - pe)
 
 
-def _project(geo, pn, pe, hint, w, lo, hi):
+def _count_below(legs, col, v, inclusive):
+    """np.searchsorted(legs[:, col], v, 'right' if inclusive else 'left') on a sorted column:
+    how many rows are <= v (< v); a bisection, no array made for the scalar."""
+    lo, hi = 0, legs.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        a = legs[mid, col]
+        if a < v or (inclusive and a == v):
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+def _project(legs, pn, pe, hint, w, lo, hi):
     """BatchGuidance._project for one vessel: (s, leg, cross, gamma, kappa)."""
-    cumulative, curvatures, ends, starts = geo[10], geo[11], geo[12], geo[13]
-    n_legs = ends.shape[0]
+    n_legs = legs.shape[0]
     sh = min(max(hint, lo), hi)
     lo = max(lo, sh - w)
     hi = min(hi, sh + w)
-    i0 = min(np.searchsorted(ends, lo, side='right'), n_legs - 1)
-    i1 = max(np.searchsorted(starts, hi, side='left') - 1, i0)
-    c0 = cumulative[i0]
-    t, fn, fe, gamma, dist = _foot(geo, i0, pn, pe, lo - c0, hi - c0)
-    s, leg = c0 + t, i0
-    for li in range(i0 + 1, i1 + 1):
-        cj = cumulative[li]
-        tj, fnj, fej, gj, dj = _foot(geo, li, pn, pe, lo - cj, hi - cj)
-        if dj < dist:
+    i0 = min(_count_below(legs, END, lo, True), n_legs - 1)
+    i1 = max(_count_below(legs, START, hi, False) - 1, i0)
+    # The leg at the hint first (usually the closest), then the others only where their
+    # bounding circle (BatchGuidance._leg_mid, _leg_radius) could hold a point as close; the
+    # tie rule (lowest leg index among equal distances) is that of an ascending search.
+    hint_leg = min(max(_count_below(legs, END, sh, True), i0), i1)
+    leg = hint_leg
+    c0 = legs[leg, START]
+    t, fn, fe, gamma, dist = _foot(legs, leg, pn, pe, lo - c0, hi - c0)
+    s = c0 + t
+    for li in range(i0, i1 + 1):
+        if li == hint_leg:
+            continue
+        lower = math.hypot(pn - legs[li, MID_N], pe - legs[li, MID_E]) - legs[li, MID_RADIUS]
+        if lower > dist * (1.0 + 1e-9) + 1e-6:
+            continue
+        cj = legs[li, START]
+        tj, fnj, fej, gj, dj = _foot(legs, li, pn, pe, lo - cj, hi - cj)
+        if dj < dist or (dj == dist and li < leg):
             dist, s, leg, fn, fe, gamma = dj, cj + tj, li, fnj, fej, gj
     cross = -math.sin(gamma) * (pn - fn) + math.cos(gamma) * (pe - fe)
-    return s, leg, cross, gamma, curvatures[leg]
+    return s, leg, cross, gamma, legs[leg, CURVATURE]
 
 
-def _along(geo, leg, pn, pe):
+def _along(legs, leg, pn, pe):
     """Route.along (Line.along / Arc.along) of one leg."""
-    (is_arc, p0, unit, _, center, radius, theta0, dirn, sweep) = geo[:9]
-    if not is_arc[leg]:
-        return (pn - p0[leg, 0]) * unit[leg, 0] + (pe - p0[leg, 1]) * unit[leg, 1]
-    phi = math.atan2(pe - center[leg, 1], pn - center[leg, 0])
-    cut = math.pi - 0.5 * sweep[leg]
-    rel = (dirn[leg] * (phi - theta0[leg]) + cut) % TWO_PI - cut
-    return rel * radius[leg]
+    if legs[leg, IS_ARC] == 0.0:
+        return (pn - legs[leg, P0N]) * legs[leg, UN] + (pe - legs[leg, P0E]) * legs[leg, UE]
+    phi = math.atan2(pe - legs[leg, CE], pn - legs[leg, CN])
+    cut = math.pi - 0.5 * legs[leg, SWEEP]
+    rel = (legs[leg, DIR] * (phi - legs[leg, THETA0]) + cut) % TWO_PI - cut
+    return rel * legs[leg, RADIUS]
 
 
-def _reached_end(geo, k, s, pn, pe):
+def _reached_end(legs, stretches, r_acc, s_tol, k, s, pn, pe):
     """BatchGuidance._reached_end for one vessel in stretch k."""
-    leg_lengths, hi_all, end_leg, end_ne, r_acc, s_tol = (geo[9], geo[15], geo[16], geo[17],
-                                                          geo[18], geo[19])
-    hi = hi_all[k]
-    if (math.hypot(pn - end_ne[k, 0], pe - end_ne[k, 1]) <= r_acc
+    hi = stretches[k, HI]
+    if (math.hypot(pn - stretches[k, END_N], pe - stretches[k, END_E]) <= r_acc
             and hi - s <= math.pi * r_acc):
         return True
     if s >= hi - s_tol:
-        leg = end_leg[k]
-        return _along(geo, leg, pn, pe) >= leg_lengths[leg]
+        leg = int(stretches[k, END_LEG])
+        return _along(legs, leg, pn, pe) >= legs[leg, LENGTH]
     return False
 
 
-def _step(geo, north, east, dt, ilos, reset_at_corners, lookahead, sigma, lead, window,
-          s, k, prev_n, prev_e, integral, finished, psi_c, cross, gamma, kappa, leg):
+def _step(legs, stretches, r_acc, s_tol, north, east, dt, ilos, reset_at_corners, lookahead,
+          sigma, lead, window, s, k, prev_n, prev_e, integral, finished, psi_c, cross, gamma,
+          kappa, leg):
     """One update of every vessel; state arrays (s, k, prev_n, prev_e, integral, finished)
     are updated in place, the outputs written to the last five."""
-    lo_all, hi_all = geo[14], geo[15]
-    last = lo_all.shape[0] - 1
+    last = stretches.shape[0] - 1
     for i in range(north.shape[0]):
         pn, pe = north[i], east[i]
         w = max(window[i], 3.0 * math.hypot(pn - prev_n[i], pe - prev_e[i]))
         ki = k[i]
-        si, li, ci, gi, kai = _project(geo, pn, pe, s[i], w, lo_all[ki], hi_all[ki])
-        while ki < last and _reached_end(geo, ki, si, pn, pe):
+        si, li, ci, gi, kai = _project(legs, pn, pe, s[i], w, stretches[ki, LO],
+                                       stretches[ki, HI])
+        while ki < last and _reached_end(legs, stretches, r_acc, s_tol, ki, si, pn, pe):
             ki += 1
             if reset_at_corners:
                 integral[i] = 0.0
-            lo = lo_all[ki]
-            si, li, ci, gi, kai = _project(geo, pn, pe, lo, w, lo, hi_all[ki])
+            lo = stretches[ki, LO]
+            si, li, ci, gi, kai = _project(legs, pn, pe, lo, w, lo, stretches[ki, HI])
         if not finished[i] and ki == last:
-            finished[i] = _reached_end(geo, ki, si, pn, pe)
+            finished[i] = _reached_end(legs, stretches, r_acc, s_tol, ki, si, pn, pe)
         k[i], s[i], prev_n[i], prev_e[i] = ki, si, pn, pe
         d = lookahead[i]
         if ilos:
@@ -137,6 +181,7 @@ def _step(geo, north, east, dt, ilos, reset_at_corners, lookahead, sigma, lead, 
 
 @kernels.lazy
 def guidance_step():
-    kernels.compile_globals(globals(), ['_wrap', '_foot', '_project', '_along', '_reached_end',
-                                        '_step'], cache=True)
+    kernels.compile_globals(globals(), ['_wrap', '_foot', '_count_below', '_project', '_along',
+                                        '_reached_end'], cache=True, inline='always')
+    kernels.compile_globals(globals(), ['_step'], cache=True)
     return _step

@@ -42,7 +42,9 @@ import numpy as np
 
 from ship_guidance.batch_guidance import BatchGuidance
 from ship_guidance.path_state import PathFeatures
+from ship_sim import kernels
 
+from .compiled import metrics_step
 from .gains import autopilot_gains, build_autopilot
 from .learning.env import EnvConfig, PathFollowingBatch, start_states
 from .learning.policy import load_policy
@@ -208,7 +210,9 @@ class BatchClosedLoop:
         rudder_limit = m.rudder_max * (1 - 1e-9)
         finish_t = np.full(n, np.nan)
         failed = np.zeros(n, dtype=bool)
-        rud_prev = m.rudder_angle(env.x)
+        rud_prev = np.array(m.rudder_angle(env.x), dtype=float)
+        compiled = kernels.compiled()
+        reward_defaults = gaussian_reward.__defaults__   # amplitude, sigma, yaw_error_max
         abs_rud += np.abs(rud_prev)
         settle_from = n_steps // 2
         log = self._new_log(n, n_steps, log_every)
@@ -244,7 +248,12 @@ class BatchClosedLoop:
             new = fin & np.isnan(finish_t)
             if new.any():
                 finish_t[new] = t
-            if step:
+            if step and compiled:   # the same lines per vessel, compiled, in place
+                metrics_step(e, psi - gamma, env.x, m.IDELTA, m.STATE_RUDDER_SIGN,
+                             step - 1 >= settle_from, *reward_defaults, rudder_limit, gauss,
+                             sum_e, sum_e2, max_e, settled, max_settled, rate_sum, saturated,
+                             abs_rud, rud_prev)
+            elif step:
                 gauss += gaussian_reward(e, psi - gamma)
                 a = np.abs(e)
                 sum_e += a

@@ -6,6 +6,10 @@ itself, compiled), raw = k1 e + k2 r, clip to the angle limit, then the rate lim
 previous command (RudderLimiter: saturate, rate_limit; np.clip is min(max) for the finite
 values that reach it). It returns False, having committed nothing, when an input is not
 finite or dt <= 0: the array path then counts and holds per vessel.
+
+``metrics_step``: one step of BatchClosedLoop's running metrics, per vessel what its array
+lines do (learning.reward.gaussian_reward's Gaussian with that function's own defaults, the
+sums and maxima of |e|, the rudder's rate, saturation and magnitude), in place.
 """
 import math
 
@@ -33,7 +37,43 @@ def _pd_step(psi, r, psi_c, dt, k1, k2, max_angle, max_rate, rudder, raw, out):
     return True
 
 
+def _max(m, a):
+    """np.maximum(m, a) of two floats (NaN wins)."""
+    if m != m:
+        return m
+    return a if (a > m or a != a) else m
+
+
+def _metrics_step(e, rel, x, i_rudder, rudder_sign, settled_too, amplitude, sigma, yaw_max,
+                  rudder_limit, gauss, sum_e, sum_e2, max_e, settled, max_settled, rate_sum,
+                  saturated, abs_rud, rud_prev):
+    for i in range(e.shape[0]):
+        ei = e[i]
+        g = amplitude * math.exp(-ei ** 2 / (2.0 * sigma ** 2))
+        gauss[i] += g if abs(_wrap(rel[i])) <= yaw_max else 0.0
+        a = abs(ei)
+        sum_e[i] += a
+        sum_e2[i] += ei * ei
+        max_e[i] = _max(max_e[i], a)
+        if settled_too:
+            settled[i] += a
+            max_settled[i] = _max(max_settled[i], a)
+        rud = rudder_sign * x[i, i_rudder]
+        rate_sum[i] += abs(rud - rud_prev[i])
+        saturated[i] += 1.0 if abs(rud) >= rudder_limit else 0.0
+        abs_rud[i] += abs(rud)
+        rud_prev[i] = rud
+
+
+@kernels.lazy
+def metrics_step():
+    kernels.compile_globals(globals(), ['_wrap', '_max'], cache=True, inline='always')
+    kernels.compile_globals(globals(), ['_metrics_step'], cache=True)
+    return _metrics_step
+
+
 @kernels.lazy
 def pd_step():
-    kernels.compile_globals(globals(), ['_wrap', '_pd_step'], cache=True)
+    kernels.compile_globals(globals(), ['_wrap'], cache=True, inline='always')
+    kernels.compile_globals(globals(), ['_pd_step'], cache=True)
     return _pd_step

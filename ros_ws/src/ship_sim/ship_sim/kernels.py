@@ -91,11 +91,12 @@ def njit(*args, **options):
 
 def compile_globals(namespace, names, **options):
     """Replace the plain functions ``names`` of a module's ``namespace`` (its globals()) by
-    their compiled versions, in place, so compiled code calling them by name calls the
-    compiled ones; with ``cache=True`` they are cached on disk beside the module. Call it from
+    their compiled versions, in place (once: names already compiled are left), so compiled
+    code calling them by name calls the compiled ones; with ``cache=True`` they are cached on disk beside the module. Call it from
     a ``lazy`` factory: the module stays importable without numba."""
     for name in names:
-        namespace[name] = njit(**options)(namespace[name])
+        if not hasattr(namespace[name], 'py_func'):   # not compiled by an earlier factory
+            namespace[name] = njit(**options)(namespace[name])
 
 
 def lazy(factory):

@@ -121,7 +121,7 @@ def batch_rk4(model):
         exec(compile(source, f'<compiled {cls.__name__}._derivatives>', 'exec'), namespace)
         for name in helpers:
             namespace[name] = kernels.njit(namespace[name])
-        derivative = kernels.njit(namespace['derivative'])
+        derivative = kernels.njit(inline='always')(namespace['derivative'])
         n_states = model.n_states
         driver = {'derivative': derivative}
         exec(compile(_rk4_source(n_states, model.n_inputs), f'<compiled {cls.__name__} rk4>',

@@ -92,8 +92,9 @@ def njit(*args, **options):
 def compile_globals(namespace, names, **options):
     """Replace the plain functions ``names`` of a module's ``namespace`` (its globals()) by
     their compiled versions, in place (once: names already compiled are left), so compiled
-    code calling them by name calls the compiled ones; with ``cache=True`` they are cached on disk beside the module. Call it from
-    a ``lazy`` factory: the module stays importable without numba."""
+    code calling them by name calls the compiled ones; with ``cache=True`` they are cached on
+    disk beside the module. Call it from a ``lazy`` factory: the module stays importable
+    without numba."""
     for name in names:
         if not hasattr(namespace[name], 'py_func'):   # not compiled by an earlier factory
             namespace[name] = njit(**options)(namespace[name])

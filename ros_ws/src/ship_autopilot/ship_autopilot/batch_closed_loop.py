@@ -15,7 +15,8 @@ It is the loop of scripts/evaluate_controllers.py (Table I of Martinsen and Lekk
 many episodes at once: the same modules, the same order of operations, so each episode equals
 that single-vessel loop to rounding (tests/unit/test_batch_closed_loop.py), and through it the
 node graph in lockstep (tests/integration/test_closed_loop.py). No Python loop runs over
-the vessels per step, and memory is O(N): metrics are running sums, the optional log is
+the vessels per step (the plant, guidance, PD autopilot and metrics run compiled per vessel
+when ship_sim.kernels selects numba: doc/guide/kernels.md), and memory is O(N): metrics are running sums, the optional log is
 preallocated and decimated.
 
     loop = BatchClosedLoop('mariner', [route], controller='pd', law='ilos')

@@ -1,10 +1,10 @@
 """Compiled RK4 of the MSS ship models for a batch, built from each model's own equations.
 
-``batch_rk4(model)`` returns a numba kernel ``step(x, u, h, drift, out)`` that does, for every
-vessel i, what the numpy batch path does (``rk4_step(model.rhs, x, u, h)``, then the current's
-``drift`` (N, 2) (m per step) added to north and east): the four derivative evaluations, the
-same RK4 combination in the same order as ``ship_sim.integrators.rk4_step``, written to
-``out`` (N, n_states).
+``batch_rk4(model)`` returns a numba kernel ``step(x, u, h, drift, ix, iy, out)`` that does,
+for every vessel i, what the numpy batch path does (``rk4_step(model.rhs, x, u, h)``, then the
+current's ``drift`` (N, 2) (m per step) added to the north and east columns ``ix``, ``iy``):
+the four derivative evaluations, the same RK4 combination in the same order as
+``ship_sim.integrators.rk4_step``, written to ``out`` (N, n_states), which it returns.
 
 There is no second copy of any model: the derivative is the model's own
 ``_derivatives(ops, *state, *inputs)`` source (mariner.py, tanker.py, container.py), compiled

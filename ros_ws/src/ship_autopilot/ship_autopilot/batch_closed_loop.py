@@ -16,8 +16,8 @@ many episodes at once: the same modules, the same order of operations, so each e
 that single-vessel loop to rounding (tests/unit/test_batch_closed_loop.py), and through it the
 node graph in lockstep (tests/integration/test_closed_loop.py). No Python loop runs over
 the vessels per step (the plant, guidance, PD autopilot and metrics run compiled per vessel
-when ship_sim.kernels selects numba: doc/guide/kernels.md), and memory is O(N): metrics are running sums, the optional log is
-preallocated and decimated.
+when ship_sim.kernels selects numba: doc/guide/kernels.md), and memory is O(N): metrics are
+running sums, the optional log is preallocated and decimated.
 
     loop = BatchClosedLoop('mariner', [route], controller='pd', law='ilos')
     result = loop.run(episodes, duration=1000.0)      # result.metrics: arrays of length N

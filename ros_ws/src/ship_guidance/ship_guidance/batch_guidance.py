@@ -15,8 +15,8 @@ Per-vessel parameters may be arrays of length N or scalars: lookahead d (m), int
 sigma (m/s, ILOS), lead (s; the turn-rate lead 2 zeta U / omega_n of Guidance, 0 for none),
 window (m; default 2 d). Per batch: law, acceptance_radius (m), corner_angle (rad),
 reset_integral_at_corners. Every update after the first runs compiled when ship_sim.kernels
-selects numba (batch_guidance_compiled: the same steps per vessel). Units m, s, rad, NED. Not covered: the course law and
-``arc_los_point`` (use Guidance).
+selects numba (batch_guidance_compiled: the same steps per vessel). Units m, s, rad, NED.
+Not covered: the course law and ``arc_los_point`` (use Guidance).
 """
 import math
 from dataclasses import dataclass

@@ -112,7 +112,7 @@ def run(quick=False):
                                  'ILOS + PD, numba', rates['numba'], GOALS[model], 'steps/s',
                                  below=False))
     return {
-        'title': f'kernels: batched closed loop numpy vs numba (N = {N:,}, flagship route, '
+        'title': f'batched closed loop numpy vs numba (N = {N:,}, flagship route, '
                  f'ILOS + PD, h = 0.1 s, {sim_s:g} s sim): vessel-steps/s',
         'columns': [['model', 'model'], ['backend', 'kernels'],
                     ['rate_cpu', 'loop steps/s CPU (best)'],

@@ -89,7 +89,7 @@ def plant_rate(model_name, backend, n, steps):
 def run(quick=False):
     from ship_sim import kernels
     if not kernels.numba_available():
-        return {'title': 'kernels: numba is not installed (requirements/kernels.txt)',
+        return {'title': 'numba is not installed (requirements/kernels.txt)',
                 'columns': [], 'rows': [], 'goals': [], 'failed': True,
                 'notes': ['install the kernels extra (make venv-test) to compare']}
     sim_s = QUICK_SIM_S if quick else SIM_S

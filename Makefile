@@ -28,8 +28,8 @@ all: build
 venv: $(VENV)/.installed
 # Ray and the learning environment for scripts/sweep.py --ray (its message names this target).
 venv-sweep: $(VENV)/.installed-sweep
-# Everything the test suite needs.
-venv-test: $(VENV)/.installed-test $(VENV)/.installed-sweep $(VENV)/.installed-browser
+# Everything the test suite needs (kernels: numba, so the tests run both kernel backends).
+venv-test: $(VENV)/.installed-test $(VENV)/.installed-kernels $(VENV)/.installed-sweep $(VENV)/.installed-browser
 
 # pip without -q: a first install takes minutes and should show what it is doing. Each stage
 # ends with one line giving its time and the venv's size.

@@ -14,6 +14,7 @@ Sections (registry: scripts/benchmarks/__init__.py):
   realtime_latency  flagship graph in realtime: odom -> rudder_cmd latency, missed steps
   closed_loop_inprocess  the flagship loop's pure modules in one process (no ROS)
   batch_closed_loop  N closed-loop episodes as arrays: vessel-steps/s vs one vessel, the plant
+  kernels      the batched closed loop per MSS ship on numpy vs numba, plant alone on each
   colav        one collision-avoidance decision with 10 targets, SB-MPC and VO (ms)
   waves        per-step cost of the wave-frequency motion and the wave filter
   imazu        Imazu benchmark runs in process: time per run, decisions/s (mariner, 600 s sim)

@@ -34,6 +34,8 @@ SECTIONS = {
                               'flagship loop with the pure modules in one process (no ROS)'),
     'batch_closed_loop': ('batch_closed_loop', 'run', 'batched closed loop (ILOS + PD, N '
                           'episodes as arrays) against one vessel and the plant alone'),
+    'kernels': ('kernels', 'run', 'batched closed loop per MSS ship on numpy and on the '
+                'compiled kernels (numba), with the plant alone on each'),
     'colav': ('colav', 'run', 'one collision-avoidance decision with 10 targets (SB-MPC, VO)'),
     'waves': ('waves', 'run', 'per-step cost of the wave-frequency motion and the wave filter'),
     'imazu': ('imazu', 'run', 'Imazu benchmark runs in process: time per run, decisions/s'),

@@ -23,6 +23,9 @@ with the minor page faults per step of the whole batch (getrusage) beside it. be
 the allocator before any section (ship_sim.allocator), so the plant row, run after the loops,
 sees the allocator they saw; one more plant row runs in a fresh process with the C library's
 default settings, the cost the tuning takes away.
+Every figure here is the numpy reference (ship_sim.kernels pinned to numpy for the section, so
+the loop and its plant row compare like with like); section ``kernels`` sets the compiled
+kernels beside it.
 Goal (issue 16): >= 1 000 000 closed-loop vessel-steps/s at N = 10 000 (Mariner, ILOS + PD).
 """
 import json
@@ -133,6 +136,12 @@ def plant_rate_default_allocator(n, quick):
 
 
 def run(quick=False):
+    from ship_sim import kernels
+    with kernels.using('numpy'):
+        return _run(quick)
+
+
+def _run(quick):
     sim_s = QUICK_SIM_S if quick else SIM_S
     repeats = 1 if quick else 3
     load = os.getloadavg()[0]

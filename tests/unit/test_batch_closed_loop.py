@@ -11,6 +11,9 @@
   acceptance circle (switching, the integrator across corners, completion).
 - An episode's result does not depend on the batch around it (order, neighbours), the same
   run twice is identical, and memory does not grow with the number of steps (O(N)).
+
+Every test runs on both kernel backends (ship_sim.kernels: numpy, and numba's compiled plant,
+guidance and autopilot steps where numba is installed), so each holds for the compiled path too.
 """
 import math
 import tracemalloc
@@ -24,11 +27,21 @@ from ship_guidance.batch_guidance import BatchGuidance
 from ship_guidance.guidance import Guidance
 from ship_guidance.path import Route
 from ship_planner.route_loader import load_route
+from ship_sim import kernels
 
 #: Table I controller -> (batch controller, guidance law).
 CONTROLLERS = {'los': ('pd', 'los'), 'ilos': ('pd', 'ilos'), 'fuzzy_pid': ('fuzzy_pid', 'los'),
                'policy': ('policy', 'los')}
 RTOL = 1e-12
+
+
+@pytest.fixture(autouse=True, params=[
+    'numpy', pytest.param('numba', marks=pytest.mark.skipif(
+        not kernels.numba_available(), reason='numba not installed (requirements/kernels.txt)'))])
+def kernel_backend(request):
+    """Each test once per kernel backend."""
+    with kernels.using(request.param):
+        yield request.param
 
 
 def curved_route(model):

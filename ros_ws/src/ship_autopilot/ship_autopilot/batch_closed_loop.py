@@ -15,8 +15,9 @@ It is the loop of scripts/evaluate_controllers.py (Table I of Martinsen and Lekk
 many episodes at once: the same modules, the same order of operations, so each episode equals
 that single-vessel loop to rounding (tests/unit/test_batch_closed_loop.py), and through it the
 node graph in lockstep (tests/integration/test_closed_loop.py). No Python loop runs over
-the vessels per step, and memory is O(N): metrics are running sums, the optional log is
-preallocated and decimated.
+the vessels per step (the plant, guidance, PD autopilot and metrics run compiled per vessel
+when ship_sim.kernels selects numba: doc/guide/kernels.md), and memory is O(N): metrics are
+running sums, the optional log is preallocated and decimated.
 
     loop = BatchClosedLoop('mariner', [route], controller='pd', law='ilos')
     result = loop.run(episodes, duration=1000.0)      # result.metrics: arrays of length N
@@ -42,7 +43,9 @@ import numpy as np
 
 from ship_guidance.batch_guidance import BatchGuidance
 from ship_guidance.path_state import PathFeatures
+from ship_sim import kernels
 
+from .compiled import metrics_step
 from .gains import autopilot_gains, build_autopilot
 from .learning.env import EnvConfig, PathFollowingBatch, start_states
 from .learning.policy import load_policy
@@ -208,7 +211,9 @@ class BatchClosedLoop:
         rudder_limit = m.rudder_max * (1 - 1e-9)
         finish_t = np.full(n, np.nan)
         failed = np.zeros(n, dtype=bool)
-        rud_prev = m.rudder_angle(env.x)
+        rud_prev = np.array(m.rudder_angle(env.x), dtype=float)
+        compiled = kernels.compiled()
+        reward_defaults = gaussian_reward.__defaults__   # amplitude, sigma, yaw_error_max
         abs_rud += np.abs(rud_prev)
         settle_from = n_steps // 2
         log = self._new_log(n, n_steps, log_every)
@@ -244,7 +249,12 @@ class BatchClosedLoop:
             new = fin & np.isnan(finish_t)
             if new.any():
                 finish_t[new] = t
-            if step:
+            if step and compiled:   # the same lines per vessel, compiled, in place
+                metrics_step(e, psi - gamma, env.x, m.IDELTA, m.STATE_RUDDER_SIGN,
+                             step - 1 >= settle_from, *reward_defaults, rudder_limit, gauss,
+                             sum_e, sum_e2, max_e, settled, max_settled, rate_sum, saturated,
+                             abs_rud, rud_prev)
+            elif step:
                 gauss += gaussian_reward(e, psi - gamma)
                 a = np.abs(e)
                 sum_e += a

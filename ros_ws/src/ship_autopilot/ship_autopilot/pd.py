@@ -16,6 +16,9 @@ import numpy as np
 
 from ship_guidance.heading_loop import pd_gains
 
+from ship_sim import kernels
+
+from .compiled import pd_step
 from .controller import HeadingController
 from .rudder import RudderLimiter
 
@@ -46,6 +49,25 @@ class PDAutopilot(HeadingController):
 
     def _law(self, e, r, dt):
         return self.k1 * e + self.k2 * r, {}
+
+    def update(self, psi, r, psi_c, dt):
+        """HeadingController.update; a batch (1-D arrays) with the hard limit and a rate limit
+        runs the compiled step when ship_sim.kernels selects it (same arithmetic; any
+        invalid input hands the step to the array path, which holds per vessel)."""
+        lim = self.limiter
+        if (kernels.compiled() and type(psi) is np.ndarray and psi.ndim == 1
+                and lim.shape == 'hard' and lim.max_rate is not None
+                and isinstance(dt, (float, int))):
+            n = len(psi)
+            raw, delta = np.empty(n), np.empty(n)
+            vec = [np.broadcast_to(np.asarray(v, dtype=float), (n,))
+                   for v in (r, psi_c, self.k1, self.k2, self.rudder)]
+            if pd_step(psi, *vec[:2], float(dt), *vec[2:4], lim.max_angle, lim.max_rate,
+                       vec[4], raw, delta):
+                self.last_ok = True
+                self.rudder, self.raw = delta, raw
+                return delta.copy()
+        return super().update(psi, r, psi_c, dt)
 
     def __repr__(self):
         return f'PDAutopilot(k1={self.k1!r}, k2={self.k2!r}, limiter={self.limiter!r})'

@@ -14,16 +14,19 @@ arithmetic, unwrapped until the lead is added, as Guidance does).
 Per-vessel parameters may be arrays of length N or scalars: lookahead d (m), integral_gain
 sigma (m/s, ILOS), lead (s; the turn-rate lead 2 zeta U / omega_n of Guidance, 0 for none),
 window (m; default 2 d). Per batch: law, acceptance_radius (m), corner_angle (rad),
-reset_integral_at_corners. Units m, s, rad, NED. Not covered: the course law and
-``arc_los_point`` (use Guidance).
+reset_integral_at_corners. Every update after the first runs compiled when ship_sim.kernels
+selects numba (batch_guidance_compiled: the same steps per vessel). Units m, s, rad, NED.
+Not covered: the course law and ``arc_los_point`` (use Guidance).
 """
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from ship_sim import kernels
 from ship_sim.frames import wrap_angle
 
+from .batch_guidance_compiled import guidance_step, route_geometry
 from .guidance import Guidance
 from .path import Route
 
@@ -106,6 +109,7 @@ class BatchGuidance:
         mid_n, mid_e, _ = route.point_at(route.leg_starts + 0.5 * route.leg_lengths)
         self._leg_mid = np.stack([np.atleast_1d(mid_n), np.atleast_1d(mid_e)], axis=1)
         self._leg_radius = 0.5 * route.leg_lengths * (1.0 + 1e-9)
+        self._geometry = None   # the compiled step's arrays (route_geometry), on first use
         self.reset()
 
     def reset(self):
@@ -116,6 +120,7 @@ class BatchGuidance:
         self.prev = None
         self.integral = np.zeros(n)
         self.finished = np.zeros(n, dtype=bool)
+        self._prev_owned = False
 
     # -- the closest point -------------------------------------------------------------------
     def _first_projection(self, north, east):
@@ -242,6 +247,9 @@ class BatchGuidance:
         pe = np.asarray(east, dtype=float)
         if not (np.all(np.isfinite(pn)) and np.all(np.isfinite(pe))):
             raise ValueError('batch guidance update needs finite positions')
+        if self.s is not None and kernels.compiled():
+            return self._update_compiled(pn, pe, float(dt))
+        self._prev_owned = False
         last = self._n_stretch - 1
         if self.s is None:
             s, leg, cross, gamma, kappa = self._first_projection(pn, pe)
@@ -281,3 +289,25 @@ class BatchGuidance:
         psi_c = wrap_angle(psi_c + self.lead * kappa)
         return BatchGuidanceOutput(psi_c, cross, gamma, kappa, s, leg, self.finished.copy(),
                                    self.integral.copy())
+
+    def _update_compiled(self, pn, pe, dt):
+        """``update`` after the first, compiled (batch_guidance_compiled; same steps per
+        vessel). The state arrays are updated in place, so they are made this object's own."""
+        if not self._prev_owned:
+            self.prev = tuple(np.array(a, dtype=float) for a in self.prev)
+            self.s = np.array(self.s, dtype=float)
+            self.k = np.array(self.k, dtype=np.int64)
+            self.integral = np.array(self.integral, dtype=float)
+            self.finished = np.array(self.finished, dtype=np.bool_)
+            self._prev_owned = True
+        if self._geometry is None:
+            self._geometry = route_geometry(self.route, self)
+        n = self.n
+        psi_c, cross, gamma, kappa = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+        leg = np.empty(n, dtype=np.int64)
+        guidance_step(*self._geometry, pn, pe, dt, self.law == 'ilos',
+                      self.reset_integral_at_corners, self.lookahead, self.integral_gain,
+                      self.lead, self.window, self.s, self.k, self.prev[0], self.prev[1],
+                      self.integral, self.finished, psi_c, cross, gamma, kappa, leg)
+        return BatchGuidanceOutput(psi_c, cross, gamma, kappa, self.s.copy(), leg,
+                                   self.finished.copy(), self.integral.copy())

@@ -66,7 +66,9 @@ import numpy as np
 from ship_guidance.path import Line, Route
 from ship_guidance.path_state import CLIP, OBS_DIM, PathFeatures, default_scales, normalise
 from ship_sim.environment.wind import wind_disturbance, wind_profile
+from ship_sim import kernels
 from ship_sim.models import card, make_model
+from ship_sim.models.compiled import batch_rk4
 
 from .reward import gaussian_reward, rudder_change_penalty
 
@@ -177,6 +179,7 @@ class PathFollowingBatch:
             self.routes = [Route([Line((0.0, 0.0), (length, 0.0))])]
         n = self.n
         self.x = np.repeat(self.x0[None, :], n, axis=0)
+        self._buffers = []   # the compiled integration's state buffers (integrate)
         self.current = np.zeros((n, 2))           # (v_north, v_east), m/s
         self.route_index = np.zeros(n, dtype=int)
         self.s = np.zeros(n)                      # arc length of the closest point (m)
@@ -262,6 +265,19 @@ class PathFollowingBatch:
                 x1[m.IX] += d[0]
                 x1[m.IY] += d[1]
             x = x1[None, :]
+        elif kernels.compiled() and hasattr(m, '_derivatives'):
+            # The same RK4 and drift per vessel, compiled (ship_sim.models.compiled).
+            # Three reused buffers (no fresh pages per step), none of them self.x: a vessel
+            # that leaves the domain falls back to it below.
+            step = batch_rk4(m)
+            u_in = np.ascontiguousarray(np.broadcast_to(u_in, (self.n, m.n_inputs)))
+            if len(self._buffers) != 3 or self._buffers[0].shape != self.x.shape:
+                self._buffers = [np.empty_like(self.x) for _ in range(3)]
+            a, b = [buf for buf in self._buffers if buf is not self.x][:2]
+            x = self.x
+            for _ in range(steps):
+                x = step(x, u_in, h, drift, m.IX, m.IY, a)
+                a, b = b, a
         else:
             x = self.x
             for _ in range(steps):

@@ -12,8 +12,10 @@
 - An episode's result does not depend on the batch around it (order, neighbours), the same
   run twice is identical, and memory does not grow with the number of steps (O(N)).
 
-Every test runs on both kernel backends (ship_sim.kernels: numpy, and numba's compiled plant,
-guidance and autopilot steps where numba is installed), so each holds for the compiled path too.
+These run on the numpy backend, the reference (ship_sim.kernels). The compiled backend is held
+to it step by step, for every model, controller and route shape, in test_kernels.py; running
+this whole file a second time on it would add minutes and no case (wind, waves, the fuzzy PID
+and the policy stay on numpy in both).
 """
 import math
 import tracemalloc
@@ -35,13 +37,11 @@ CONTROLLERS = {'los': ('pd', 'los'), 'ilos': ('pd', 'ilos'), 'fuzzy_pid': ('fuzz
 RTOL = 1e-12
 
 
-@pytest.fixture(autouse=True, params=[
-    'numpy', pytest.param('numba', marks=pytest.mark.skipif(
-        not kernels.numba_available(), reason='numba not installed (requirements/kernels.txt)'))])
-def kernel_backend(request):
-    """Each test once per kernel backend."""
-    with kernels.using(request.param):
-        yield request.param
+@pytest.fixture(autouse=True)
+def numpy_backend():
+    """The reference backend, whatever SHIPNAV_KERNELS says."""
+    with kernels.using('numpy'):
+        yield
 
 
 def curved_route(model):

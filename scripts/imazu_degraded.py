@@ -16,9 +16,11 @@ runs with seeds 1..N.
 
 Writes the results file the page doc/results/degraded_sensors.md renders
 (scripts/render_results.py): every run's figures, per (ship, method, level) the totals, per
-case the worst over the seeds, and where the method breaks (the runs with a collision or a
-near miss, and the cases whose minimum distance falls below the perfect run's minus the
-level's safety margin widening... see ``breaks``), with the provenance.
+case the worst and best over the seeds, and where the method breaks (``summarise``: per degraded
+level the cases with a collision or a near miss in any seed, the cases below r_min that are
+not below it at ``perfect``, the largest loss of minimum distance against ``perfect``), with
+the provenance. The study of doc/results/degraded_sensors.md ran a subset of the cases (its
+command names them): the machine it ran on allowed about 50 runs in the time given to it.
 """
 import argparse
 import json

@@ -65,6 +65,10 @@ def parse_args(argv=None):
     ap.add_argument('--methods', type=_names(METHODS), default=['sbmpc'])
     ap.add_argument('--jobs', type=int, default=2, help='worker processes (default 2)')
     ap.add_argument('--out', type=Path, default=OUT)
+    ap.add_argument('--cache', type=Path,
+                    help='JSON-lines file of finished runs: a run found in it is not run again '
+                         'and every run finished is appended, so a study cut short goes on '
+                         'where it stopped (only while the code is the same)')
     args = ap.parse_args(argv)
     cases = load_cases()
     args.cases = args.cases or sorted(cases)
@@ -185,11 +189,23 @@ def main(argv=None):
     print(f'{len(tasks)} runs ({len(args.cases)} cases x {args.ships} x {args.methods} x '
           f'{args.levels}, {args.seeds} seeds per degraded level), {args.jobs} processes',
           flush=True)
-    runs = []
+    done = {}
+    if args.cache is not None and args.cache.is_file():
+        for line in args.cache.read_text().splitlines():
+            r = json.loads(line)
+            done[(r['ship'], r['method'], r['case'], r['level'], r['seed'])] = r
+    keys = [(t[0], t[1], t[2], t[4], t[5]) for t in tasks]
+    runs = [done[k] for k in keys if k in done]
+    todo = [t for t, k in zip(tasks, keys) if k not in done]
+    if runs:
+        print(f'{len(runs)} runs from {args.cache}', flush=True)
     with multiprocessing.get_context('fork').Pool(args.jobs) as pool:
-        for i, r in enumerate(pool.imap_unordered(run_one, tasks), 1):
+        for i, r in enumerate(pool.imap_unordered(run_one, todo), 1):
             runs.append(r)
-            print(f'\r  {i}/{len(tasks)} runs, {time.perf_counter() - t0:.0f} s', end='',
+            if args.cache is not None:
+                with args.cache.open('a') as f:
+                    f.write(json.dumps(r) + '\n')
+            print(f'\r  {i}/{len(todo)} runs, {time.perf_counter() - t0:.0f} s', end='',
                   flush=True)
     print()
     runs.sort(key=lambda r: (r['ship'], r['method'], r['case'], list(LEVELS).index(r['level']),

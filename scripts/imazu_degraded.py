@@ -180,8 +180,6 @@ def _min(a, b):
 def main(argv=None):
     args, cases = parse_args(argv)
     t0 = time.perf_counter()
-    for ship in args.ships:
-        _REFERENCES[ship] = _reference(ship, cases[min(cases)])
     tasks = [(ship, method, c, cases[c], level, seed)
              for c in args.cases for ship in args.ships for method in args.methods
              for level in args.levels
@@ -199,6 +197,8 @@ def main(argv=None):
     todo = [t for t, k in zip(tasks, keys) if k not in done]
     if runs:
         print(f'{len(runs)} runs from {args.cache}', flush=True)
+    for ship in sorted({t[0] for t in todo}):
+        _REFERENCES[ship] = _reference(ship, cases[min(cases)])
     with multiprocessing.get_context('fork').Pool(args.jobs) as pool:
         for i, r in enumerate(pool.imap_unordered(run_one, todo), 1):
             runs.append(r)

@@ -250,6 +250,7 @@ class RunResult:
     heading: np.ndarray = None               # (N,) own heading (rad NED)
     decision_wall_s: float = 0.0
     end: str = 'duration'                    # 'clear' (RunEnd reached) or 'limit' / 'duration'
+    sensing: dict = None                     # SensedTargets.stats() of a run with sensing
 
 
 COLAV_NODE_KEYS = {'method', 'decision_period_s', 'targets_topic', 'target_stale_s',
@@ -275,12 +276,25 @@ def build_colav(colav_params, has_shaft):
     return make_colav(method, params, ship), period
 
 
-def run_scenario(path, progress=None, end=None, behaviours=None):
+def sensed_targets(sensing, names):
+    """The SensedTargets of ``sensing`` (a level name of ship_guidance.sensor_levels, or
+    (name, seed); seed 0 if not given) for targets ``names``; None at 'perfect' (or None)."""
+    from ship_guidance.sensed_targets import SensedTargets
+    from ship_guidance.sensor_levels import level
+    name, seed = (sensing, 0) if isinstance(sensing, str) else (sensing or ('perfect', 0))
+    chosen = level(name)
+    return None if chosen.perfect else SensedTargets(chosen, names, seed)
+
+
+def run_scenario(path, progress=None, end=None, behaviours=None, sensing=None):
     """RunResult of the scenario's first vessel (see the module docstring); with ``end`` (a
     RunEnd) the run stops at the first sample where ``end.done``, else after the scenario's
     duration (end 'limit' with ``end``, 'duration' without); ``behaviours``: {target name:
     behaviour} (ship_guidance.reacting_traffic; absent or all straight: light targets as
-    given, the same numbers as without)."""
+    given, the same numbers as without). ``sensing`` (``sensed_targets``): colav decides on
+    the targets a sensor level's sensors and tracker give it, fed the true states at every
+    step (ship_guidance.sensed_targets); the tracks recorded, the end of the run and the
+    scoring stay the true ones. None or 'perfect': the true states."""
     import time
 
     from benchmarks.closed_loop_inprocess import build_vessel
@@ -315,6 +329,7 @@ def run_scenario(path, progress=None, end=None, behaviours=None):
             colav_factory=lambda: build_colav(spec.colav_params, bool(sim.model.has_shaft))[0],
             lookahead_m=float(spec.guidance_params.get('lookahead_m', GUIDANCE['lookahead_m'])))
     names = sorted(traffic.names) if traffic else []
+    sensed = sensed_targets(sensing, names) if colav is not None else None
     order = [traffic.names.index(n) for n in names] if traffic else []
     steps = int(round(scenario.duration_s / dt)) + 1
     t_out = np.empty(steps)
@@ -347,10 +362,13 @@ def run_scenario(path, progress=None, end=None, behaviours=None):
                 targets.append(tg)
                 tgt[n][k] = tg.north, tg.east, tg.course, tg.speed
             if colav is not None:
+                if sensed is not None:
+                    sensed.observe(o.t, state.north, state.east, targets)
                 if schedule.due(t_ns):
                     schedule.decided(t_ns)
+                    seen = targets if sensed is None else sensed.targets(o.t, targets)
                     c0 = time.perf_counter()
-                    decision = colav.decide(o.t, state, targets, float(yaw_to_psi(ref)), 1.0)
+                    decision = colav.decide(o.t, state, seen, float(yaw_to_psi(ref)), 1.0)
                     wall += time.perf_counter() - c0
                     decisions.append((o.t, decision.mode, decision.course_offset,
                                       decision.speed_multiplier))
@@ -366,4 +384,5 @@ def run_scenario(path, progress=None, end=None, behaviours=None):
         if k + 1 < steps:
             sim.step(rudder, scaled_shaft(shaft_cmd, colav_io.speed_factor(1.0, decision)))
     return RunResult(t_out[:steps], own[:steps], {n: v[:steps] for n, v in tgt.items()},
-                     decisions, heading[:steps], wall, reason)
+                     decisions, heading[:steps], wall, reason,
+                     None if sensed is None else sensed.stats())

@@ -343,6 +343,14 @@ class Tracker:
         self.deleted += len(gone)
         return gone
 
+    def drop(self, mmsi):
+        """Delete the track of ``mmsi`` now (a tentative radar track its owner gives up on);
+        counted in ``deleted``. True if there was one."""
+        if self._tracks.pop(mmsi, None) is None:
+            return False
+        self.deleted += 1
+        return True
+
     def estimate(self, mmsi, t):
         """The track of ``mmsi`` predicted to ``t`` (a ``TrackEstimate``), None if there is
         none; at a time before its newest report, the newest estimate (a track never goes

@@ -16,7 +16,7 @@ SCENARIO ?= scenarios/flagship_mariner.yaml
 PATH_DIRS := $(abspath $(sort $(dir $(wildcard $(WS)/src/*/package.xml))) scripts)
 PYTEST_ARGS ?=
 
-.PHONY: all venv venv-sweep venv-test paths build demo lint docs test bench clean distclean
+.PHONY: all venv venv-sweep venv-test venv-interop venv-judge paths build demo lint docs test bench clean distclean
 
 all: build
 
@@ -24,7 +24,19 @@ venv: $(VENV)/.installed paths
 # Ray and the learning environment for scripts/sweep.py --ray (its message names this target).
 venv-sweep: $(VENV)/.installed-sweep paths
 # Everything the test suite needs.
-venv-test: $(VENV)/.installed-test $(VENV)/.installed-sweep $(VENV)/.installed-browser paths
+venv-test: $(VENV)/.installed-test $(VENV)/.installed-sweep $(VENV)/.installed-browser \
+  $(VENV)/.installed-interop paths
+# maritime-schema (scenario JSON other tools read: scripts/imazu/maritime_schema_io.py).
+venv-interop: $(VENV)/.installed-interop paths
+# The independent COLREGs judge (scripts/colregs_judge.py): TUM's CommonOcean rule monitor is
+# GPL-3.0 and pins packages that conflict with ours, so it gets a venv of its own, which only
+# scripts/commonocean_monitor.py runs in (a subprocess exchanging JSON), never imported here.
+JUDGE_VENV := .venv-judge
+venv-judge: $(JUDGE_VENV)/.installed
+$(JUDGE_VENV)/.installed: requirements/judge.txt
+	@test -x $(JUDGE_VENV)/bin/python || $(PYTHON) -m venv $(JUDGE_VENV)
+	$(JUDGE_VENV)/bin/python -m pip install --disable-pip-version-check -r $<
+	@touch $@
 
 # pip without -q: a first install takes minutes and should show what it is doing. Each stage
 # ends with one line giving its time and the venv's size.

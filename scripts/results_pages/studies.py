@@ -83,3 +83,4 @@ from results_pages import mss_accuracy  # noqa: E402, F401
 from results_pages import string_stability  # noqa: E402, F401
 from results_pages import nomoto  # noqa: E402, F401
 from results_pages import table1  # noqa: E402, F401
+from results_pages import colregs_judge  # noqa: E402, F401

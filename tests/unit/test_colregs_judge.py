@@ -73,3 +73,20 @@ def test_head_on_pair_both_judges_agree():
     (p,) = [p for p in res['pairs'] if p['set'] == 'mariner/held' and p['row'] == 'head_on']
     assert {'late', 'not_apparent', 'not_starboard'} <= set(p['penalties'])
     assert p['their_situation_samples'] > 0
+
+
+def test_rendered_tables_count_what_the_pairs_say():
+    from results_pages.colregs_judge import agreement_rows, disagreement_rows
+    rules = [{'id': 'head_on', 'title': 'Rule 14 head-on', 'their_rule': 'R_G4'},
+             {'id': 'safe_passing', 'title': 'safe passing', 'their_rule': 'R_G1'}]
+    pair = {'set': 'mariner/sbmpc', 'case': 1, 'target': 'ts1', 'row': 'head_on', 'ours': False,
+            'theirs': True, 'class': 'ours_only_not_triggered', 'situation': 'head-on',
+            'penalties': ['not_apparent'], 'near_miss': False, 'their_situation_samples': 0,
+            'their_other_violations': []}
+    table = agreement_table([pair])
+    data = {'rules': rules, 'readings_result': {'seconds': {
+        'sets': {'mariner/sbmpc': table}, 'all': table, 'pairs': [pair]}}}
+    (row,) = agreement_rows(data, 'seconds')   # safe passing has no pair: left out
+    assert row['rule'] == 'Rule 14 head-on / R_G4' and row['n'] == 1 and row['agree'] == 0
+    (d,) = disagreement_rows(data, 'seconds')
+    assert d['our_verdict'] == 'not_apparent' and d['their_verdict'] == 'compliant'

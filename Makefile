@@ -21,7 +21,7 @@ PYTEST_ARGS ?=
 # file stays on one worker (--dist loadfile): its module-scoped runs are made once.
 TEST_JOBS ?= 2
 
-.PHONY: all venv venv-sweep venv-test build demo lint docs test bench clean distclean
+.PHONY: all venv venv-sweep venv-test venv-interop venv-judge build demo lint docs test bench clean distclean
 
 all: build
 
@@ -29,7 +29,19 @@ venv: $(VENV)/.installed
 # Ray and the learning environment for scripts/sweep.py --ray (its message names this target).
 venv-sweep: $(VENV)/.installed-sweep
 # Everything the test suite needs (kernels: numba, so the tests run both kernel backends).
-venv-test: $(VENV)/.installed-test $(VENV)/.installed-kernels $(VENV)/.installed-sweep $(VENV)/.installed-browser
+venv-test: $(VENV)/.installed-test $(VENV)/.installed-kernels $(VENV)/.installed-sweep \
+  $(VENV)/.installed-browser $(VENV)/.installed-interop
+# maritime-schema (scenario JSON other tools read: scripts/imazu/maritime_schema_io.py).
+venv-interop: $(VENV)/.installed-interop
+# The independent COLREGs judge (scripts/colregs_judge.py): TUM's CommonOcean rule monitor is
+# GPL-3.0 and pins packages that conflict with ours, so it gets a venv of its own, which only
+# scripts/commonocean_monitor.py runs in (a subprocess exchanging JSON), never imported here.
+JUDGE_VENV := .venv-judge
+venv-judge: $(JUDGE_VENV)/.installed
+$(JUDGE_VENV)/.installed: requirements/judge.txt
+	@test -x $(JUDGE_VENV)/bin/python || $(PYTHON) -m venv $(JUDGE_VENV)
+	$(JUDGE_VENV)/bin/python -m pip install --disable-pip-version-check -r $<
+	@touch $@
 
 # pip without -q: a first install takes minutes and should show what it is doing. Each stage
 # ends with one line giving its time and the venv's size.

@@ -17,9 +17,9 @@ SCENARIO ?= scenarios/flagship_mariner.yaml
 # What `source install/setup.bash` gives a shell (PYTHONPATH, AMENT_PREFIX_PATH, ...), for a recipe.
 WITH_INSTALL := source $(WS)/install/setup.bash &&
 PYTEST_ARGS ?=
-# pytest worker processes for `make test` (pytest-xdist; 0 runs the suite in one process). A test
+# pytest worker processes for `make test` (pytest-xdist; 0, the default: the suite in one process). A test
 # file stays on one worker (--dist loadfile): its module-scoped runs are made once.
-TEST_JOBS ?= 2
+TEST_JOBS ?= 0
 
 .PHONY: all venv venv-sweep venv-test venv-interop venv-judge build demo lint docs test bench clean distclean
 

@@ -46,6 +46,7 @@ ROSDEP_KEYS = {
     'fiona': 'python3-fiona',
     'shapely': 'python3-shapely',
     'gymnasium': 'python3-gymnasium-pip',
+    'numba': 'python3-numba',
     'pyais': 'python3-pyais-pip',
     'roaring_landmask': 'python3-roaring-landmask-pip',
     'matplotlib': 'python3-matplotlib',

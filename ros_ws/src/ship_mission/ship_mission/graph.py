@@ -265,6 +265,35 @@ def node_parameters(scenario, spec, index, record):
     return params, route_plan(scenario, spec)
 
 
+def simulator_start_plan(scenario):
+    """[(namespace, namespaces whose step 0 must be out first)]: the order in which the launcher
+    starts the simulators. In lockstep, whoever others wait for comes first and is waited for:
+    every platoon predecessor before its followers (ship_mission.platoon.start_order), and every
+    traffic vessel before the colav vessels, whose colav_node waits for each target's sample at
+    every decision from step 0 on and, after lockstep_target_timeout_s, decides without a
+    silent one (the run then does not repeat). Once a target has published step 0 its recorder
+    and colav_node subscriptions are there, and its follower gate holds it within
+    lockstep_follower_window steps of the own ship. In realtime nobody waits (predecessors
+    still start first)."""
+    specs = list(scenario.vessels)
+    if scenario.platoon is not None:
+        from ship_mission.platoon import start_order
+        rank = {ns: i for i, ns in enumerate(start_order(scenario.platoon))}
+        specs.sort(key=lambda s: rank[s.namespace])
+    if scenario.stepping != 'lockstep':
+        return [(s.namespace, ()) for s in specs]
+    traffic = tuple(s.namespace for s in specs if s.traffic)
+    specs.sort(key=lambda s: not s.traffic)     # stable: the order above within each kind
+    plan = []
+    for s in specs:
+        awaited = () if s.predecessor is None else (s.predecessor,)
+        if s.colav_params is not None:
+            awaited += traffic
+        plan.append((s.namespace, awaited))
+    return plan
+
+
+
 def _recorder_argv(scenario, run_dir):
     from ship_sim.models import make_model
     # Each vessel's limit for ship_mission.report (the instance's: some models set it in

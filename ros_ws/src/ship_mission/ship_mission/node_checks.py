@@ -1,6 +1,6 @@
 """A scenario's node sections checked by the nodes' own rules before anything starts.
 
-ship_mission.launcher.check_scenario calls ``check_vessel_sections``: a value a node would refuse at
+ship_mission.scenario_checks.check_scenario calls ``check_vessel_sections``: a value a node would refuse at
 its start (after the whole graph and the run folder exist) is refused here, in one line naming
 the file and the key. The rules are the nodes' own, not copies: each node's parameter schema
 (ship_sim.param_schema; ``<package>/schema.py``), which the node declares from, checked by

@@ -52,7 +52,8 @@ Choices:
   vessel ahead; the deepest wait must be shorter than the simulator's lockstep_timeout_s, or
   the simulator would give up first. Each vessel_node
   waits before step 0 for all subscribers of its odom: guidance (or follower), autopilot, the
-  recorder, and the follower of every vessel that has it as predecessor (``odom_subscribers``).
+  recorder, and the follower of every vessel that has it as predecessor (as
+  ship_mission.graph counts them).
   The leaders run ahead of their followers in sim time, up to the whole run (``check_lead``:
   a follower keeps a bounded number of predecessor samples).
   The launcher starts the simulators after every other node, predecessors first, each follower's
@@ -124,13 +125,6 @@ class Platoon:
     def wait_s(self, namespace):
         """The lockstep wait (wall s) of a follower for its predecessor's sample."""
         return self.depth(namespace) * self.predecessor_wait_s
-
-    def odom_subscribers(self, namespace, record):
-        """Subscribers a vessel_node waits for before step 0 in lockstep: its guidance or
-        follower, its autopilot, the recorder, the followers of the vessel, and for a follower
-        its predecessor's simulator (which keeps within lockstep_follower_window steps of it)."""
-        return (2 + int(bool(record)) + len(self.followers_of(namespace))
-                + int(self.predecessors.get(namespace) is not None))
 
 
 def start_order(platoon):

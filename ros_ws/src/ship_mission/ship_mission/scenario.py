@@ -62,7 +62,7 @@ keys: load_scenarios gives them all, load_scenario the one named.
 Node parameters under `vessel`, `guidance`, `autopilot` are passed to the nodes verbatim, so
 every parameter a node declares can be set from a scenario; the launcher adds the ones that tie
 the graph together (model, start pose, stepping mode, pairing, rates). The launcher's check
-(ship_mission.launcher.check_scenario) refuses keys a node does not declare, naming the closest one.
+(ship_mission.scenario_checks.check_scenario) refuses keys a node does not declare, naming the closest one.
 Errors name the file and the key. The file is read by ship_sim.safe_load (the bounded reader of
 every input file): a regular UTF-8 file, bounded in size, nesting, aliases and number length,
 no key given twice; numbers may be written ``1e9`` (read as YAML 1.2 does).
@@ -143,7 +143,7 @@ class Scenario:
     light: list = field(default_factory=list)
     #: ais_node parameters of the `ais:` section (file absolute), None without one
     ais: dict = None
-    #: route file -> its parsed RoutePlan, filled once by ship_mission.launcher.check_scenario and
+    #: route file -> its parsed RoutePlan, filled once by ship_mission.scenario_checks.check_scenario and
     #: passed on to the nodes' parameters (a route file is parsed once per run by the launcher)
     routes: dict = field(default_factory=dict)
     #: nav_display_node parameters of every vessel (`display:`), None for `display: false`
@@ -225,8 +225,8 @@ def load_scenarios(path):
 
 def route_plan(scenario, spec):
     """The parsed route file of ``spec``, parsed once per file and run: kept in
-    ``scenario.routes`` (the launcher's check_scenario fills it, node_parameters reads it from
-    there). RouteError if the file is not a valid route."""
+    ``scenario.routes`` (ship_mission.scenario_checks.check_scenario fills it,
+    ship_mission.graph reads it from there). RouteError if the file is not a valid route."""
     plan = scenario.routes.get(spec.route_file)
     if plan is None:
         from ship_planner.route_loader import load_route
@@ -314,7 +314,7 @@ def _parse_scenario(data, path):
 def _parse_ais(ais, path):
     """ais_node parameters of the `ais:` section: a replay file (relative to the scenario, made
     absolute) and the geodetic origin are required; other keys are ais_node parameters, checked
-    by name in ship_mission.launcher.check_scenario."""
+    by name in ship_mission.scenario_checks.check_scenario."""
     need(isinstance(ais, dict), path, 'ais', 'a mapping (file, origin_lat_deg, origin_lon_deg, '
          'other ais_node parameters)')
     for key in sorted(set(ais) & AIS_LAUNCHER_KEYS):

@@ -47,7 +47,7 @@ def parse_vessel(ns, v, route, path, where):
                                                      and set(start) & relative),
           path, where + 'start', f'either {sorted(absolute)} or {sorted(relative)}')
     for k in start:   # positions as physical as route points (ship_planner.route_data);
-        # along_m is checked against its route's length (ship_mission.launcher.check_scenario)
+        # along_m is checked against its route's length (ship_mission.scenario_checks.check_scenario)
         bound = MAX_COORDINATE_M if k in ('x_m', 'y_m', 'cross_m') else None
         number(start, k, path, 0.0, lo=bound and -bound, hi=bound, where=where + 'start.')
     speed = v.get('speed_mps')

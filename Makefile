@@ -38,7 +38,7 @@ venv-interop: $(VENV)/.installed-interop
 # scripts/commonocean_monitor.py runs in (a subprocess exchanging JSON), never imported here.
 JUDGE_VENV := .venv-judge
 venv-judge: $(JUDGE_VENV)/.installed
-$(JUDGE_VENV)/.installed: requirements/judge.txt
+$(JUDGE_VENV)/.installed: requirements-judge.txt
 	@test -x $(JUDGE_VENV)/bin/python || $(PYTHON) -m venv $(JUDGE_VENV)
 	$(JUDGE_VENV)/bin/python -m pip install --disable-pip-version-check -r $<
 	@touch $@
@@ -64,6 +64,7 @@ $(VENV)/.installed-%: requirements/%.txt $(VENV)/.installed
 $(VENV)/.installed-sweep: $(VENV)/.installed-learning
 # Files that others include (-r): a change remakes the stamps of the files that include them.
 $(VENV)/.installed-sweep $(VENV)/.installed-docs: requirements/http.txt
+$(VENV)/.installed-docs $(VENV)/.installed-interop: requirements/jinja.txt
 
 # A venv made before the imports went through the install may still hold the shipnav.pth that
 # put the source folders on every interpreter's path: removed, so that nothing imports by it.

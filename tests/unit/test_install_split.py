@@ -25,7 +25,7 @@ from ship_mission.browser_check import find_chromium
 
 REPO = Path(__file__).resolve().parents[2]
 REQ = REPO / 'requirements'
-EXTRAS = ('test', 'learning', 'sweep', 'browser', 'docs', 'http')
+EXTRAS = ('test', 'learning', 'sweep', 'browser', 'docs', 'http', 'kernels', 'interop', 'jinja')
 #: Modules that need an extra, with the extra: none is imported by the nodes or the launcher.
 NEEDS_EXTRA = {'ship_autopilot.learning.env': 'learning',          # gymnasium.Env
                'ship_autopilot.batch_closed_loop': 'learning'}     # builds on learning.env

@@ -24,7 +24,6 @@ the case's plot; summary.png and every case plot embedded in the page). ``--quic
 selected case as a scenario YAML (scripts/run_mission.py DIR/<name>.yaml runs it through the
 node graph) and stop.
 """
-import argparse
 import csv
 import json
 import multiprocessing
@@ -38,7 +37,7 @@ from pathlib import Path
 from imazu.cases import SINGLE, load_cases
 from imazu.runner import LIMIT_S, METHODS, SHIPS, RunEnd, case_scenario, write_scenario
 from imazu.storage import load_runs, save_runs
-from ship_mission.cli_args import OneLineParser, integer, number, out_folder
+from ship_mission.cli_args import OneLineParser, comma_names, integer, number, out_folder
 from ship_mission.scenario import MIN_DURATION_S
 from ship_sim.allocator import tune_allocator
 
@@ -54,22 +53,12 @@ def _ints(text):
     return [int(v) for v in text.split(',') if v.strip()]
 
 
-def _names(choices):
-    def parse(text):
-        out = [v.strip() for v in text.split(',') if v.strip()]
-        bad = [v for v in out if v not in choices]
-        if bad:
-            raise argparse.ArgumentTypeError(f'unknown {bad}; choose from {", ".join(choices)}')
-        return out
-    return parse
-
-
 def parse_args(argv=None):
     ap = OneLineParser(description=__doc__.split('\n')[0])
     ap.add_argument('--quick', action='store_true', help='cases 1-4, mariner, both methods')
     ap.add_argument('--cases', type=_ints, help='case numbers, e.g. 1,2,5 (default all 22)')
-    ap.add_argument('--ships', type=_names(SHIPS), help=f'own ships (default {",".join(SHIPS)})')
-    ap.add_argument('--methods', type=_names(METHODS), help=f'default {",".join(METHODS)}')
+    ap.add_argument('--ships', type=comma_names(SHIPS), help=f'own ships (default {",".join(SHIPS)})')
+    ap.add_argument('--methods', type=comma_names(METHODS), help=f'default {",".join(METHODS)}')
     ap.add_argument('--jobs', type=integer(1, MAX_JOBS), default=2,
                     help=f'worker processes, 1-{MAX_JOBS} (default 2)')
     ap.add_argument('--limit', type=number(MIN_DURATION_S, MAX_DURATION_S), default=LIMIT_S,

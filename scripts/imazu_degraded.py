@@ -37,6 +37,7 @@ from imazu.runner import LIMIT_S, METHODS, SHIPS, RunEnd, case_scenario, run_sce
 from results_pages.provenance import provenance
 
 from ship_guidance.colav_evaluation import EvaluationParams
+from ship_mission.cli_args import comma_names
 from ship_guidance.sensor_levels import LEVELS
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -44,25 +45,15 @@ OUT = ROOT / 'doc' / 'results' / 'data' / 'degraded_sensors.json'
 _REFERENCES = {}        # ship -> RunResult without traffic (set before the pool forks)
 
 
-def _names(choices):
-    def parse(text):
-        out = [v.strip() for v in text.split(',') if v.strip()]
-        bad = [v for v in out if v not in choices]
-        if bad:
-            raise argparse.ArgumentTypeError(f'unknown {bad}; choose from {", ".join(choices)}')
-        return out
-    return parse
-
-
 def parse_args(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--cases', type=lambda s: [int(v) for v in s.split(',') if v.strip()],
                     help='Imazu case numbers (default all 22)')
-    ap.add_argument('--levels', type=_names(list(LEVELS)), default=list(LEVELS),
+    ap.add_argument('--levels', type=comma_names(list(LEVELS)), default=list(LEVELS),
                     help=f'sensor levels (default {",".join(LEVELS)})')
     ap.add_argument('--seeds', type=int, default=3, help='seeds per degraded level (default 3)')
-    ap.add_argument('--ships', type=_names(SHIPS), default=['mariner'])
-    ap.add_argument('--methods', type=_names(METHODS), default=['sbmpc'])
+    ap.add_argument('--ships', type=comma_names(SHIPS), default=['mariner'])
+    ap.add_argument('--methods', type=comma_names(METHODS), default=['sbmpc'])
     ap.add_argument('--jobs', type=int, default=2, help='worker processes (default 2)')
     ap.add_argument('--out', type=Path, default=OUT)
     ap.add_argument('--cache', type=Path,

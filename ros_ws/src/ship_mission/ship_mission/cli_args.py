@@ -67,6 +67,17 @@ def integer(lo=None, hi=None):
     return parse
 
 
+def comma_names(choices):
+    """argparse type: a comma-separated list of names, each one of ``choices``."""
+    def parse(text):
+        out = [v.strip() for v in text.split(',') if v.strip()]
+        bad = [v for v in out if v not in choices]
+        if bad:
+            raise argparse.ArgumentTypeError(f'unknown {bad}; choose from {", ".join(choices)}')
+        return out
+    return parse
+
+
 def out_folder(text):
     """type= for an output folder, created later: refused if it or the nearest existing
     parent is not a folder (a file there would end the tool in a traceback after its work)."""

@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from ship_guidance.colav_methods import METHODS as _REGISTERED
 from ship_sim.models import model_names
 
 #: Longest sim time of a run (s). The nominal meeting is at 1200 s, but a ship that has given
@@ -45,7 +46,8 @@ from ship_sim.models import model_names
 LIMIT_S = 4000.0
 #: The benchmark's own ships: the MSS ship models (vessel cards labelled 'mss').
 SHIPS = model_names('mss')
-METHODS = ('sbmpc', 'vo')
+#: Every registered collision-avoidance method (ship_guidance.colav_methods), by name.
+METHODS = tuple(_REGISTERED)
 #: Guidance of every run: LOS (no integral: a cross-track integral winds up against the
 #: avoidance offset), the look-ahead a few ship lengths.
 GUIDANCE = {'law': 'los', 'lookahead_m': 1000.0}

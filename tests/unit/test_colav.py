@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import yaml
 
-from ship_guidance import colregs
+from ship_guidance import colav_methods, colregs
 from ship_guidance.colav import ShipState, Target
 from ship_guidance.colav_io import NODE_KEYS
 from ship_guidance.colav_evaluation import EvaluationParams
@@ -29,7 +29,7 @@ DATA = ROOT / 'tests' / 'data' / 'imazu22_encounters.json'
 CONFIG = ROOT / 'ros_ws' / 'src' / 'ship_guidance' / 'config' / 'colav.yaml'
 U = 6.1733                      # m/s, the Imazu set's own-ship speed (12 kn)
 SHIP = OwnShipModel(speed_at_factor_one_mps=U)
-METHODS = ('sbmpc', 'vo')
+METHODS = tuple(colav_methods.METHODS)   # every registered method runs the shared tests
 P = ColavParams()
 
 

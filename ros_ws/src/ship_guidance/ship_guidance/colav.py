@@ -49,11 +49,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ship_guidance import colregs
+from ship_guidance import colregs, own_ship_prediction_compiled
 from ship_guidance.colav_params import ColavParams
 from ship_guidance.cpa import cpa, velocity
 from ship_guidance.own_ship_prediction import (OwnShipModel, predict_own, predict_targets,
                                                segment_min_distance, time_grid)
+from ship_sim import kernels
 from ship_sim.frames import wrap_angle
 
 
@@ -159,6 +160,8 @@ class CollisionAvoidance:
         # ship_guidance.land_mask.LandMask or None; SB-MPC scores grounding against it.
         self.land = None
         self.reset()
+        if kernels.compiled():      # compile the prediction kernels before the first decision
+            own_ship_prediction_compiled.warm_up()
 
     def reset(self):
         """Forget the previous decision (the change penalty's reference) and the anchor."""

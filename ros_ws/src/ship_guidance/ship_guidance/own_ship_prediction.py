@@ -42,7 +42,10 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from ship_sim import kernels
 from ship_sim.frames import wrap_angle
+
+from . import own_ship_prediction_compiled as _compiled
 
 
 @dataclass(frozen=True)
@@ -134,6 +137,13 @@ def course_response(chi0, chi_c, t, model, r0=0.0, with_rate=False, authority=1.
     lag = np.exp(-dt / T)                    # r's decay over each step
     gain = T * (1.0 - lag)                   # its course increment per unit rate
     err = np.empty((chi_c.size, t.size))     # chi_c - chi, from e0 (the wrap kept out)
+    if kernels.compiled():                   # the loop below, per scenario, compiled
+        a = np.broadcast_to(np.asarray(authority, dtype=float), chi_c.shape)
+        r = _compiled.course_errors(np.ascontiguousarray(e0, dtype=float), float(r0),
+                                    np.ascontiguousarray(a), dt, lag, gain, float(g_e),
+                                    float(g_r), float(r_max), err)
+        chi = chi0 + e0[:, None] - err
+        return (chi, r) if with_rate else chi
     err[:, 0] = e0
     e = err[:, 0].copy()
     r = np.full(chi_c.shape, float(r0))
@@ -194,6 +204,10 @@ def segment_min_distance(p_own, p_targets):
     Sampling alone would miss the closest point of a fast pass between two samples."""
     ox, oy = np.ascontiguousarray(p_own[..., 0]), np.ascontiguousarray(p_own[..., 1])
     tx, ty = np.ascontiguousarray(p_targets[..., 0]), np.ascontiguousarray(p_targets[..., 1])
+    if kernels.compiled():
+        out = np.empty((3, ox.shape[0], tx.shape[0], ox.shape[1] - 1))
+        _compiled.segment_min_distance(ox, oy, tx, ty, out[0], out[1], out[2])
+        return out[0], out[1], out[2]
     x0 = tx[None, :, :-1] - ox[:, None, :-1]                  # (S, M, N) target from own
     y0 = ty[None, :, :-1] - oy[:, None, :-1]
     dx = np.diff(tx, axis=-1)[None] - np.diff(ox, axis=-1)[:, None]

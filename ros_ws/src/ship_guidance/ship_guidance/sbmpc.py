@@ -45,14 +45,37 @@ here the situation is the one classified now (it does not flicker as the scenari
 import numpy as np
 
 from ship_guidance import colregs
+from ship_guidance import sbmpc_compiled as _compiled
 from ship_guidance.colav import CollisionAvoidance
+from ship_sim import kernels
 
 
 class SBMPC(CollisionAvoidance):
     method = 'sbmpc'
 
+    def __init__(self, params=None, ship=None):
+        super().__init__(params, ship)
+        if kernels.compiled():      # the risk kernel too, before the first decision
+            _compiled.warm_up()
+
     def costs(self, sc):
         """(S,) total cost of every scenario."""
+        p = self.params
+        if kernels.compiled() and _compiled.exact_for(p):   # _step_risk, compiled
+            risk = _compiled.step_risk_max(sc.dist, sc.frac, sc.step, sc.d_safe, sc.t, p.dt_s,
+                                           sc.u_ref, p.relative_speed_floor, p.horizon_s,
+                                           p.risk_time_exponent, p.risk_distance_exponent,
+                                           p.w_collision)
+        else:
+            risk = self._step_risk(sc).max(axis=2)
+        beyond = self._risk_beyond_horizon(sc)
+        risk = np.maximum(risk, beyond - beyond.min(axis=0))
+        per_target = risk + p.w_wrong_side * self._wrong_side(sc)
+        return (per_target.max(axis=1) + self._grounding(sc) + self.port_turn_penalty(sc)
+                + self.not_apparent_penalty(sc) + self.deviation_cost(sc))
+
+    def _step_risk(self, sc):
+        """(S, M, N) risk on every prediction step, less what no scenario avoids (module doc)."""
         p = self.params
         risk = np.zeros(sc.dist.shape)
         d_safe = np.broadcast_to(sc.d_safe[None, :, None], sc.dist.shape)   # per target
@@ -64,11 +87,7 @@ class SBMPC(CollisionAvoidance):
             depth = (d_safe[inside] / np.maximum(sc.dist[inside], 1e-3)) ** p.risk_distance_exponent
             risk[inside] = p.w_collision * speed * when * depth
             risk -= risk.min(axis=0)                   # what no scenario avoids (module doc)
-        beyond = self._risk_beyond_horizon(sc)
-        risk = np.maximum(risk.max(axis=2), beyond - beyond.min(axis=0))
-        per_target = risk + p.w_wrong_side * self._wrong_side(sc)
-        return (per_target.max(axis=1) + self._grounding(sc) + self.port_turn_penalty(sc)
-                + self.not_apparent_penalty(sc) + self.deviation_cost(sc))
+        return risk
 
     def _grounding(self, sc):
         """(S,) grounding cost (module doc); 0 without a land mask."""

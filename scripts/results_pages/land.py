@@ -12,7 +12,8 @@ def runs(data):
     return markdown_table([
         ('case', 'case', 'd'), ('targets (own view)', 'targets', ''),
         ('coast in the cost', 'land_in_cost', _yes), ('collisions', 'collisions', 'd'),
-        ('near misses', 'near_misses', 'd'), ('min distance to target m', 'min_distance_m', '.0f'),
+        ('near misses', 'near_misses', 'd'), ('below safe distance', 'below_safe', 'd'),
+        ('min distance to target m', 'min_distance_m', '.0f'),
         ('min distance to land m', 'min_land_distance_m', '.0f'), ('grounded', 'grounded', _yes),
         ('time on land s', 'time_on_land_s', '.0f'),
         ('farthest to starboard m', 'max_starboard_m', '.0f'),
@@ -40,12 +41,14 @@ def changes(data):
                      'd_score': on['rule_score'] - off['rule_score'],
                      'd_deviation': on['path_deviation_m'] - off['path_deviation_m'],
                      'safety': f"{off['collisions'] + off['near_misses']} / "
-                               f"{on['collisions'] + on['near_misses']}"})
+                               f"{on['collisions'] + on['near_misses']}",
+                     'below_safe': f"{off['below_safe']} / {on['below_safe']}"})
     return markdown_table([
         ('case', 'case', 'd'), ('own ship', 'ship', ''),
         ('grounded (without / with)', 'grounded', ''),
         ('min distance to land m (without / with)', 'd_land', ''),
         ('collisions + near misses (without / with)', 'safety', ''),
+        ('targets passed below the safe distance (without / with)', 'below_safe', ''),
         ('change in min distance to target m', 'd_target', '+.0f'),
         ('change in farthest to starboard m', 'd_starboard', '+.0f'),
         ('change in rule score', 'd_score', '+.3f'),

@@ -26,6 +26,13 @@ judged). ``run_scenario(..., behaviours={name: behaviour})`` gives targets anoth
 is stepped after the own ship's decision at each step, on the states of that step, and a
 reciprocal one decides with the own ship's colav (method, parameters, model, period). The node
 graph has no reacting targets (traffic_node refuses them), so such a run is this runner's only.
+
+``run_scenario(..., land=chart)`` gives the own ship's colav a coast: ``chart`` is a chart raster
+in the case's NED frame (ship_planner.chart.Chart: ``water``, ``north0``, ``east0``,
+``resolution_m``), and colav gets the LandMask that colav_node builds from the /map occupancy
+grid: its land cells widened by the colav parameter ``grounding_clearance_m`` (``land_mask``).
+SB-MPC scores grounding against it; VO has no grounding term and ignores it. Without land (the
+default) the run is the one it always was. Reacting targets do not see land.
 """
 import dataclasses
 import functools
@@ -288,7 +295,17 @@ def sensed_targets(sensing, names):
     return None if chosen.perfect else SensedTargets(chosen, names, seed)
 
 
-def run_scenario(path, progress=None, end=None, behaviours=None, sensing=None):
+def land_mask(chart, clearance_m):
+    """The LandMask colav_node builds from a chart's occupancy grid: the chart's land cells (its
+    cell [i, j] has its centre at north0 + i res, east0 + j res; a LandMask row starts at its
+    lower edge) widened by ``clearance_m``."""
+    from ship_guidance.land_mask import LandMask
+    r = float(chart.resolution_m)
+    return LandMask(~chart.water, chart.north0 - 0.5 * r, chart.east0 - 0.5 * r, r,
+                    clearance_m=clearance_m)
+
+
+def run_scenario(path, progress=None, end=None, behaviours=None, sensing=None, land=None):
     """RunResult of the scenario's first vessel (see the module docstring); with ``end`` (a
     RunEnd) the run stops at the first sample where ``end.done``, else after the scenario's
     duration (end 'limit' with ``end``, 'duration' without); ``behaviours``: {target name:
@@ -296,7 +313,8 @@ def run_scenario(path, progress=None, end=None, behaviours=None, sensing=None):
     given, the same numbers as without). ``sensing`` (``sensed_targets``): colav decides on
     the targets a sensor level's sensors and tracker give it, fed the true states at every
     step (ship_guidance.sensed_targets); the tracks recorded, the end of the run and the
-    scoring stay the true ones. None or 'perfect': the true states."""
+    scoring stay the true ones. None or 'perfect': the true states. ``land``: a chart raster
+    in the case's frame whose land colav's grounding cost sees (module docstring); None: none."""
     import time
 
     from benchmarks.closed_loop_inprocess import build_vessel
@@ -317,6 +335,8 @@ def run_scenario(path, progress=None, end=None, behaviours=None, sensing=None):
     if spec.colav_params is not None:
         colav, period = build_colav(spec.colav_params, bool(sim.model.has_shaft))
         schedule = colav_io.DecisionSchedule(period)
+        if land is not None:
+            colav.land = land_mask(land, colav.params.grounding_clearance_m)
     # vessel_node with speed_factor_input: the shaft at factor x its command, which stays at the
     # trim's shaft speed (no node publishes shaft_cmd); None without a shaft (the Mariner).
     shaft_cmd = sim.shaft_command

@@ -2,17 +2,18 @@
 """Our COLREGs evaluator and an independent judge, TUM's CommonOcean rule monitor, on the same
 Imazu trajectories: per rule and per set, how often the two agree (issue 29 item 3).
 
-    .venv/bin/python scripts/colregs_judge.py RUN_DIR [--jobs 3] [--out FILE]
+    .venv/bin/python scripts/colregs_judge.py RUN_DIR [--jobs 3] [--cases 1,2,3] [--out FILE]
 
 RUN_DIR: a folder written by scripts/imazu_benchmark.py (runs.npz + runs.json). Each run with
 a method is scored by our evaluator as the benchmark scores it (imazu.evaluate) and its tracks,
 resampled every DT_S seconds (the monitor's configured time step), go to
 scripts/commonocean_monitor.py, run with .venv-judge's python (`make venv-judge`; the package
 is GPL-3.0 and pins conflicting versions, so it is never imported here) in ``--jobs``
-processes, JSON in and out. imazu.judge_agreement pairs the verdicts per (run, target) and
-rule. Writes FILE (default doc/results/data/colregs_judge.json): per reading of the monitor's
-time intervals (commonocean_monitor's 'seconds', as shipped, and 'steps'), per set
-(ship/method) and rule the counts per class, and every pair.
+processes, JSON in and out (``--cases``: only those cases' runs, the monitor being slow on a
+loaded machine; the results file names the cases judged). imazu.judge_agreement pairs the
+verdicts per (run, target) and rule. Writes FILE (default doc/results/data/colregs_judge.json):
+per reading of the monitor's time intervals (commonocean_monitor's 'seconds', as shipped, and
+'steps'), per set (ship/method) and rule the counts per class, and every pair.
 """
 import argparse
 import json
@@ -99,13 +100,16 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('run_dir', type=Path)
     ap.add_argument('--jobs', type=int, default=1, help='monitor processes (default 1)')
+    ap.add_argument('--cases', type=lambda s: sorted({int(c) for c in s.split(',') if c.strip()}),
+                    help='judge only these cases, e.g. 1,2,3 (default every case of RUN_DIR)')
     ap.add_argument('--out', type=Path, default=OUT)
     args = ap.parse_args(argv)
     started = provenance(None if argv is None else [sys.argv[0], *argv])
     saved = load_runs(args.run_dir)
     results, cases = saved['results'], load_cases()
     ours, inputs = {}, []
-    for key in sorted(k for k in results if k[1] is not None):
+    for key in sorted(k for k in results
+                      if k[1] is not None and (args.cases is None or k[2] in args.cases)):
         ship, method, case = key
         r = results[key]
         ours[key] = evaluate(r, results[(ship, None, None)], cases[case], ship)
@@ -118,7 +122,9 @@ def main(argv=None):
             'dt_s': DT_S, 'readings': READINGS,
             'rules': [{'id': r[0], 'title': r[1], 'situation': r[2], 'their_rule': r[3],
                        'their_predicate': r[4]} for r in RULES],
-            'runs': len(ours), 'monitor_wall_s': sum(v['wall_s'] for v in theirs.values()),
+            'runs': len(ours), 'cases': sorted({k[2] for k in ours}),
+            'cases_in_run_dir': sorted({k[2] for k in results if k[1] is not None}),
+            'monitor_wall_s': sum(v['wall_s'] for v in theirs.values()),
             'readings_result': judge(ours, theirs)}
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(data, indent=1, default=_plain) + '\n')

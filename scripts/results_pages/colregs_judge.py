@@ -79,11 +79,16 @@ def disagreements_steps(data):
 
 @table('colregs_judge', 'setup')
 def setup(data):
-    rows = [{'what': 'runs judged', 'value': str(data['runs'])},
-            {'what': 'sets (ship/method)',
-             'value': ', '.join(sorted(data['readings_result']['seconds']['sets']))},
-            {'what': 'monitor package', 'value': f"commonocean-rules {data['package']}"},
-            {'what': 'track sample spacing given to the monitor (s)', 'value': f"{data['dt_s']:g}"},
-            {'what': 'monitor wall time, all runs, on a loaded machine (s)',
-             'value': f"{data['monitor_wall_s']:.0f}"}]
+    judged, held = data.get('cases'), data.get('cases_in_run_dir')
+    rows = [{'what': 'runs judged', 'value': str(data['runs'])}]
+    if judged is not None:
+        rows.append({'what': 'cases judged', 'value': ', '.join(map(str, judged))})
+        rows.append({'what': 'cases of the run folder not judged yet',
+                     'value': ', '.join(str(c) for c in held if c not in judged) or 'none'})
+    rows += [{'what': 'sets (ship/method)',
+              'value': ', '.join(sorted(data['readings_result']['seconds']['sets']))},
+             {'what': 'monitor package', 'value': f"commonocean-rules {data['package']}"},
+             {'what': 'track sample spacing given to the monitor (s)', 'value': f"{data['dt_s']:g}"},
+             {'what': 'monitor wall time, all runs, on a loaded machine (s)',
+              'value': f"{data['monitor_wall_s']:.0f}"}]
     return markdown_table([('', 'what', ''), ('', 'value', '')], rows)

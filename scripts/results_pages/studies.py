@@ -91,3 +91,4 @@ from results_pages import reacting_traffic  # noqa: E402, F401
 from results_pages import degraded_sensors  # noqa: E402, F401
 from results_pages import colregs_judge  # noqa: E402, F401
 from results_pages import land  # noqa: E402, F401
+from results_pages import imazu  # noqa: E402, F401

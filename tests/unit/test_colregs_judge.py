@@ -90,3 +90,15 @@ def test_rendered_tables_count_what_the_pairs_say():
     assert row['rule'] == 'Rule 14 head-on / R_G4' and row['n'] == 1 and row['agree'] == 0
     (d,) = disagreement_rows(data, 'seconds')
     assert d['our_verdict'] == 'not_apparent' and d['their_verdict'] == 'compliant'
+
+
+def test_setup_names_the_cases_of_the_folder_not_judged_yet():
+    from results_pages.colregs_judge import setup
+    data = {'runs': 2, 'cases': [1, 3], 'cases_in_run_dir': [1, 2, 3, 4], 'package': 'x',
+            'dt_s': 10.0, 'monitor_wall_s': 5.0,
+            'readings_result': {'seconds': {'sets': {'mariner/sbmpc': {}}}}}
+    text = setup(data)
+    assert '| cases judged | 1, 3 |' in text
+    assert '| cases of the run folder not judged yet | 2, 4 |' in text
+    data['cases'] = [1, 2, 3, 4]
+    assert '| cases of the run folder not judged yet | none |' in setup(data)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The Imazu benchmark on the MSS plants: 22 encounters x own ships x colav methods, in process.
 
-    .venv/bin/python scripts/imazu_benchmark.py [--quick] [--cases 1,2,5] [--ships tanker]
+    .venv/bin/python scripts/imazu_benchmark.py [--set imazu|dnv] [--quick] [--cases 1,2,5] [--ships tanker]
         [--methods sbmpc] [--jobs 2] [--limit 4000] [--out runs] [--no-plots]
         [--scenario-out DIR] [--rescore DIR]
 
@@ -14,13 +14,17 @@ ship is back on its route (imazu.runner.RunEnd), or at the limit (``--limit``, r
 deviation, time lost, the return to the route and the manoeuvre detection. Scored by
 ship_guidance.colav_evaluation with the ships' dimensions (doc/colav_benchmark.md).
 
-Writes runs/imazu-<UTC stamp>/: results.csv (one row per run and target), summary.json (per
+``--set dnv`` runs DNV ship-traffic-generator's 55 baseline situations instead
+(scripts/imazu/trafficgen_baseline: the own ship at 10 kn, one to three targets at their own
+speeds, each scored with its own length and beam from the file), the same way.
+
+Writes runs/<set>-<UTC stamp>/ (imazu- or dnv-): results.csv (one row per run and target), summary.json (per
 ship and method, per case, and its provenance: command, commit, UTC date, load), runs.npz and runs.json (the
 tracks, for ``--rescore DIR``: score a finished folder again with the current evaluator,
 without running), case_NN.png (tracks with 5-minute marks and range to each target,
 every ship x method), summary.png, index.html (one row per case x ship x method, linking to
-the case's plot; summary.png and every case plot embedded in the page). ``--quick``: cases
-1-4 (the single-target ones) on the mariner, both methods. ``--scenario-out DIR``: write each
+the case's plot; summary.png and every case plot embedded in the page). ``--quick``: the
+single-target cases (Imazu 1-4, DNV 1-5) on the mariner, both methods. ``--scenario-out DIR``: write each
 selected case as a scenario YAML (scripts/run_mission.py DIR/<name>.yaml runs it through the
 node graph) and stop.
 """
@@ -34,7 +38,7 @@ import time
 from datetime import datetime, timezone
 from pathlib import Path
 
-from imazu.cases import SINGLE, load_cases
+from imazu.cases import SETS, SINGLE, load_set, single_target
 from imazu.runner import LIMIT_S, METHODS, SHIPS, RunEnd, case_scenario, write_scenario
 from imazu.storage import load_runs, save_runs
 from ship_mission.cli_args import OneLineParser, comma_names, integer, number, out_folder
@@ -55,8 +59,11 @@ def _ints(text):
 
 def parse_args(argv=None):
     ap = OneLineParser(description=__doc__.split('\n')[0])
-    ap.add_argument('--quick', action='store_true', help='cases 1-4, mariner, both methods')
-    ap.add_argument('--cases', type=_ints, help='case numbers, e.g. 1,2,5 (default all 22)')
+    ap.add_argument('--quick', action='store_true', help='the single-target cases, mariner, both methods')
+    ap.add_argument('--set', choices=SETS, default='imazu',
+                    help='encounter set: the 22 Imazu cases, or DNV trafficgen\'s 55 baseline '
+                         'situations (scripts/imazu/trafficgen_baseline; default imazu)')
+    ap.add_argument('--cases', type=_ints, help='case numbers, e.g. 1,2,5 (default all of the set)')
     ap.add_argument('--ships', type=comma_names(SHIPS), help=f'own ships (default {",".join(SHIPS)})')
     ap.add_argument('--methods', type=comma_names(METHODS), help=f'default {",".join(METHODS)}')
     ap.add_argument('--jobs', type=integer(1, MAX_JOBS), default=2,
@@ -73,14 +80,17 @@ def parse_args(argv=None):
     args = ap.parse_args(argv)
     if args.rescore and not (args.rescore / 'runs.npz').is_file():
         ap.error(f'{args.rescore}: no runs.npz (a folder written by this benchmark)')
-    cases = load_cases()
+    cases = load_set(args.set)
     if args.quick:
-        args.cases = args.cases or list(SINGLE)
+        args.cases = args.cases or list(SINGLE if args.set == 'imazu' else single_target(cases))
         args.ships = args.ships or ['mariner']
     args.cases = args.cases or sorted(cases)
     bad = [c for c in args.cases if c not in cases]
     if bad:
-        ap.error(f'no Imazu case {bad}; cases are 1-22')
+        ap.error(f'no {args.set} case {bad}; cases are {min(cases)}-{max(cases)}')
+    if len({tuple(sorted(cases[c]['own'].items())) for c in args.cases}) > 1:
+        # one no-traffic reference run per ship serves every case only if they share it
+        ap.error(f'the {args.set} cases chosen start the own ship differently')
     args.ships = args.ships or list(SHIPS)
     args.methods = args.methods or list(METHODS)
     return args, cases
@@ -125,6 +135,8 @@ def main(argv=None):
         results, walls = saved['results'], saved['walls']
         args.cases, args.ships, args.methods = saved['cases'], saved['ships'], saved['methods']
         args.limit = saved['limit']
+        args.set = saved.get('set', 'imazu')      # folders from before the DNV set: Imazu
+        cases = load_set(args.set)
         tasks = list(results)
         print(f'rescoring {len(tasks)} runs of {out}', flush=True)
     else:
@@ -134,9 +146,9 @@ def main(argv=None):
         tasks += [((ship, method, c), *case_scenario(c, cases[c], ship, method, args.limit),
                    RunEnd.of_case(cases[c]))
                   for c in args.cases for ship in args.ships for method in args.methods]
-        out = args.out / f'imazu-{stamp}'
+        out = args.out / f'{args.set}-{stamp}'
         out.mkdir(parents=True, exist_ok=True)
-        print(f'Imazu benchmark: {len(args.cases)} cases x {len(args.ships)} ships x '
+        print(f'{args.set} benchmark: {len(args.cases)} cases x {len(args.ships)} ships x '
               f'{len(args.methods)} methods + {len(args.ships)} no-traffic runs = {len(tasks)} '
               f'runs of up to {args.limit:g} s sim, {args.jobs} processes -> {out}', flush=True)
         results, walls = {}, []
@@ -184,6 +196,7 @@ def main(argv=None):
             print()
             save_runs(out, results, {'walls': walls, 'cases': args.cases, 'ships': args.ships,
                                      'methods': args.methods, 'limit': args.limit,
+                                     'set': args.set,
                                      'provenance': dict(started,
                                                         load_1min_end=os.getloadavg()[0])})
     per_run = {k: per_run[k] for k in sorted(per_run)}
@@ -208,7 +221,7 @@ def main(argv=None):
         summary_figure(out / 'summary.png', run_rows, params)
     html_page(out / 'index.html', per_run, summary, cases, plots=not args.no_plots)
     print_table(summary)
-    latest = args.out / 'imazu-latest'
+    latest = args.out / f'{args.set}-latest'
     if not args.rescore and (latest.is_symlink() or not latest.exists()):
         if latest.is_symlink():
             latest.unlink()
@@ -257,7 +270,7 @@ def summarise(per_run, results, args, walls):
         g['below_safe'] += run['below_safe']
         g['min_distance_m'] = min(g['min_distance_m'], run['min_distance_m'])
         g['scores'].append(run['rule_score'])
-        if c in SINGLE:
+        if len(run['targets']) == 1:           # the single-target cases
             g['single_scores'].append(run['rule_score'])
         g['deviation'].append(run['path_deviation_m'])
         g['time_lost'].append(run['time_lost_s'])
@@ -286,7 +299,8 @@ def summarise(per_run, results, args, walls):
                     'cases': g['cases']}
     decisions = sum(len(r.decisions) for r in results.values())
     decide_s = sum(r.decision_wall_s for r in results.values())
-    return {'groups': out, 'limit_s': args.limit, 'cases': args.cases, 'ships': args.ships,
+    return {'groups': out, 'set': args.set, 'limit_s': args.limit, 'cases': args.cases,
+            'ships': args.ships,
             'methods': args.methods, 'runs': len(results), 'run_wall_s_mean': sum(walls) / len(walls),
             'decisions': decisions, 'decision_ms_mean': 1e3 * decide_s / max(decisions, 1),
             'load_average_1min': os.getloadavg()[0], 'cpus': os.cpu_count()}
@@ -297,7 +311,7 @@ def markdown_tables(summary, cases):
     back on route s' in each ship/method column (what the Imazu table of doc/results/imazu.md shows)."""
     groups = summary['groups']
     lines = ['| ship / method | runs | collisions (hull contact) | near misses (ship domain) | '
-             'below r_min | min distance m | rule score (all) | rule score (cases 1-4) | '
+             'below r_min | min distance m | rule score (all) | rule score (single target) | '
              'path deviation m (mean) | time lost s (mean) | back on route s (mean) | '
              'never back on route | limit hit |', '|' + '---|' * 13]
     for key, g in groups.items():
@@ -355,7 +369,7 @@ def html_page(path, per_run, summary, cases, plots=True):
               f'{summary["load_average_1min"]:.1f} on {summary["cpus"]} CPUs).',
         sections=[('Totals per own ship and method',
                    ['ship / method', 'runs', 'collisions', 'near misses', 'below r_min',
-                    'min distance m', 'rule score (all)', 'rule score (cases 1-4)',
+                    'min distance m', 'rule score (all)', 'rule score (single target)',
                     'path deviation m (mean)', 'time lost s (mean)', 'back on route s (mean)',
                     'never back on route', 'limit hit'], totals)],
         figures=[path.parent / 'summary.png'] + [path.parent / f'case_{c:02d}.png'

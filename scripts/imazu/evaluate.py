@@ -23,7 +23,9 @@ def evaluate(result, reference, case, ship):
     own ship's view at t = 0), the same as the classification of the first sample. The Imazu
     targets are given the own ship's dimensions (the cases state none; two ships of one size,
     so the hull contact and the domains are symmetric). The route returned to is the case's
-    straight route (the one runner.case_scenario writes and RunEnd measures against)."""
+    straight route (the one runner.case_scenario writes and RunEnd measures against). A case
+    whose targets state their length (and beam), as DNV's situations do, gives each target its
+    own hull and domain."""
     import math
 
     import numpy as np
@@ -35,8 +37,10 @@ def evaluate(result, reference, case, ship):
     start = np.array([own['north_m'], own['east_m']])
     c = math.radians(own['course_deg'])
     route = np.stack((start, start + ROUTE_LENGTH_M * np.array([math.cos(c), math.sin(c)])))
+    dims = {t['name']: ShipDimensions(float(t['length_m']), t.get('beam_m'))
+            for t in case['targets'] if t.get('length_m')}
     return evaluate_run(track(result), targets, track(reference), ship_dimensions(ship),
-                        situations=situations, route=route)
+                        target_dims=dims, situations=situations, route=route)
 
 
 def rows_of(case_no, ship, method, run, result):

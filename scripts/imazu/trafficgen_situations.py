@@ -48,15 +48,16 @@ def _ship(ship, origin, where):
     n0, e0 = (float(v) for v in geodetic_to_ned(lat0, lon0, *origin))
     n1, e1 = (float(v) for v in geodetic_to_ned(lat1, lon1, *origin))
     sog = float(_field(wps[0], 'leg', 'sog', where=where))
+    dims = (ship.get('static') or {}).get('dimensions') or {}
     return {'north_m': n0, 'east_m': e0,
             'course_deg': math.degrees(math.atan2(e1 - e0, n1 - n0)) % 360.0,
             'speed_mps': sog * KNOT_MPS,
-            'length_m': (ship.get('static') or {}).get('dimensions', {}).get('length')}
+            'length_m': dims.get('length'), 'beam_m': dims.get('width')}
 
 
 def read_situation(path):
-    """(title, case dict as imazu.cases.load_cases gives, plus each ship's 'length_m' or None)
-    of one trafficgen situation file."""
+    """(title, case dict as imazu.cases.load_cases gives, plus each ship's 'length_m' and
+    'beam_m' or None) of one trafficgen situation file."""
     data = load_json_file(path)
     where = str(path)
     own = _field(data, 'ownShip', where=where)

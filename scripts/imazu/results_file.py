@@ -1,4 +1,5 @@
-"""The Imazu results file of doc/results/imazu.md, merged from benchmark folders.
+"""The results file of an encounter set's page (Imazu: doc/results/imazu.md, DNV's baseline
+situations: doc/results/dnv.md), merged from benchmark folders.
 
 Each folder written by scripts/imazu_benchmark.py holds one or more sets (ship/method) with
 their own provenance, so a set can be run on its own and the page shows what has finished.
@@ -34,13 +35,16 @@ def first_actions(csv_path):
     return out
 
 
-def folder_sets(folder):
-    """{'ship/method': set entry} of one benchmark folder."""
+def folder_sets(folder, encounter_set='imazu'):
+    """{'ship/method': set entry} of one benchmark folder of ``encounter_set``."""
     folder = Path(folder)
     try:
         summary = json.loads((folder / 'summary.json').read_text())
     except FileNotFoundError:
         raise MergeError(f'{folder}: no summary.json (not a finished benchmark folder)') from None
+    ran = summary.get('set', 'imazu')        # folders from before --set: Imazu
+    if ran != encounter_set:
+        raise MergeError(f'{folder}: a run of the {ran} set, not of {encounter_set}')
     firsts = first_actions(folder / 'results.csv')
     prov = summary.get('runs_provenance') or summary['provenance']
     run = {k: prov[k] for k in ('command', 'commit', 'date_utc', 'load_1min', 'cpus')}
@@ -57,18 +61,19 @@ def folder_sets(folder):
     return sets
 
 
-def merge(folders, ships, methods, cases, provenance):
-    """The results file: ``cases`` ({number: case}, imazu.cases.load_cases) gives each case's
-    targets (own view); ``provenance`` is the merge's own (results_pages.provenance)."""
+def merge(folders, ships, methods, cases, provenance, encounter_set='imazu'):
+    """The results file of ``encounter_set`` (imazu.cases.SETS): ``cases`` ({number: case},
+    imazu.cases.load_set) gives each case's targets (own view); ``provenance`` is the merge's
+    own (results_pages.provenance)."""
     sets = {}
     for folder in folders:
-        for key, entry in folder_sets(folder).items():
+        for key, entry in folder_sets(folder, encounter_set).items():
             if key in sets:
                 raise MergeError(f'{key} is in {sets[key]["run"]["folder"]} and in '
                                  f'{entry["run"]["folder"]}: give one folder per set')
             sets[key] = entry
     order = [f'{s}/{m}' for s in ships for m in methods]
-    return {'provenance': provenance,
+    return {'provenance': provenance, 'set': encounter_set,
             'cases': {str(c): [t['colregs'] for t in case['targets']]
                       for c, case in sorted(cases.items())},
             'sets': {k: sets[k] for k in order if k in sets}

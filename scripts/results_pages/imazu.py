@@ -1,11 +1,17 @@
-"""Tables of the Imazu benchmark (scripts/imazu_benchmark.py folders merged by
-scripts/imazu_results.py): doc/results/imazu.md."""
+"""Tables of an encounter set's benchmark (scripts/imazu_benchmark.py folders merged by
+scripts/imazu_results.py): doc/results/imazu.md for the Imazu cases, doc/results/dnv.md for
+DNV's baseline situations (the same tables, registered under both names)."""
 from results_pages.registry import table
 from results_pages.tables import markdown_table
 
 #: The command that runs one set; the page lists it for every set not yet run.
-RUN_COMMAND = ('.venv/bin/python scripts/imazu_benchmark.py --ships {ship} --methods {method} '
-               '--jobs 2 --no-plots --out runs')
+RUN_COMMAND = ('.venv/bin/python scripts/imazu_benchmark.py{set_option} --ships {ship} '
+               '--methods {method} --jobs 2 --no-plots --out runs')
+
+
+def _set_option(data):
+    name = data.get('set', 'imazu')
+    return '' if name == 'imazu' else f' --set {name}'
 
 
 def _seconds(value):
@@ -29,7 +35,7 @@ def totals(data):
         ('collisions (hull contact)', 'collisions', 'd'),
         ('near misses (ship domain)', 'near_misses', 'd'), ('below r_min', 'below_safe', 'd'),
         ('min distance m', 'min_distance_m', '.0f'), ('rule score (all)', 'rule_score_mean', '.3f'),
-        ('rule score (cases 1-4)', 'rule_score_single_target_mean', '.3f'),
+        ('rule score (single-target cases)', 'rule_score_single_target_mean', '.3f'),
         ('path deviation m (mean)', 'path_deviation_m_mean', '.0f'),
         ('time lost s (mean)', 'time_lost_s_mean', '.0f'),
         ('first action s (mean)', 'first', '.0f'), ('no action found', 'no_action', 'd'),
@@ -58,11 +64,13 @@ def runs(data):
 def not_run(data):
     if not data['not_run']:
         return 'Every ship/method set is run.\n'
-    lines = ['Not yet run (each set is one command, then `.venv/bin/python scripts/imazu_results.py`'
-             ' with every finished folder and `.venv/bin/python scripts/render_results.py`):', '']
+    lines = ['Not yet run (each set is one command, then `.venv/bin/python scripts/imazu_results.py'
+             f"{_set_option(data)}` with every finished folder and "
+             '`.venv/bin/python scripts/render_results.py`):', '']
     for key in data['not_run']:
         ship, method = key.split('/')
-        lines.append(f'- {key}: `{RUN_COMMAND.format(ship=ship, method=method)}`')
+        command = RUN_COMMAND.format(set_option=_set_option(data), ship=ship, method=method)
+        lines.append(f'- {key}: `{command}`')
     return '\n'.join(lines) + '\n'
 
 
@@ -122,6 +130,12 @@ def goals(data):
                      and single >= SINGLE_TARGET_SCORE_GOAL else '**no**'})
     return markdown_table([
         ('ship / method', 'key', ''), ('collisions + near misses (goal 0)', 'unsafe', 'd'),
-        (f'rule score, cases 1-4 (goal >= {SINGLE_TARGET_SCORE_GOAL:g})', 'single', '.3f'),
+        (f'rule score, single-target cases (goal >= {SINGLE_TARGET_SCORE_GOAL:g})', 'single',
+         '.3f'),
         ('met', 'met', ''),
     ], rows)
+
+
+# DNV's baseline situations: the same tables over doc/results/data/dnv.json.
+for _fn in (totals, runs, not_run, cases, by_case, goals):
+    table('dnv', _fn.__name__)(_fn)

@@ -1,0 +1,199 @@
+"""Section ``composition``: several nodes per process (ship_mission.composition) against one
+process per node, on a platoon that grows and on the flagship against the relay floor.
+
+Rows, all measured in this one run (the machine's 1-minute load beside each):
+
+- ``platoon N, <mode>``: the first N (1, 3, 5) Mariners of scenarios/platoon_mariner_5.yaml in
+  lockstep, started by the mission launcher (ship_mission.launcher.run_scenario, no recorder,
+  no analysis) with compose ``none`` (a process per node) and ``all`` (one container). Each is
+  run for two lengths (STEPS, short and long) and the figures are the differences divided by the
+  difference in steps, so start-up (imports, discovery, the followers' staggered starts) drops
+  out: wall ms per step from the simulators' own log lines (the first "lockstep: publishing step
+  0" to the last "max_steps N reached"), CPU ms per step of every process of the run (their
+  utime + stime, from getrusage of this process's reaped children), and CPU per vessel.
+  Ratios: wall / the lone vessel's in the same mode (goal <= GOAL_PLATOON_WALL for 5 vessels
+  composed), CPU per vessel / the lone vessel's (goal <= GOAL_PER_VESSEL_CPU), and wall against
+  the lone vessel with a process per node (how far the platoon is from today's lone vessel).
+- ``flagship, <mode>``: the flagship graph (route, guidance, autopilot, vessel; no recorder) in
+  lockstep as the ``lockstep`` section runs it (its graph_run for ``none``; the same four nodes in
+  one component_container for ``all``), and the bare 3-hop ``relay floor``
+  (scripts/benchmarks/relay_nodes.py): CPU per step of all processes over the stepping phase,
+  as a ratio to the floor's (goal for the composed graph: <= GOAL_FLAGSHIP_CPU_FLOOR).
+
+A benchmark is not a test: missed goals are reported as such.
+"""
+import os
+import re
+import resource
+import time
+
+import yaml
+
+from ship_mission.composition import container_spec, containers
+from ship_mission.launcher import params_file, run_scenario
+from ship_mission.processes import ProcessGroup, install_env
+from ship_mission.scenario import load_scenario
+
+from . import common, lockstep
+
+PLATOON = common.REPO / 'scenarios' / 'platoon_mariner_5.yaml'
+RUN_DIR = common.REPO / 'bench' / 'results' / 'composition'
+SIZES = (1, 3, 5)
+MODES = ('none', 'all')
+STEPS = (300, 900)
+QUICK_STEPS = (150, 450)
+FLAGSHIP_STEPS, QUICK_FLAGSHIP_STEPS = 3000, 1000
+GOAL_PLATOON_WALL = 6.0
+GOAL_PER_VESSEL_CPU = 1.2
+GOAL_FLAGSHIP_CPU_FLOOR = 2.0
+_TIMEOUTS = re.compile(r'(?P<n>\d+) lockstep timeouts')
+
+
+def _children_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def _platoon_file(n, mode, steps, folder):
+    data = yaml.safe_load(PLATOON.read_text())
+    data['name'] = f'bench_platoon_{n}_{mode}_{steps}'
+    data['platoon']['route'] = str(PLATOON.parent / data['platoon']['route'])
+    data['platoon']['vessels'] = data['platoon']['vessels'][:n]
+    data['duration_s'] = steps * data['dt_s']
+    data['compose'] = mode
+    data['record'] = False
+    path = folder / f'{data["name"]}.yaml'
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+def _stepping_span(run, steps):
+    """(first step 0 published, last max_steps reached) over every simulator's log lines, and
+    the lockstep timeouts they report."""
+    starts, ends, timeouts = [], [], 0
+    for log in (run / 'logs').glob('*.log'):
+        text = log.read_text(errors='replace')
+        for m in lockstep._LOG_TIME.finditer(text):
+            if m['msg'].startswith('lockstep: publishing step 0'):
+                starts.append(float(m['t']))
+            elif m['msg'].startswith(f'max_steps {steps} reached'):
+                ends.append(float(m['t']))
+        timeouts += sum(int(m['n']) for m in _TIMEOUTS.finditer(text))
+    return starts, ends, timeouts
+
+
+def platoon_run(n, mode, steps, folder):
+    """One launcher run of an n-vessel platoon: wall stepping span, CPU of all its processes."""
+    folder.mkdir(parents=True, exist_ok=True)
+    scenario = load_scenario(_platoon_file(n, mode, steps, folder))
+    cpu0 = _children_cpu()
+    run, _ = run_scenario(scenario, runs_root=folder, domain_id=lockstep._domain_id(),
+                          record=False, progress=lambda *_: None, analyse=False,
+                          wall_timeout_s=max(300.0, steps * n * 0.2))
+    cpu = _children_cpu() - cpu0
+    starts, ends, timeouts = _stepping_span(run, steps)
+    if len(starts) != n or len(ends) != n:
+        raise RuntimeError(f'platoon {n} {mode}: {len(starts)} step 0 and {len(ends)} ends of '
+                           f'{n} simulators (logs {run / "logs"})')
+    return {'span_s': max(ends) - min(starts), 'cpu_s': cpu, 'timeouts': timeouts,
+            'load_1min': os.getloadavg()[0], 'run': str(run)}
+
+
+def composed_flagship_run(steps, log_root):
+    """The flagship's four nodes (as lockstep.graph_run starts them) in one container."""
+    from ship_mission.graph import mission_graph
+    scenario = load_scenario(lockstep.SCENARIO)
+    scenario.stepping = 'lockstep'
+    scenario.duration_s = steps * scenario.dt_s
+    scenario.display = None
+    graph = mission_graph(scenario, record=False)
+    (container,) = containers(graph, 'all')
+    run = log_root / 'flagship_composed'
+    (run / 'params').mkdir(parents=True, exist_ok=True)
+    spec = run / 'params' / 'container.json'
+    spec.write_text(container_spec(container, lambda node: params_file(run, node), defer=False))
+    group = ProcessGroup(install_env(domain_id=lockstep._domain_id()), run / 'logs')
+    try:
+        proc = group.start(container.label, 'ship_mission', 'component_container', [spec])
+        cpu = lockstep._finish_group(group, proc, lambda: 'publishing step 0' in proc.output(),
+                                     stepping_timeout=max(120.0, steps * 0.05))
+    finally:
+        codes = group.stop()
+    log = proc.log_path.read_text(errors='replace')
+    times = {m['msg']: float(m['t']) for m in lockstep._LOG_TIME.finditer(log)}
+    t0 = next((t for msg, t in times.items() if msg.startswith('lockstep: publishing step 0')),
+              None)
+    t1 = next((t for msg, t in times.items() if msg.startswith(f'max_steps {steps} reached')),
+              None)
+    if t0 is None or t1 is None or codes.get(proc.label) != 0:
+        raise RuntimeError(f'composed flagship did not complete {steps} steps ({codes}); log '
+                           f'{proc.log_path}:\n' + log[-1500:])
+    m = _TIMEOUTS.search(log)
+    return {'config': 'flagship, all', 'steps': steps, 'sim_time_s': steps * scenario.dt_s,
+            'startup_s': 0.0, 'stepping_s': t1 - t0, 'exit_codes': codes, 'cpu_s': cpu,
+            'load_1min': os.getloadavg()[0], 'lockstep_timeouts': int(m['n']) if m else None}
+
+
+def run(quick=False):
+    short, long = QUICK_STEPS if quick else STEPS
+    log_root = RUN_DIR / time.strftime('%Y%m%d-%H%M%S')
+    rows, runs = [], {}
+    for n in SIZES:                 # interleaved: the modes see the same phases of the machine
+        for mode in MODES:
+            pair = [platoon_run(n, mode, s, log_root / f'platoon{n}_{mode}') for s in (short, long)]
+            runs[f'platoon {n}, {mode}'] = pair
+            d = long - short
+            wall = (pair[1]['span_s'] - pair[0]['span_s']) / d * 1e3
+            cpu = (pair[1]['cpu_s'] - pair[0]['cpu_s']) / d * 1e3
+            rows.append({'config': f'platoon {n}, {mode}', 'vessels': n, 'mode': mode,
+                         'wall_ms': wall, 'cpu_ms': cpu, 'cpu_vessel_ms': cpu / n,
+                         'timeouts': sum(p['timeouts'] for p in pair),
+                         'load_1min': pair[1]['load_1min']})
+    lone = {r['mode']: r for r in rows if r['vessels'] == 1}
+    for r in rows:
+        r['wall_ratio'] = r['wall_ms'] / lone[r['mode']]['wall_ms']
+        r['cpu_vessel_ratio'] = r['cpu_vessel_ms'] / lone[r['mode']]['cpu_vessel_ms']
+        r['wall_vs_lone_none'] = r['wall_ms'] / lone['none']['wall_ms']
+    steps = QUICK_FLAGSHIP_STEPS if quick else FLAGSHIP_STEPS
+    flag = {'flagship, none': lockstep.graph_run(steps, False, 'flagship, none', log_root),
+            'flagship, all': composed_flagship_run(steps, log_root),
+            'relay floor': lockstep.relay_run(steps, log_root, raw=True)}
+    floor = lockstep._row(flag['relay floor'])['cpu_total']
+    for key, res in flag.items():
+        row = lockstep._row(res)
+        rows.append({'config': key, 'vessels': 1, 'mode': key.split(', ')[-1],
+                     'wall_ms': row['us_per_step'] / 1e3, 'cpu_ms': row['cpu_total'] / 1e3,
+                     'cpu_vessel_ms': row['cpu_total'] / 1e3, 'cpu_floor_ratio':
+                     row['cpu_total'] / floor, 'timeouts': row['lockstep_timeouts'],
+                     'load_1min': row['load_1min']})
+    runs.update(flag)
+    by = {r['config']: r for r in rows}
+    five = by[f'platoon {SIZES[-1]}, all']
+    goals = [common.goal(f'platoon of {SIZES[-1]}, composed: wall per step / lone vessel',
+                         five['wall_ratio'], GOAL_PLATOON_WALL, 'x'),
+             common.goal(f'platoon of {SIZES[-1]}, composed: CPU per vessel / lone vessel',
+                         five['cpu_vessel_ratio'], GOAL_PER_VESSEL_CPU, 'x'),
+             common.goal('flagship composed: CPU per step / relay floor',
+                         by['flagship, all']['cpu_floor_ratio'], GOAL_FLAGSHIP_CPU_FLOOR, 'x')]
+    bad = [r['config'] for r in rows if r['timeouts']]
+    notes = [f'platoon: per step = (long - short run) / {long - short} steps ({short} and {long} '
+             'steps), so start-up drops out; CPU = every process of the run (not this process '
+             'and its launcher monitor); flagship: stepping phase of one run of '
+             f'{steps} steps, CPU of all its processes',
+             "ratios: x lone = against the 1-vessel platoon in the same mode; x lone 'none' = "
+             'against the 1-vessel platoon with a process per node; load = 1-minute load average '
+             'when the row ended (2 cores shared: wall times follow the load)',
+             f'logs under {log_root}']
+    if bad:
+        notes.insert(0, f'lockstep timeouts in {bad}: those numbers include held steps')
+    return {
+        'title': 'composed nodes (compose: all) vs a process per node (none): platoon of '
+                 f'{"/".join(map(str, SIZES))} Mariners in lockstep, flagship vs the relay floor',
+        'columns': [['config', 'config'], ['wall_ms', 'wall ms/step'], ['cpu_ms', 'CPU ms/step'],
+                    ['cpu_vessel_ms', 'CPU ms/vessel'], ['wall_ratio', 'wall x lone'],
+                    ['cpu_vessel_ratio', 'CPU/vessel x lone'],
+                    ['wall_vs_lone_none', "wall x lone 'none'"],
+                    ['cpu_floor_ratio', 'CPU x floor'], ['load_1min', 'load'],
+                    ['timeouts', 'timeouts']],
+        'rows': rows, 'goals': goals, 'notes': notes, 'runs': runs, 'failed': bool(bad),
+    }

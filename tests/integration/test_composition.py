@@ -49,14 +49,16 @@ def run_modes(ros_graph, tmp_path, scenario, modes, timeout):
 
 
 @pytest.mark.timeout(900)
-def test_flagship_composed_records_the_same_run_under_load(ros_graph, tmp_path, busy_machine):
+@pytest.mark.usefixtures('busy_machine')
+def test_flagship_composed_records_the_same_run_under_load(ros_graph, tmp_path):
     dt = yaml.safe_load(flagship_two_legs(tmp_path).read_text())['dt_s']
     compare(run_modes(ros_graph, tmp_path, flagship_two_legs(tmp_path), ['none', 'all'], 400), dt)
 
 
 @pytest.mark.timeout(900)
+@pytest.mark.usefixtures('busy_machine')
 def test_platoon_composed_per_vessel_and_in_one_records_the_same_run_under_load(
-        ros_graph, tmp_path, busy_machine):
+        ros_graph, tmp_path):
     runs = run_modes(ros_graph, tmp_path, three_vessel_platoon(tmp_path), ['vessel', 'all'], 400)
     metrics = compare(runs, 0.1)
     assert len(metrics['vessels']) == 3

@@ -5,12 +5,14 @@ Rows, all measured in this one run (the machine's 1-minute load beside each):
 
 - ``platoon N, <mode>``: the first N (1, 3, 5) Mariners of scenarios/platoon_mariner_5.yaml in
   lockstep, started by the mission launcher (ship_mission.launcher.run_scenario, no recorder,
-  no analysis) with compose ``none`` (a process per node) and ``all`` (one container). Each is
-  run for two lengths (STEPS, short and long) and the figures are the differences divided by the
-  difference in steps, so start-up (imports, discovery, the followers' staggered starts) drops
-  out: wall ms per step from the simulators' own log lines (the first "lockstep: publishing step
-  0" to the last "max_steps N reached"), CPU ms per step of every process of the run (their
-  utime + stime, from getrusage of this process's reaped children), and CPU per vessel.
+  no analysis) with compose ``none`` (a process per node), ``vessel`` (a container per vessel)
+  and ``all`` (one container). Wall ms per step: the own stepping span of the simulator that
+  starts last ("lockstep: publishing step 0" to "max_steps N reached" in its log lines), over
+  the long run's steps: it steps with every other vessel already running and gated to it, so
+  the staggered starts before it are not in it. CPU ms per step of every process of the run
+  (utime + stime, from getrusage of this process's reaped children): each configuration runs
+  for two lengths (STEPS, short and long) and the CPU difference is divided by the difference in
+  steps, so start-up (imports, discovery) drops out; CPU per vessel = that / N.
   Ratios: wall / the lone vessel's in the same mode (goal <= GOAL_PLATOON_WALL for 5 vessels
   composed), CPU per vessel / the lone vessel's (goal <= GOAL_PER_VESSEL_CPU), and wall against
   the lone vessel with a process per node (how far the platoon is from today's lone vessel).
@@ -39,7 +41,7 @@ from . import common, lockstep
 PLATOON = common.REPO / 'scenarios' / 'platoon_mariner_5.yaml'
 RUN_DIR = common.REPO / 'bench' / 'results' / 'composition'
 SIZES = (1, 3, 5)
-MODES = ('none', 'all')
+MODES = ('none', 'vessel', 'all')
 STEPS = (300, 900)
 QUICK_STEPS = (150, 450)
 FLAGSHIP_STEPS, QUICK_FLAGSHIP_STEPS = 3000, 1000
@@ -67,19 +69,22 @@ def _platoon_file(n, mode, steps, folder):
     return path
 
 
-def _stepping_span(run, steps):
-    """(first step 0 published, last max_steps reached) over every simulator's log lines, and
-    the lockstep timeouts they report."""
-    starts, ends, timeouts = [], [], 0
+_LOG_LINE = re.compile(r'^\[\w+\] \[(?P<t>\d+\.\d+)\] \[(?P<name>[^\]]*)\]: (?P<msg>.*)$', re.M)
+
+
+def _stepping_spans(run, steps):
+    """{simulator logger name: (its step 0 published, its max_steps reached)} from the logs of
+    a run (a container's log holds every member's lines), and the lockstep timeouts reported."""
+    starts, ends, timeouts = {}, {}, 0
     for log in (run / 'logs').glob('*.log'):
         text = log.read_text(errors='replace')
-        for m in lockstep._LOG_TIME.finditer(text):
+        for m in _LOG_LINE.finditer(text):
             if m['msg'].startswith('lockstep: publishing step 0'):
-                starts.append(float(m['t']))
+                starts[m['name']] = float(m['t'])
             elif m['msg'].startswith(f'max_steps {steps} reached'):
-                ends.append(float(m['t']))
+                ends[m['name']] = float(m['t'])
         timeouts += sum(int(m['n']) for m in _TIMEOUTS.finditer(text))
-    return starts, ends, timeouts
+    return {k: (starts[k], ends[k]) for k in starts if k in ends}, timeouts
 
 
 def platoon_run(n, mode, steps, folder):
@@ -91,11 +96,14 @@ def platoon_run(n, mode, steps, folder):
                           record=False, progress=lambda *_: None, analyse=False,
                           wall_timeout_s=max(300.0, steps * n * 0.2))
     cpu = _children_cpu() - cpu0
-    starts, ends, timeouts = _stepping_span(run, steps)
-    if len(starts) != n or len(ends) != n:
-        raise RuntimeError(f'platoon {n} {mode}: {len(starts)} step 0 and {len(ends)} ends of '
-                           f'{n} simulators (logs {run / "logs"})')
-    return {'span_s': max(ends) - min(starts), 'cpu_s': cpu, 'timeouts': timeouts,
+    spans, timeouts = _stepping_spans(run, steps)
+    if len(spans) != n:
+        raise RuntimeError(f'platoon {n} {mode}: {len(spans)} of {n} simulators published step 0 '
+                           f'and reached max_steps (logs {run / "logs"})')
+    # the last simulator to start steps with every other one running (and gated to it): its own
+    # span is the platoon's stepping, without the staggered starts before it
+    last = max(spans.values())
+    return {'span_s': last[1] - last[0], 'cpu_s': cpu, 'timeouts': timeouts,
             'load_1min': os.getloadavg()[0], 'run': str(run)}
 
 
@@ -143,7 +151,7 @@ def run(quick=False):
             pair = [platoon_run(n, mode, s, log_root / f'platoon{n}_{mode}') for s in (short, long)]
             runs[f'platoon {n}, {mode}'] = pair
             d = long - short
-            wall = (pair[1]['span_s'] - pair[0]['span_s']) / d * 1e3
+            wall = pair[1]['span_s'] / long * 1e3
             cpu = (pair[1]['cpu_s'] - pair[0]['cpu_s']) / d * 1e3
             rows.append({'config': f'platoon {n}, {mode}', 'vessels': n, 'mode': mode,
                          'wall_ms': wall, 'cpu_ms': cpu, 'cpu_vessel_ms': cpu / n,
@@ -176,7 +184,8 @@ def run(quick=False):
              common.goal('flagship composed: CPU per step / relay floor',
                          by['flagship, all']['cpu_floor_ratio'], GOAL_FLAGSHIP_CPU_FLOOR, 'x')]
     bad = [r['config'] for r in rows if r['timeouts']]
-    notes = [f'platoon: per step = (long - short run) / {long - short} steps ({short} and {long} '
+    notes = [f'platoon: wall per step = the last-started simulator\'s own span / {long} steps; '
+             f'CPU per step = (long - short run) / {long - short} steps ({short} and {long} '
              'steps), so start-up drops out; CPU = every process of the run (not this process '
              'and its launcher monitor); flagship: stepping phase of one run of '
              f'{steps} steps, CPU of all its processes',
@@ -187,7 +196,7 @@ def run(quick=False):
     if bad:
         notes.insert(0, f'lockstep timeouts in {bad}: those numbers include held steps')
     return {
-        'title': 'composed nodes (compose: all) vs a process per node (none): platoon of '
+        'title': 'composed nodes (compose: vessel, all) vs a process per node (none): platoon of '
                  f'{"/".join(map(str, SIZES))} Mariners in lockstep, flagship vs the relay floor',
         'columns': [['config', 'config'], ['wall_ms', 'wall ms/step'], ['cpu_ms', 'CPU ms/step'],
                     ['cpu_vessel_ms', 'CPU ms/vessel'], ['wall_ratio', 'wall x lone'],

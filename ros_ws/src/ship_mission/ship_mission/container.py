@@ -108,6 +108,8 @@ class Container:
 
     def reap(self):
         """Take out the members that ended themselves; decide the exit code when it is due."""
+        if not self.ended:      # after every callback: nothing to do but this test
+            return
         while self.ended:
             label, node, code = self.ended.pop(0)
             self.executor.remove_node(node)

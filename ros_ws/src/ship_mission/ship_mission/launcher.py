@@ -1,6 +1,8 @@
 """Run a scenario as a graph of node processes (no `ros2 launch`): start, watch, stop, analyse.
 
-Which nodes run, with which parameters, is ship_mission.graph (data); this module starts them.
+Which nodes run, with which parameters, is ship_mission.graph (data); this module starts them,
+each as its own process or, with the scenario's ``compose`` (run_mission --compose), several in
+one container process (ship_mission.composition: same start order, same waits).
 
 For each vessel namespace: route_node, guidance_node, autopilot_node and, last, vessel_node
 (in lockstep it publishes step 0 only once its odom subscribers are all there). In a platoon

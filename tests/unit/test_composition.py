@@ -51,7 +51,7 @@ def test_every_node_spec_in_at_most_one_container(name, mode, tmp_path):
         for c in groups:
             assert {m.namespace for m in c.members} == {c.namespace}
             assert [m.label for m in c.deferred()] == [f'{c.namespace}/vessel_node']
-            assert c.load_topic == f'/{c.namespace}/{CONTAINER}/load'
+            assert c.load_topic == f'/{c.namespace}/{CONTAINER}/_load'
         # every node of a vessel's namespace is in its container
         assert set(members) == {n for n in packaged
                                 if graph.node(n).namespace in {c.namespace for c in groups}}

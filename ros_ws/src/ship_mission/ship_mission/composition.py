@@ -17,7 +17,8 @@ The start order stays the launcher's: a container starts, with every member but 
 simulators, where the graph lists its first such member; a simulator is loaded into its running
 container where the launcher would start its process (after the waits of
 ship_mission.graph.simulator_start_plan), by a message on the container's latched
-``~/load`` topic naming the member. A container ends by itself (exit 0) once all of its
+``~/_load`` topic naming the member (hidden: the bag holds the same topics as without
+composition). A container ends by itself (exit 0) once all of its
 simulators have ended by themselves; a member that ends with an error code ends it with that
 code, as that node's own process would end.
 """
@@ -27,8 +28,9 @@ from dataclasses import dataclass, field
 from ship_mission.graph import SIMULATOR
 from ship_mission.scenario import COMPOSE
 CONTAINER = 'component_container'   # the console script and the container's own node name
-LOAD_TOPIC = 'load'                 # private: /<namespace>/component_container/load
-#: Load messages a container's ~/load keeps (transient local): more than any graph's simulators.
+#: private and hidden (a leading '_': not recorded, not listed): .../component_container/_load
+LOAD_TOPIC = '_load'
+#: Load messages a container's ~/_load keeps (transient local): more than any graph's simulators.
 LOAD_DEPTH = 1000
 
 

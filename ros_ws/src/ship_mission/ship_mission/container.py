@@ -8,7 +8,7 @@ console script names), built with that executable's ROS arguments as the node's 
 process of its own, and the same checks (ship_sim.ros.run: an unknown parameter ends the
 container with exit 2 and one line naming the member). The container also has a node of its
 own, ``component_container`` (in the vessel's namespace with compose: vessel), whose latched
-``~/load`` topic (std_msgs/String, a member's label) tells it to build a deferred member: the
+``~/_load`` topic (std_msgs/String, a member's label) tells it to build a deferred member: the
 launcher loads each simulator when its start plan says so.
 
 One executor (ship_sim.ros.run.make_executor, EventsExecutor by default) spins every member:
@@ -38,7 +38,7 @@ from ship_sim.allocator import tune_allocator
 from ship_sim.ros import run as node_run
 from ship_sim.ros.params import ParameterError
 
-#: ~/load (as ship_mission.composition.load_publisher publishes it).
+#: ~/_load (as ship_mission.composition.load_publisher publishes it).
 LOAD_QOS = QoSProfile(depth=LOAD_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
                       durability=DurabilityPolicy.TRANSIENT_LOCAL)
 

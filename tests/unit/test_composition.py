@@ -106,13 +106,14 @@ def test_starter_starts_each_container_once_and_loads_the_simulators(mode, tmp_p
 
 
 def test_compose_key_is_checked(tmp_path):
-    text = (ROOT / 'scenarios' / 'flagship_mariner.yaml').read_text()
+    # the committed flagship, its route path made absolute (it is relative to the scenario)
+    text = (ROOT / 'scenarios' / 'flagship_mariner.yaml').read_text().replace(
+        'routes/', str(ROOT / 'scenarios' / 'routes') + '/')
     path = tmp_path / 'sc.yaml'
+    path.write_text(text)
+    assert load_scenario(path).compose == 'none'
     for mode in COMPOSE:
         path.write_text(text + f'\ncompose: {mode}\n')
-        (tmp_path / 'routes').mkdir(exist_ok=True)
-        # the route path is relative to the scenario: use the committed one
-        path.write_text(path.read_text().replace('routes/', str(ROOT / 'scenarios' / 'routes') + '/'))
         assert load_scenario(path).compose == mode
     path.write_text(path.read_text().replace('compose: all', 'compose: some'))
     with pytest.raises(ScenarioError, match='compose'):

@@ -32,7 +32,7 @@ import time
 import yaml
 
 from ship_mission.composition import container_spec, containers
-from ship_mission.launcher import params_file, run_scenario
+from ship_mission.launcher import MissionFailed, params_file, run_scenario
 from ship_mission.processes import ProcessGroup, install_env
 from ship_mission.scenario import load_scenario
 
@@ -87,8 +87,20 @@ def _stepping_spans(run, steps):
     return {k: (starts[k], ends[k]) for k in starts if k in ends}, timeouts
 
 
-def platoon_run(n, mode, steps, folder):
-    """One launcher run of an n-vessel platoon: wall stepping span, CPU of all its processes."""
+def platoon_run(n, mode, steps, folder, tries=2):
+    """A launcher run of an n-vessel platoon: wall stepping span, CPU of all its processes.
+    A run that fails (on a loaded machine the lockstep start can time out in any mode) is tried
+    again, up to ``tries`` runs; the failures are kept in ``failures``."""
+    failures = []
+    for _ in range(tries):
+        try:
+            return {**_platoon_run(n, mode, steps, folder), 'failures': failures}
+        except (MissionFailed, RuntimeError) as exc:
+            failures.append(f'{type(exc).__name__}: {exc}'[:400])
+    raise RuntimeError(f'platoon {n} {mode} {steps} steps failed {tries} times: {failures}')
+
+
+def _platoon_run(n, mode, steps, folder):
     folder.mkdir(parents=True, exist_ok=True)
     scenario = load_scenario(_platoon_file(n, mode, steps, folder))
     cpu0 = _children_cpu()
@@ -156,6 +168,7 @@ def run(quick=False):
             rows.append({'config': f'platoon {n}, {mode}', 'vessels': n, 'mode': mode,
                          'wall_ms': wall, 'cpu_ms': cpu, 'cpu_vessel_ms': cpu / n,
                          'timeouts': sum(p['timeouts'] for p in pair),
+                         'failed_runs': sum(len(p['failures']) for p in pair),
                          'load_1min': pair[1]['load_1min']})
     lone = {r['mode']: r for r in rows if r['vessels'] == 1}
     for r in rows:
@@ -192,6 +205,8 @@ def run(quick=False):
              "ratios: x lone = against the 1-vessel platoon in the same mode; x lone 'none' = "
              'against the 1-vessel platoon with a process per node; load = 1-minute load average '
              'when the row ended (2 cores shared: wall times follow the load)',
+             'failed runs: launcher runs of the row that failed and were run again (their '
+             'errors are in the JSON)',
              f'logs under {log_root}']
     if bad:
         notes.insert(0, f'lockstep timeouts in {bad}: those numbers include held steps')
@@ -203,6 +218,6 @@ def run(quick=False):
                     ['cpu_vessel_ratio', 'CPU/vessel x lone'],
                     ['wall_vs_lone_none', "wall x lone 'none'"],
                     ['cpu_floor_ratio', 'CPU x floor'], ['load_1min', 'load'],
-                    ['timeouts', 'timeouts']],
+                    ['timeouts', 'timeouts'], ['failed_runs', 'failed runs']],
         'rows': rows, 'goals': goals, 'notes': notes, 'runs': runs, 'failed': bool(bad),
     }

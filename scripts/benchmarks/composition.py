@@ -6,13 +6,13 @@ Rows, all measured in this one run (the machine's 1-minute load beside each):
 - ``platoon N, <mode>``: the first N (1, 3, 5) Mariners of scenarios/platoon_mariner_5.yaml in
   lockstep, started by the mission launcher (ship_mission.launcher.run_scenario, no recorder,
   no analysis) with compose ``none`` (a process per node), ``vessel`` (a container per vessel)
-  and ``all`` (one container). Wall ms per step: the own stepping span of the simulator that
-  starts last ("lockstep: publishing step 0" to "max_steps N reached" in its log lines), over
-  the long run's steps: it steps with every other vessel already running and gated to it, so
-  the staggered starts before it are not in it. CPU ms per step of every process of the run
-  (utime + stime, from getrusage of this process's reaped children): each configuration runs
-  for two lengths (STEPS, short and long) and the CPU difference is divided by the difference in
-  steps, so start-up (imports, discovery) drops out; CPU per vessel = that / N.
+  and ``all`` (one container), for STEPS steps. Wall ms per step: the own stepping span of the
+  simulator that starts last ("lockstep: publishing step 0" to "max_steps N reached" in its log
+  lines) / steps: it steps with every other vessel already running and gated to it, so the
+  staggered starts before it are not in it. CPU ms per step: the CPU (utime + stime, polled from
+  /proc: ChildCpu) of every process of the run from the moment the last simulator has
+  published step 0 to the moment the last has reached max_steps, / steps, so start-up (imports,
+  discovery, the waits) and shutdown are not in it; CPU per vessel = that / N.
   Ratios: wall / the lone vessel's in the same mode (goal <= GOAL_PLATOON_WALL for 5 vessels
   composed), CPU per vessel / the lone vessel's (goal <= GOAL_PER_VESSEL_CPU), and wall against
   the lone vessel with a process per node (how far the platoon is from today's lone vessel).
@@ -26,8 +26,9 @@ A benchmark is not a test: missed goals are reported as such.
 """
 import os
 import re
-import resource
+import threading
 import time
+from pathlib import Path
 
 import yaml
 
@@ -42,8 +43,8 @@ PLATOON = common.REPO / 'scenarios' / 'platoon_mariner_5.yaml'
 RUN_DIR = common.REPO / 'bench' / 'results' / 'composition'
 SIZES = (1, 3, 5)
 MODES = ('none', 'vessel', 'all')
-STEPS = (300, 900)
-QUICK_STEPS = (150, 450)
+STEPS = 1500
+QUICK_STEPS = 600
 FLAGSHIP_STEPS, QUICK_FLAGSHIP_STEPS = 3000, 1000
 GOAL_PLATOON_WALL = 6.0
 GOAL_PER_VESSEL_CPU = 1.2
@@ -51,9 +52,51 @@ GOAL_FLAGSHIP_CPU_FLOOR = 2.0
 _TIMEOUTS = re.compile(r'(?P<n>\d+) lockstep timeouts')
 
 
-def _children_cpu():
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
+class ChildCpu(threading.Thread):
+    """Polls the CPU time (utime + stime) of this process's children (the run's node and
+    container processes, started by the launcher in this process) from /proc, keeping each
+    one's last value, so one that has ended still counts what it used until shortly before.
+    It reads the run's logs (under ``folder``/latest) as it goes: the values when the last of
+    the ``n`` simulators has published step 0 and when the last has reached max_steps
+    ``steps`` (before the launcher stops the graph) give ``used()``, the stepping phase's CPU."""
+
+    def __init__(self, folder, n, steps, period_s=0.02, log_every=5):
+        super().__init__(daemon=True)
+        self.folder, self.n, self.steps = folder, n, steps
+        self.period_s, self.log_every = period_s, log_every
+        self.last, self.at_start, self.at_end = {}, None, None
+        self._stop = threading.Event()
+        self._children = Path(f'/proc/{os.getpid()}/task/{os.getpid()}/children')
+
+    def run(self):
+        i = 0
+        while self.at_end is None and not self._stop.wait(self.period_s):
+            self.poll()
+            i += 1
+            if i % self.log_every == 0 and (self.folder / 'latest').exists():
+                spans, _ = _stepping_spans(self.folder / 'latest', self.steps, started=True)
+                if self.at_start is None and len(spans) == self.n:
+                    self.at_start = dict(self.last)
+                elif self.at_start is not None and sum(e is not None for _, e in spans.values()) == self.n:
+                    self.at_end = dict(self.last)
+
+    def poll(self):
+        try:
+            pids = self._children.read_text().split()
+        except OSError:
+            return
+        for pid in pids:
+            _, cpu = lockstep.proc_stat(int(pid))
+            if cpu is not None:
+                self.last[pid] = cpu
+
+    def used(self):
+        """CPU s of the stepping phase, None if it was not seen whole."""
+        self._stop.set()
+        self.join()
+        if self.at_start is None or self.at_end is None:
+            return None
+        return sum(cpu - self.at_start.get(pid, 0.0) for pid, cpu in self.at_end.items())
 
 
 def _platoon_file(n, mode, steps, folder):
@@ -72,9 +115,10 @@ def _platoon_file(n, mode, steps, folder):
 _LOG_LINE = re.compile(r'^\[\w+\] \[(?P<t>\d+\.\d+)\] \[(?P<name>[^\]]*)\]: (?P<msg>.*)$', re.M)
 
 
-def _stepping_spans(run, steps):
+def _stepping_spans(run, steps, started=False):
     """{simulator logger name: (its step 0 published, its max_steps reached)} from the logs of
-    a run (a container's log holds every member's lines), and the lockstep timeouts reported."""
+    a run (a container's log holds every member's lines), and the lockstep timeouts reported;
+    ``started``: {name: (step 0, max_steps or None)} of those that have published step 0."""
     starts, ends, timeouts = {}, {}, 0
     for log in (run / 'logs').glob('*.log'):
         text = log.read_text(errors='replace')
@@ -84,6 +128,8 @@ def _stepping_spans(run, steps):
             elif m['msg'].startswith(f'max_steps {steps} reached'):
                 ends[m['name']] = float(m['t'])
         timeouts += sum(int(m['n']) for m in _TIMEOUTS.finditer(text))
+    if started:
+        return {k: (t, ends.get(k)) for k, t in starts.items()}, timeouts
     return {k: (starts[k], ends[k]) for k in starts if k in ends}, timeouts
 
 
@@ -92,9 +138,9 @@ def platoon_run(n, mode, steps, folder, tries=2):
     A run that fails (on a loaded machine the lockstep start can time out in any mode) is tried
     again, up to ``tries`` runs; the failures are kept in ``failures``."""
     failures = []
-    for _ in range(tries):
+    for i in range(tries):
         try:
-            return {**_platoon_run(n, mode, steps, folder), 'failures': failures}
+            return {**_platoon_run(n, mode, steps, folder / f'try{i}'), 'failures': failures}
         except (MissionFailed, RuntimeError) as exc:
             failures.append(f'{type(exc).__name__}: {exc}'[:400])
     raise RuntimeError(f'platoon {n} {mode} {steps} steps failed {tries} times: {failures}')
@@ -103,19 +149,22 @@ def platoon_run(n, mode, steps, folder, tries=2):
 def _platoon_run(n, mode, steps, folder):
     folder.mkdir(parents=True, exist_ok=True)
     scenario = load_scenario(_platoon_file(n, mode, steps, folder))
-    cpu0 = _children_cpu()
-    run, _ = run_scenario(scenario, runs_root=folder, domain_id=lockstep._domain_id(),
-                          record=False, progress=lambda *_: None, analyse=False,
-                          wall_timeout_s=max(300.0, steps * n * 0.2))
-    cpu = _children_cpu() - cpu0
+    cpu = ChildCpu(folder, n, steps)
+    cpu.start()
+    try:
+        run, _ = run_scenario(scenario, runs_root=folder, domain_id=lockstep._domain_id(),
+                              record=False, progress=lambda *_: None, analyse=False,
+                              wall_timeout_s=max(300.0, steps * n * 0.2))
+    finally:
+        used = cpu.used()
     spans, timeouts = _stepping_spans(run, steps)
-    if len(spans) != n:
+    if len(spans) != n or used is None:
         raise RuntimeError(f'platoon {n} {mode}: {len(spans)} of {n} simulators published step 0 '
                            f'and reached max_steps (logs {run / "logs"})')
     # the last simulator to start steps with every other one running (and gated to it): its own
     # span is the platoon's stepping, without the staggered starts before it
     last = max(spans.values())
-    return {'span_s': last[1] - last[0], 'cpu_s': cpu, 'timeouts': timeouts,
+    return {'span_s': last[1] - last[0], 'cpu_s': used, 'timeouts': timeouts,
             'load_1min': os.getloadavg()[0], 'run': str(run)}
 
 
@@ -155,21 +204,18 @@ def composed_flagship_run(steps, log_root):
 
 
 def run(quick=False):
-    short, long = QUICK_STEPS if quick else STEPS
+    steps_p = QUICK_STEPS if quick else STEPS
     log_root = RUN_DIR / time.strftime('%Y%m%d-%H%M%S')
     rows, runs = [], {}
     for n in SIZES:                 # interleaved: the modes see the same phases of the machine
         for mode in MODES:
-            pair = [platoon_run(n, mode, s, log_root / f'platoon{n}_{mode}') for s in (short, long)]
-            runs[f'platoon {n}, {mode}'] = pair
-            d = long - short
-            wall = pair[1]['span_s'] / long * 1e3
-            cpu = (pair[1]['cpu_s'] - pair[0]['cpu_s']) / d * 1e3
+            r = platoon_run(n, mode, steps_p, log_root / f'platoon{n}_{mode}')
+            runs[f'platoon {n}, {mode}'] = r
+            cpu = r['cpu_s'] / steps_p * 1e3
             rows.append({'config': f'platoon {n}, {mode}', 'vessels': n, 'mode': mode,
-                         'wall_ms': wall, 'cpu_ms': cpu, 'cpu_vessel_ms': cpu / n,
-                         'timeouts': sum(p['timeouts'] for p in pair),
-                         'failed_runs': sum(len(p['failures']) for p in pair),
-                         'load_1min': pair[1]['load_1min']})
+                         'wall_ms': r['span_s'] / steps_p * 1e3, 'cpu_ms': cpu,
+                         'cpu_vessel_ms': cpu / n, 'timeouts': r['timeouts'],
+                         'failed_runs': len(r['failures']), 'load_1min': r['load_1min']})
     lone = {r['mode']: r for r in rows if r['vessels'] == 1}
     for r in rows:
         r['wall_ratio'] = r['wall_ms'] / lone[r['mode']]['wall_ms']
@@ -197,11 +243,11 @@ def run(quick=False):
              common.goal('flagship composed: CPU per step / relay floor',
                          by['flagship, all']['cpu_floor_ratio'], GOAL_FLAGSHIP_CPU_FLOOR, 'x')]
     bad = [r['config'] for r in rows if r['timeouts']]
-    notes = [f'platoon: wall per step = the last-started simulator\'s own span / {long} steps; '
-             f'CPU per step = (long - short run) / {long - short} steps ({short} and {long} '
-             'steps), so start-up drops out; CPU = every process of the run (not this process '
-             'and its launcher monitor); flagship: stepping phase of one run of '
-             f'{steps} steps, CPU of all its processes',
+    notes = [f'platoon: {steps_p} steps; wall per step = the last-started simulator\'s own span '
+             '/ steps; CPU per step = the CPU of every process of the run (not this process and '
+             'its launcher monitor) from the moment the last simulator has published step 0 to '
+             'the moment the last has reached max_steps / steps; flagship: stepping phase of one '
+             f'run of {steps} steps, CPU of all its processes',
              "ratios: x lone = against the 1-vessel platoon in the same mode; x lone 'none' = "
              'against the 1-vessel platoon with a process per node; load = 1-minute load average '
              'when the row ended (2 cores shared: wall times follow the load)',

@@ -65,12 +65,12 @@ class ChildCpu(threading.Thread):
         self.folder, self.n, self.steps = folder, n, steps
         self.period_s, self.log_every = period_s, log_every
         self.last, self.at_start, self.at_end = {}, None, None
-        self._stop = threading.Event()
+        self._halt = threading.Event()
         self._children = Path(f'/proc/{os.getpid()}/task/{os.getpid()}/children')
 
     def run(self):
         i = 0
-        while self.at_end is None and not self._stop.wait(self.period_s):
+        while self.at_end is None and not self._halt.wait(self.period_s):
             self.poll()
             i += 1
             if i % self.log_every == 0 and (self.folder / 'latest').exists():
@@ -92,7 +92,7 @@ class ChildCpu(threading.Thread):
 
     def used(self):
         """CPU s of the stepping phase, None if it was not seen whole."""
-        self._stop.set()
+        self._halt.set()
         self.join()
         if self.at_start is None or self.at_end is None:
             return None

@@ -10,6 +10,7 @@ Sections (registry: scripts/benchmarks/__init__.py):
   wind         cost of the wind loads per simulator step, one vessel and batched
   node_jitter  odom inter-arrival jitter of a realtime vessel_node (needs `make build`)
   lockstep     flagship graph in lockstep: real-time factor, against a bare 3-hop relay floor
+  composition  nodes composed in one process vs one each: platoon of 1/3/5, flagship vs the floor
   live_view    flagship lockstep run with and without --live (and a client)
   realtime_latency  flagship graph in realtime: odom -> rudder_cmd latency, missed steps
   closed_loop_inprocess  the flagship loop's pure modules in one process (no ROS)

@@ -26,6 +26,8 @@ SECTIONS = {
     'node_jitter': ('node_jitter', 'run', 'odom inter-arrival jitter of a realtime vessel_node'),
     'lockstep': ('lockstep', 'run', 'flagship graph in lockstep: real-time factor vs a bare '
                  'relay'),
+    'composition': ('composition', 'run', 'several nodes per process vs one each: platoon of '
+                    '1/3/5 Mariners in lockstep (wall, CPU per vessel), flagship vs relay floor'),
     'live_view': ('live_view', 'run', 'flagship lockstep run with and without --live (the '
                   'Foxglove live view), with and without a client'),
     'realtime_latency': ('realtime_latency', 'run', 'flagship graph in realtime: odom -> '

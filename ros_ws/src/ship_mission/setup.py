@@ -22,6 +22,7 @@ setup(
     entry_points={
         'console_scripts': [
             'run_mission = ship_mission.cli:main',
+            'component_container = ship_mission.container:main',
         ],
     },
 )

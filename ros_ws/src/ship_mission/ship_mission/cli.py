@@ -15,7 +15,7 @@ from ship_mission.console import summary_line
 from ship_mission.launcher import MissionFailed, check_scenario, install_stop_handlers, run_scenario
 from ship_mission.recorder import COMPRESSIONS
 from ship_mission.report import traffic_lines
-from ship_mission.scenario import MIN_DURATION_S, ScenarioError, load_scenario
+from ship_mission.scenario import COMPOSE, MIN_DURATION_S, ScenarioError, load_scenario
 
 
 def main(argv=None):
@@ -43,6 +43,9 @@ def main(argv=None):
                     help='port of --live (127.0.0.1)')
     ap.add_argument('--live-nice', type=integer(0, 19), default=10, help='CPU niceness of --live once '
                     'serving (0: it keeps up on a busy machine, at the graph\'s expense)')
+    ap.add_argument('--compose', choices=COMPOSE, default=None,
+                    help="several nodes per process: one container per vessel or one for all "
+                    "(default: the scenario's compose, else none; ship_mission.composition)")
     args = ap.parse_args(argv)
     try:
         scenario = load_scenario(args.scenario, args.name)
@@ -51,6 +54,8 @@ def main(argv=None):
             scenario.duration_s = args.duration
         if args.stepping:
             scenario.stepping = args.stepping
+        if args.compose:
+            scenario.compose = args.compose
         if args.bag_compression:
             scenario.bag_compression = args.bag_compression
         if args.live:

@@ -1,6 +1,8 @@
 """Run a scenario as a graph of node processes (no `ros2 launch`): start, watch, stop, analyse.
 
-Which nodes run, with which parameters, is ship_mission.graph (data); this module starts them.
+Which nodes run, with which parameters, is ship_mission.graph (data); this module starts them,
+each as its own process or, with the scenario's ``compose`` (run_mission --compose), several in
+one container process (ship_mission.composition: same start order, same waits).
 
 For each vessel namespace: route_node, guidance_node, autopilot_node and, last, vessel_node
 (in lockstep it publishes step 0 only once its odom subscribers are all there). In a platoon
@@ -33,6 +35,7 @@ from pathlib import Path
 
 import yaml
 
+from ship_mission.composition import Starter, load_publisher, member_ros_args
 from ship_mission.console import progress_line
 from ship_mission.domain import LeaseError, lease_domain_id
 from ship_mission.graph import (  # noqa: F401 (the launcher's API: the graph as it starts it)
@@ -182,16 +185,19 @@ def write_params(run, namespace, node, params):
     return path
 
 
+def params_file(run, node):
+    """Write the parameter file of one node spec: params/<namespace or label>.<executable>.yaml."""
+    return write_params(run, node.namespace or node.label.split('/')[0], node.executable,
+                        node.parameters)
+
+
 def start_node(run, group, node):
     """Start one node spec of ship_mission.graph: a script by its argv, a node with its
-    parameter file (params/<namespace or label>.<executable>.yaml) in its namespace."""
+    parameter file in its namespace."""
     if node.package is None:
         return group.start_argv(node.label, node.argv)
-    f = write_params(run, node.namespace or node.label.split('/')[0], node.executable,
-                     node.parameters)
-    ns = ['-r', f'__ns:=/{node.namespace}'] if node.namespace else []
     return group.start(node.label, node.package, node.executable,
-                       ['--ros-args', *ns, '--params-file', f, *node.remaps])
+                       member_ros_args(node, params_file(run, node)))
 
 
 def _start_live_view(run, group, node, progress):
@@ -330,7 +336,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             progress(f'  warning: {w}')
 
     group = ProcessGroup(env, run / 'logs')
-    monitor = None
+    monitor = starter = None
     t_wall0 = time.monotonic()
     outcome = 'failed'
     try:
@@ -340,6 +346,10 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             progress(f'display: no geodetic origin in the scenario or its routes; the fix uses '
                      f'the default sea area {DEFAULT_ORIGIN_DEG[0]:g} N {DEFAULT_ORIGIN_DEG[1]:g} E '
                      f'(Norwegian Sea; `display: origin` sets one)')
+        # compose: several nodes per process (ship_mission.composition); none: one each
+        starter = Starter(graph, scenario.compose, run, group,
+                          lambda node: start_node(run, group, node),
+                          lambda node: params_file(run, node))
         sims = {}
         for node in graph.nodes:   # all but the simulators, in the graph's order
             if node.executable == 'vessel_node':
@@ -347,8 +357,9 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             elif node.label == 'live_view':
                 _start_live_view(run, group, node, progress)
             else:
-                start_node(run, group, node)
+                starter.start(node)
         monitor = Monitor(namespaces)
+        starter.publish_load = load_publisher(monitor.node)
         monitor.spin(1.0)
         if scenario.light:
             _wait_for_clock_subscriber(monitor, 'traffic_node', group)
@@ -364,14 +375,14 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             if scenario.stepping == 'realtime':
                 wait_for_odom_subscribers(monitor, next(s for s in scenario.vessels
                                                         if s.namespace == ns), group, progress)
-            simulators[ns] = start_node(run, group, sims[ns])
+            simulators[ns] = starter.start(sims[ns])
         last_print = 0.0
         while True:
             monitor.spin(0.2)
             if _stop_signals:
                 raise KeyboardInterrupt(_stop_signals[0])
             dead = group.failed()
-            vessels_done = [p for p in dead if p.label.endswith('/vessel_node') and p.returncode == 0]
+            vessels_done = [p for p in dead if starter.simulators_in(p) and p.returncode == 0]
             crashed = [p for p in dead if p not in vessels_done]
             if crashed:
                 p = crashed[0]
@@ -380,7 +391,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             if all(monitor.complete.values()):
                 outcome = 'completed'
                 break
-            if len(vessels_done) == len(namespaces):
+            if sum(map(starter.simulators_in, vessels_done)) == len(namespaces):
                 outcome = 'duration reached'
                 break
             now = time.monotonic()
@@ -402,7 +413,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             monitor.close()
         # Simulators first (nothing new is published), then give the recorder time to write
         # what it still has queued, then everything else.
-        codes = group.stop(first=lambda p: p.label.endswith('/vessel_node'),
+        codes = group.stop(first=lambda p: starter is not None and starter.simulators_in(p) > 0,
                            settle=1.0 if record else 0.0)
         wall = time.monotonic() - t_wall0
         summary = {'scenario': str(scenario.file), 'name': scenario.name, 'outcome': outcome,

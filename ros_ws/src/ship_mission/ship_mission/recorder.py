@@ -405,7 +405,8 @@ def clock_ns(data):
 class Recorder:
     """An rclpy node that records topics into a ``BagWriter``.
 
-    ``topics``: explicit absolute topic names, or None for every topic not matching
+    ``topics``: explicit absolute topic names, or None for every topic that is not hidden (a
+    name token starting with '_', e.g. a component container's ``~/_load``) and does not match
     ``exclude`` (a regex). ``/clock`` is always recorded (sim-time stamps and replay need it).
     ``tf``: also write ``/tf`` from every ``*/odom`` (module docstring); ``compression``: the
     MCAP chunks' (COMPRESSIONS).
@@ -466,6 +467,8 @@ class Recorder:
             return True
         if self.wanted is not None:
             return topic in self.wanted
+        if any(token.startswith('_') for token in topic.split('/')):
+            return False  # hidden (a name token starts with '_'), as `ros2 bag record -a` skips
         return not (self.exclude and self.exclude.search(topic))
 
     def discover(self):

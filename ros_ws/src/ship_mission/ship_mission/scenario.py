@@ -7,6 +7,8 @@
                                              # vessel has completed its route); at most
                                              # MAX_STEPS steps of dt_s
     stepping: lockstep                       # lockstep | realtime
+    compose: none                            # none | vessel | all: nodes per process
+                                             # (ship_mission.composition)
     speedup: 1.0                             # realtime only: sim seconds per wall second
     dt_s: 0.1                                # control period = simulator publish period
     settle_s: 100.0                          # metrics ignore the first settle_s seconds
@@ -108,7 +110,7 @@ from ship_sim.safe_load import InputError, load_yaml_file, ros_name_problem
 
 TOP_KEYS = {'name', 'source', 'description', 'duration_s', 'stepping', 'speedup', 'dt_s',
             'settle_s', 'vessels', 'platoon', 'record', 'lockstep_timeout_s', 'traffic', 'ais',
-            'wind', 'display', 'bag_compression', 'aivdm_out'}
+            'wind', 'display', 'bag_compression', 'aivdm_out', 'compose'}
 #: ais_node parameters the launcher sets itself (not allowed in a scenario's `ais:`).
 AIS_LAUNCHER_KEYS = {'use_sim_time', 'publish_on_clock'}
 DISPLAY_KEYS = {'origin', 'display_rate_hz', 'trail_length_s'}
@@ -116,6 +118,8 @@ VESSEL_KEYS = {'model', 'route', 'start', 'speed_mps', 'current', 'vessel', 'gui
                'autopilot', 'model_params', 'colav', 'waves', 'wind'}
 TRAFFIC_KEYS = VESSEL_KEYS - {'colav'}
 STEPPING = ('lockstep', 'realtime')
+#: `compose:` several nodes per process (ship_mission.composition): none, per vessel, or all.
+COMPOSE = ('none', 'vessel', 'all')
 #: Most simulator steps a run may ask for (duration_s / dt_s): vessel_node's max_steps upper
 #: bound (ros_ws/src/ship_sim/ship_sim/vessel_node.py, 10**12), so the launcher's check refuses
 #: what the node would refuse after the graph has started.
@@ -154,6 +158,7 @@ class Scenario:
     #: the scenario's own mapping when it comes from a matrix file (ship_mission.matrix), else None
     expanded: dict = None
     bag_compression: str = DEFAULT_COMPRESSION   #: the recorder's --compression
+    compose: str = 'none'   #: `compose:` / --compose (ship_mission.composition)
     #: the `aivdm_out:` block as written (ship_mission.aivdm_block checks it), None without one
     aivdm_out: dict = None
     #: {namespace: 'full' | 'light'} of the `traffic:` entries, in file order: full vessels
@@ -297,6 +302,8 @@ def _parse_scenario(data, path):
     compression = data.get('bag_compression', DEFAULT_COMPRESSION)
     need(compression in COMPRESSIONS, path, 'bag_compression',
          f"one of {', '.join(COMPRESSIONS)}, got {compression!r}")
+    compose = data.get('compose', 'none')
+    need(compose in COMPOSE, path, 'compose', f"one of {', '.join(COMPOSE)}, got {compose!r}")
     _apply_scenario_wind(data, specs, path)
     return Scenario(
         file=path, name=data['name'], source=str(data.get('source', '')),
@@ -308,7 +315,8 @@ def _parse_scenario(data, path):
         record=bool(data.get('record', True)),
         lockstep_timeout_s=lockstep_timeout, vessels=specs, platoon=platoon, light=light,
         ais=ais, display=_parse_display(data.get('display', {}), path),
-        bag_compression=compression, aivdm_out=data.get('aivdm_out'), targets=targets)
+        bag_compression=compression, aivdm_out=data.get('aivdm_out'), targets=targets,
+        compose=compose)
 
 
 def _parse_ais(ais, path):

@@ -65,8 +65,14 @@ def make_executor(kind=None, context=None):
 
 
 def finish(node, code=0):
-    """End the spin of ``node`` from inside one of its callbacks; run_node returns ``code``."""
+    """End the spin of ``node`` from inside one of its callbacks; run_node returns ``code``.
+    A node that shares its process and context with others (ship_mission.container sets its
+    ``end_alone``) ends alone: the context stays up for the others."""
     node.exit_code = code
+    end_alone = getattr(node, 'end_alone', None)
+    if end_alone is not None:
+        end_alone(code)
+        return
     node.context.try_shutdown()
 
 

@@ -17,8 +17,10 @@ SCENARIO ?= scenarios/flagship_mariner.yaml
 # What `source install/setup.bash` gives a shell (PYTHONPATH, AMENT_PREFIX_PATH, ...), for a recipe.
 WITH_INSTALL := source $(WS)/install/setup.bash &&
 PYTEST_ARGS ?=
-# pytest worker processes for `make test` (pytest-xdist; 0, the default: the suite in one process). A test
-# file stays on one worker (--dist loadfile): its module-scoped runs are made once.
+# pytest worker processes for `make test` (pytest-xdist; 0, the default: the suite in one process). With
+# --dist loadgroup every integration file goes to one worker, so no two graph tests run at a
+# time, and every other file stays whole on a worker, so its module-scoped runs are made once
+# (the scheduler: tests/conftest.py).
 TEST_JOBS ?= 0
 
 .PHONY: all venv venv-sweep venv-test venv-interop venv-judge build demo lint docs test bench clean distclean
@@ -97,7 +99,7 @@ docs: build $(VENV)/.installed-docs
 # tests will skip and the command that installs it.
 test: build venv-test lint docs
 	@$(WITH_INSTALL) $(PY) scripts/ensure_test_tools.py
-	$(PY) -m pytest -n $(TEST_JOBS) --dist loadfile $(PYTEST_ARGS)
+	$(PY) -m pytest -n $(TEST_JOBS) --dist loadgroup $(PYTEST_ARGS)
 
 # The benchmarks use every extra: gymnasium (controllers), Ray (sweep), websockets (live view).
 bench: build venv-test

@@ -8,8 +8,44 @@ install/setup.bash would.
 """
 import os
 
+import pytest
+
 
 def pytest_configure(config):
     folders = [str(path) for path in config.getini('pythonpath')]
     old = [p for p in os.environ.get('PYTHONPATH', '').split(os.pathsep) if p and p not in folders]
     os.environ['PYTHONPATH'] = os.pathsep.join(folders + old)
+
+
+#: Where the tests that start node graphs live (tests/integration/conftest.py marks them
+#: `integration`), as pytest-xdist names a test: relative to the rootdir.
+GRAPH_TESTS = 'tests/integration/'
+
+
+@pytest.hookimpl(tryfirst=True, optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """`make test TEST_JOBS=2` (``--dist loadgroup``): every integration file on one worker, so
+    no two graph tests run at a time (two lockstep graphs starting together under the doubled
+    load can miss a first command, doc/known_limits.md) while the other worker runs the rest;
+    every other file whole on a worker, so a module-scoped fixture is made once, as with
+    ``--dist loadfile``. The integration files go out first: they take longest, and another
+    worker's queue is then only the short files (longest job first).
+
+    xdist 3.8's own loadgroup puts a group into the node id (``item._nodeid``), which pytest 9
+    no longer reads (node ids are structured), so it groups nothing: the groups are made here,
+    from the file path, on xdist's scope scheduler."""
+    if config.getvalue('dist') != 'loadgroup':
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    class GraphsOnOneWorker(LoadScopeScheduling):
+        def _split_scope(self, nodeid):
+            path = nodeid.split('::', 1)[0]
+            return GRAPH_TESTS if path.startswith(GRAPH_TESTS) else path
+
+        def _assign_work_unit(self, node):
+            if GRAPH_TESTS in self.workqueue:
+                self.workqueue.move_to_end(GRAPH_TESTS, last=False)
+            super()._assign_work_unit(node)
+
+    return GraphsOnOneWorker(config, log)

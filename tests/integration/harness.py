@@ -345,26 +345,64 @@ def _reached_duration(run, wall_timeout_s):
 def run_complete(launch, scenario, duration_s, wall_timeout_s=240.0):
     """Run a lockstep ``scenario`` once through the launcher to ``duration_s`` and assert a
     clean exit at the duration and a complete record; returns (run folder, its metrics)."""
-    args = ('--wall-timeout', wall_timeout_s, '--duration', duration_s)
-    run = _reached_duration(launch(scenario, *args), wall_timeout_s)
-    metrics = json.loads((run / 'metrics.json').read_text())
+    return _completed(launch(scenario, *_duration_args(duration_s, wall_timeout_s)),
+                      wall_timeout_s)
+
+
+def _duration_args(duration_s, wall_timeout_s):
+    return ('--wall-timeout', wall_timeout_s, '--duration', duration_s)
+
+
+def _completed(run, wall_timeout_s):
+    """(run folder, metrics) of a started launch, once it exited cleanly at its duration with a
+    complete record."""
+    folder = _reached_duration(run, wall_timeout_s)
+    metrics = json.loads((folder / 'metrics.json').read_text())
     assert metrics['record']['complete'], metrics['record']
-    return run, metrics
+    return folder, metrics
+
+
+#: A launcher's progress line once its sim clock has moved (ship_mission.console.progress_line).
+_STEPPING = re.compile(r'^\s*t = +([0-9.]+) /', re.MULTILINE)
+
+
+def wait_until_stepping(run, timeout):
+    """Return once the launch ``run`` reports sim time past 0 (every node of its graph started
+    and the lockstep under way), or it has exited, or ``timeout`` s passed (the caller's own
+    checks of ``run`` then say what went wrong)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and run.popen.poll() is None:
+        if any(float(t) > 0.0 for t in _STEPPING.findall(run.stdout())):
+            return
+        time.sleep(0.2)
+
+
+def start_pair(start, timeout=120.0):
+    """Two runs of one graph at the same time: ``start(own_domain)`` starts a launch (on the
+    test's leased domain, then on one the second launcher leases itself); the second starts once
+    the first is stepping. Returns both launches.
+
+    A lockstep run is bound by message latency, not by CPU, so two at once take much less than
+    two in turn, and the repeat is then made under the load of the other graph. The start-ups
+    do not overlap: both graphs coming up at once once lost a light target's step-0 odom (colav
+    then decided without it after 10 s, a known start-up race, doc/known_limits.md), which the
+    repeat check must not trip on."""
+    first = start(False)
+    wait_until_stepping(first, timeout)
+    return first, start(True)
 
 
 def run_twice_complete(launch, scenario, duration_s, wall_timeout_s=240.0, colav_ns=None):
-    """Run a lockstep ``scenario`` twice through the launcher, each to ``duration_s`` (the
-    launcher's ``--duration``), and assert what a repeat needs: both exits clean at the
-    duration, both records complete, the two runs' ``vessels`` and ``traffic`` metrics equal and,
-    with ``colav_ns``, that vessel's heading_cmd / colav_targets / colav_decision messages equal
-    byte for byte. Returns (run folders, the first run's metrics, the first run's colav
-    messages or None).
-
-    The two runs go one after the other. Started together, a light target's step-0 odom was once
-    lost while both graphs came up (colav then decided without it after 10 s: a known start-up
-    race, see doc/known_limits.md), which the repeat check must not trip on."""
-    runs, metrics = zip(*(run_complete(launch, scenario, duration_s, wall_timeout_s)
-                          for _ in range(2)))
+    """Run a lockstep ``scenario`` twice through the launcher (``start_pair``: at the same
+    time, on two domains), each to ``duration_s`` (the launcher's ``--duration``), and assert
+    what a repeat needs: both exits clean at the duration, both records complete, the two runs'
+    ``vessels`` and ``traffic`` metrics equal and, with ``colav_ns``, that vessel's heading_cmd /
+    colav_targets / colav_decision messages equal byte for byte. Returns (run folders, the
+    first run's metrics, the first run's colav messages or None). Both launches are ended at
+    the ``launch`` fixture's teardown, whatever fails."""
+    args = _duration_args(duration_s, wall_timeout_s)
+    pair = start_pair(lambda own_domain: launch(scenario, *args, own_domain=own_domain))
+    runs, metrics = zip(*(_completed(run, wall_timeout_s) for run in pair))
     assert metrics[0]['vessels'] == metrics[1]['vessels']
     assert metrics[0].get('traffic') == metrics[1].get('traffic')
     if colav_ns is None:

@@ -7,7 +7,7 @@ however slow the recorder is made. Two busy loops (one per core) load the machin
 test, which is how messages were lost before: bursts of 100 odom or 10 /clock steps.
 
 For the flagship on its first two legs (one vessel, completed route) and a 3-vessel platoon
-(duration-limited), run twice under load:
+(duration-limited), run twice at the same time under load:
 - every step is in each bag: odom stamps are exactly k * dt for k = 0 .. last, /clock the
   same, and every per-step topic has one message per step (ship_mission.integrity finds nothing
   missing; the answer to the very last step may be in flight when the graph is stopped);
@@ -29,7 +29,7 @@ from rosbags.highlevel import AnyReader
 from ship_mission.bag import read_bag
 from ship_mission.integrity import record_integrity
 
-from harness import REPO_ROOT, _die_with_parent
+from harness import REPO_ROOT, _die_with_parent, start_pair
 from test_launcher import Launch
 
 FLAGSHIP = REPO_ROOT / 'scenarios' / 'flagship_mariner.yaml'
@@ -119,17 +119,26 @@ def assert_every_step(bag, dt):
 
 
 def run_twice(ros_graph, tmp_path, scenario, timeout):
-    runs = []
-    for i in range(2):
-        folder = tmp_path / f'run{i}'
+    """The scenario run twice at the same time (harness.start_pair: the second once the first
+    is stepping, on a domain of its own), so each run is also loaded by the other graph; both
+    launchers and their processes are ended whatever fails."""
+    launches = []
+
+    def start(own_domain):
+        folder = tmp_path / f'run{len(launches)}'
         folder.mkdir()
-        launch = Launch(ros_graph, folder, scenario, [])
-        try:
+        launches.append(Launch(ros_graph, folder, scenario, [], own_domain=own_domain))
+        return launches[-1]
+
+    runs = []
+    try:
+        for launch in start_pair(start):
             assert launch.wait(timeout) == 0, launch.report()
-        finally:
+            run = (launch.runs / 'latest').resolve()
+            runs.append((run, json.loads((run / 'metrics.json').read_text())))
+    finally:
+        for launch in launches:
             launch.close()
-        run = (launch.runs / 'latest').resolve()
-        runs.append((run, json.loads((run / 'metrics.json').read_text())))
     return runs
 
 

@@ -1,15 +1,13 @@
 """Composed runs (ship_mission.composition, run_mission --compose): several nodes per process.
 
-- the record stays lossless and the lockstep run deterministic: the flagship composed in one
-  container gives, under load, the very record of the same run with a process per node, and the
-  3-vessel platoon the same with a container per vessel and with one for all (the helpers of
-  test_lossless: every step in each bag, identical metrics, every message equal);
+- the record stays lossless and the lockstep run deterministic: test_lossless runs the flagship
+  and the 3-vessel platoon once with a process per node and once composed, at the same time
+  under load, and finds every step in each bag and the same metrics and messages;
 - every member is a node of its own, as in a process of its own: its name and namespace in the
   graph, its parameters (the launcher's parameter file) over its parameter services;
 - killing a container fails the run as killing a node process does: exit 1 naming it, every
   other process stopped, nothing left behind.
 """
-import json
 import os
 import signal
 import time
@@ -17,54 +15,7 @@ import time
 import pytest
 import yaml
 
-from test_launcher import SCENARIO, Launch, _run_json, run_processes
-from test_lossless import (busy_machine, compare, flagship_two_legs,  # noqa: F401 (fixture)
-                           three_vessel_platoon)
-
-
-def _with_compose(path, mode):
-    data = yaml.safe_load(path.read_text())
-    data['compose'] = mode
-    out = path.with_name(f'{path.stem}_{mode}.yaml')
-    out.write_text(yaml.safe_dump(data))
-    return out
-
-
-def run_modes(ros_graph, tmp_path, scenario, modes, timeout):
-    """One run of ``scenario`` per compose mode: [(run folder, metrics)]."""
-    runs = []
-    for mode in modes:
-        folder = tmp_path / f'run_{mode}'
-        folder.mkdir()
-        launch = Launch(ros_graph, folder, _with_compose(scenario, mode), [])
-        try:
-            assert launch.wait(timeout) == 0, launch.report()
-        finally:
-            launch.close()
-        run = (launch.runs / 'latest').resolve()
-        procs = set(_run_json(run)['exit_codes'])
-        assert any(p.endswith('component_container') for p in procs) == (mode != 'none'), procs
-        runs.append((run, json.loads((run / 'metrics.json').read_text())))
-    return runs
-
-
-@pytest.mark.timeout(900)
-@pytest.mark.usefixtures('busy_machine')
-def test_flagship_composed_records_the_same_run_under_load(ros_graph, tmp_path):
-    dt = yaml.safe_load(flagship_two_legs(tmp_path).read_text())['dt_s']
-    compare(run_modes(ros_graph, tmp_path, flagship_two_legs(tmp_path), ['none', 'all'], 400), dt)
-
-
-@pytest.mark.timeout(900)
-@pytest.mark.usefixtures('busy_machine')
-def test_platoon_composed_per_vessel_and_in_one_records_the_same_run_under_load(
-        ros_graph, tmp_path):
-    runs = run_modes(ros_graph, tmp_path, three_vessel_platoon(tmp_path), ['vessel', 'all'], 400)
-    metrics = compare(runs, 0.1)
-    assert len(metrics['vessels']) == 3
-    counts = {t: c['count'] for t, c in metrics['topics'].items()}
-    for ns in metrics['vessels']:   # ended by max_steps: every step and its answer recorded
-        assert counts[f'{ns}/rudder_cmd'] == counts[f'{ns}/odom'] == 1501, ns
+from test_launcher import SCENARIO, _run_json, run_processes
 
 
 def _call(tn, future, timeout=10.0):

@@ -7,7 +7,9 @@ however slow the recorder is made. Two busy loops (one per core) load the machin
 test, which is how messages were lost before: bursts of 100 odom or 10 /clock steps.
 
 For the flagship on its first two legs (one vessel, completed route) and a 3-vessel platoon
-(duration-limited), run twice at the same time under load:
+(duration-limited), run twice at the same time under load, once with a process per node and
+once composed (ship_mission.composition: the flagship's nodes in its vessel's container, the
+whole platoon in one):
 - every step is in each bag: odom stamps are exactly k * dt for k = 0 .. last, /clock the
   same, and every per-step topic has one message per step (ship_mission.integrity finds nothing
   missing; the answer to the very last step may be in flight when the graph is stopped);
@@ -30,10 +32,15 @@ from ship_mission.bag import read_bag
 from ship_mission.integrity import record_integrity
 
 from harness import REPO_ROOT, _die_with_parent, start_pair
-from test_launcher import Launch
+from test_launcher import Launch, _run_json
 
 FLAGSHIP = REPO_ROOT / 'scenarios' / 'flagship_mariner.yaml'
 PLATOON = REPO_ROOT / 'scenarios' / 'platoon_mariner_5.yaml'
+#: Compose modes of the two runs: one with a process per node, one composed (per vessel for the
+#: flagship, one container for the whole platoon), so each test checks the record of both
+#: modes and that composing changes nothing in it.
+COMPOSE_FLAGSHIP = ('none', 'vessel')
+COMPOSE_PLATOON = ('none', 'all')
 BUSY = 'import time\nend = time.monotonic() + 900\nwhile time.monotonic() < end:\n    pass\n'
 
 
@@ -118,23 +125,38 @@ def assert_every_step(bag, dt):
     return data
 
 
-def run_twice(ros_graph, tmp_path, scenario, timeout):
+def with_compose(path, mode):
+    """A copy of scenario ``path`` with ``compose: mode`` (ship_mission.composition)."""
+    data = yaml.safe_load(path.read_text())
+    data['compose'] = mode
+    out = path.with_name(f'{path.stem}_{mode}.yaml')
+    out.write_text(yaml.safe_dump(data))
+    return out
+
+
+def run_twice(ros_graph, tmp_path, scenario, timeout, modes=('none', 'none')):
     """The scenario run twice at the same time (harness.start_pair: the second once the first
     is stepping, on a domain of its own), so each run is also loaded by the other graph; both
-    launchers and their processes are ended whatever fails."""
+    launchers and their processes are ended whatever fails. ``modes``: each run's compose mode
+    (a process per node, or containers: ship_mission.composition)."""
     launches = []
 
     def start(own_domain):
-        folder = tmp_path / f'run{len(launches)}'
+        k = len(launches)
+        folder = tmp_path / f'run{k}'
         folder.mkdir()
-        launches.append(Launch(ros_graph, folder, scenario, [], own_domain=own_domain))
+        launches.append(Launch(ros_graph, folder, with_compose(scenario, modes[k]), [],
+                               own_domain=own_domain))
         return launches[-1]
 
     runs = []
     try:
-        for launch in start_pair(start):
+        for mode, launch in zip(modes, start_pair(start)):
             assert launch.wait(timeout) == 0, launch.report()
             run = (launch.runs / 'latest').resolve()
+            procs = set(_run_json(run)['exit_codes'])
+            assert any(p.endswith('component_container') for p in procs) == (mode != 'none'), \
+                procs
             runs.append((run, json.loads((run / 'metrics.json').read_text())))
     finally:
         for launch in launches:
@@ -165,7 +187,8 @@ def compare(runs, dt):
 @pytest.mark.timeout(900)
 def test_flagship_lossless_and_repeatable_under_load(ros_graph, tmp_path, busy_machine):
     dt = yaml.safe_load(FLAGSHIP.read_text())['dt_s']
-    metrics = compare(run_twice(ros_graph, tmp_path, flagship_two_legs(tmp_path), timeout=400), dt)
+    metrics = compare(run_twice(ros_graph, tmp_path, flagship_two_legs(tmp_path), timeout=400,
+                                modes=COMPOSE_FLAGSHIP), dt)
     v = metrics['vessels']['/vessel_0']
     assert v['completion_cut'] == 'guidance' and math.isfinite(v['xte_rms_m'])
 
@@ -173,7 +196,8 @@ def test_flagship_lossless_and_repeatable_under_load(ros_graph, tmp_path, busy_m
 @pytest.mark.timeout(900)
 def test_platoon_lossless_and_repeatable_under_load(ros_graph, tmp_path, busy_machine):
     scenario = three_vessel_platoon(tmp_path)
-    metrics = compare(run_twice(ros_graph, tmp_path, scenario, timeout=400), 0.1)
+    metrics = compare(run_twice(ros_graph, tmp_path, scenario, timeout=400,
+                                modes=COMPOSE_PLATOON), 0.1)
     assert len(metrics['vessels']) == 3
     # Ended by max_steps: each simulator stopped only once the recorder held its last step's
     # rudder_cmd, so the answer to the last step is never left in flight (it was, now and then,

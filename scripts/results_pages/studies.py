@@ -90,3 +90,5 @@ from results_pages import bench  # noqa: E402, F401
 from results_pages import reacting_traffic  # noqa: E402, F401
 from results_pages import degraded_sensors  # noqa: E402, F401
 from results_pages import colregs_judge  # noqa: E402, F401
+from results_pages import sweeps  # noqa: E402, F401
+from results_pages import chart_planning  # noqa: E402, F401

@@ -1,0 +1,17 @@
+"""A Monte Carlo sweep's summary (scripts/sweep.py's summary.json): doc/results/sweeps.md.
+
+The cells come as sweep.py formats them (montecarlo.results.summary_rows, the same text as
+summary.md and index.html); this lays them out with the run's size and time."""
+from results_pages.registry import table
+
+
+@table('sweeps', 'summary')
+def summary(data):
+    """The summary table of one sweep run, with how many episodes it ran and how long it took."""
+    t, run = data['table'], data['run']
+    lines = ['| ' + ' | '.join(t['header']) + ' |',
+             '|' + '---|' * len(data['group_by']) + '---:|' * (len(t['header']) - len(data['group_by']))]
+    lines += ['| ' + ' | '.join(cells) + ' |' for cells in t['rows']]
+    return (f"`{data['sweep']}`, seed {data['seed']}: {data['episodes_per_cell']} episodes per grid "
+            f"cell, {run['episodes']} in all, in {run['wall_s']:.0f} s on {run['workers']} "
+            f"workers. {t['caption']}\n\n" + '\n'.join(lines) + '\n')

@@ -9,13 +9,13 @@ from results_pages.tables import markdown_table
 def route(data):
     """The planned route against the exact shortest path at the same clearance."""
     rows = [
-        {'what': 'length (km)', 'planned': data['route_length_m'] / 1e3,
-         'shortest': data['shortest_path_length_m'] / 1e3},
-        {'what': 'total course change (deg)', 'planned': data['heading_change_deg'],
-         'shortest': data['shortest_heading_change_deg']},
+        {'what': 'length (km)', 'planned': f"{data['route_length_m'] / 1e3:.2f}",
+         'shortest': f"{data['shortest_path_length_m'] / 1e3:.2f}"},
+        {'what': 'total course change (deg)', 'planned': f"{data['heading_change_deg']:.0f}",
+         'shortest': f"{data['shortest_heading_change_deg']:.0f}"},
     ]
-    table_md = markdown_table([('', 'what', ''), ('GA route with fillets', 'planned', '.2f'),
-                               ('exact shortest path', 'shortest', '.2f')], rows)
+    table_md = markdown_table([('', 'what', ''), ('GA route with fillets', 'planned', ''),
+                               ('exact shortest path', 'shortest', '')], rows)
     return (f"{data['chart']}; clearance {data['clearance_m']:g} m, fillet radius "
             f"{data['fillet_radius_m']:g} m:\n\n{table_md}\n"
             f"Length ratio {data['length_ratio']:.3f}; {data['waypoints']} waypoints; planning "

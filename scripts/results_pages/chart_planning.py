@@ -34,5 +34,5 @@ def sailed(data):
         ('completed', lambda r: 'yes' if r['finished'] else 'no', ''),
         ('time (s)', 'time_to_complete_s', '.0f'),
         ('XTE RMS after settling (m)', 'xte_rms_m', '.1f'),
-        ('XTE max (m)', 'xte_max_abs_m', '.1f'),
+        ('XTE max after settling (m)', 'xte_max_abs_m', '.1f'),
     ], rows)

@@ -24,7 +24,7 @@ from ship_mission.browser_check import CHROMIUM_ARGS, find_chromium
 REPO = Path(__file__).resolve().parents[1]
 SITE = REPO / 'site'
 #: page of the site -> picture in doc/ (the front page, a results page whose tables are generated)
-PAGES = {'index.html': 'site_front_page.png', 'results/wind_waves.html': 'site_results_page.png'}
+PAGES = {'index.html': 'site_front_page.png', 'results/platoon.html': 'site_results_page.png'}
 WIDTH, HEIGHT = 1280, 900
 #: a palette of this many colours keeps text and the theme's colours and makes the file a
 #: fraction of a full-colour PNG

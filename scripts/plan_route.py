@@ -210,7 +210,8 @@ def main(argv=None):
         print(f'{k}: {v}')
     if args.results:
         from results_pages.provenance import provenance
-        record = {'provenance': provenance(), 'clearance_m': args.clearance,
+        record = {'provenance': provenance(None if argv is None else [sys.argv[0], *argv]),
+                  'clearance_m': args.clearance,
                   'resolution_m': args.resolution, 'fillet_radius_m': radius, **summary}
         with open(args.results, 'w', encoding='utf-8') as f:
             f.write(json.dumps(record, indent=1) + '\n')

@@ -45,7 +45,8 @@ def _number(v):
 
 
 def section_rows(data, name):
-    """A section's rows with its own columns (bench.py's table), its title and load above."""
+    """A section's rows with its own columns (bench.py's table), its title and load above and
+    its notes (ratios and conditions the section computed) below."""
     try:
         s = data['sections'][name]
     except KeyError:
@@ -56,8 +57,10 @@ def section_rows(data, name):
     columns = [(head, (lambda r, k=key: r.get(k)), lambda v: v if isinstance(v, str) else _number(v))
                for key, head in s['columns']]
     quick = ', `--quick`' if data['args'].get('quick') else ''
+    notes = ''.join(f'- {note}\n' for note in s.get('notes', []))
     return (f"{s['title']}; 1-minute load {_load(s)} when the section started{quick}:\n\n"
-            + markdown_table(columns, s['rows']))
+            + markdown_table(columns, s['rows'])
+            + (f'\nThe section\'s notes:\n\n{notes}' if notes else ''))
 
 
 @table('bench', 'batch_closed_loop')

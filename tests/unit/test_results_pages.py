@@ -161,7 +161,7 @@ def test_benchmark_goals_show_value_target_verdict_and_load_per_section():
 
 def test_a_benchmark_section_table_keeps_its_columns_and_says_its_load():
     from results_pages.studies import render
-    section = {'title': 'loop rates', 'load_1min_start': 7.0,
+    section = {'title': 'loop rates', 'load_1min_start': 7.0, 'notes': ['batched 14.7x'],
                'columns': [['loop', 'loop'], ['n', 'N'], ['rate', 'steps/s'], ['ratio', 'ratio']],
                'rows': [{'loop': 'one', 'n': 1, 'rate': 24512.6, 'ratio': 0.012345},
                         {'loop': 'batch', 'n': 10000, 'rate': 1.5e6}]}
@@ -169,6 +169,7 @@ def test_a_benchmark_section_table_keeps_its_columns_and_says_its_load():
     assert text.startswith('loop rates; 1-minute load 7.0 when the section started:')
     assert '| loop | N | steps/s | ratio |' in text
     assert '| one | 1 | 24,513 | 0.0123 |' in text and '| batch | 10,000 | 1,500,000 | n/a |' in text
+    assert text.endswith("The section's notes:\n\n- batched 14.7x\n")
     with pytest.raises(KeyError, match='it has: batch_closed_loop'):
         render('bench', 'sweep', {'args': {}, 'sections': {'batch_closed_loop': section}})
 

@@ -7,7 +7,12 @@ from results_pages.tables import fmt, markdown_table
 
 
 def _value(v, unit):
-    text = fmt(v, '.4g') if isinstance(v, float) else fmt(v, '')
+    """Four significant digits; rates of ten thousand and more in full, thousands separated
+    (a rate in 'e+05' notation is hard to read against its target)."""
+    if isinstance(v, (int, float)) and not isinstance(v, bool) and abs(v) >= 1e4:
+        text = fmt(v, ',.0f')
+    else:
+        text = fmt(v, '.4g') if isinstance(v, float) else fmt(v, '')
     return f'{text} {unit}' if unit else text
 
 

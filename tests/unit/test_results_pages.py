@@ -151,11 +151,15 @@ def test_benchmark_goals_show_value_target_verdict_and_load_per_section():
                              'relation': '<', 'met': False}]},
         'waves': {'goals': [{'text': 'ratio', 'value': 0.97834, 'target': 1.25, 'unit': '',
                              'relation': '<', 'met': True}]},
+        'batched': {'load_1min_start': 30.0,
+                    'goals': [{'text': 'rate', 'value': 194512.7, 'target': 1e6,
+                               'unit': 'steps/s', 'relation': '>=', 'met': False}]},
         'sweep': {'error': 'RuntimeError: no ray', 'goals': [], 'load_1min_start': 3.0}}}
     text = render('bench', 'goals', data)
     assert '| colav | 12.3 | decision | 18.59 ms | < 10 ms | **no** |' in text
     # a run from before sections recorded their load
     assert '| waves | n/a | ratio | 0.9783 | < 1.25 | yes |' in text
+    assert '| batched | 30.0 | rate | 194,513 steps/s | >= 1,000,000 steps/s | **no** |' in text
     assert '| sweep | 3.0 | section failed: RuntimeError: no ray |' in text and '`--quick`' in text
 
 

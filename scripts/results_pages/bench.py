@@ -63,7 +63,7 @@ def section_rows(data, name):
                for key, head in s['columns']]
     quick = ', `--quick`' if data['args'].get('quick') else ''
     notes = ''.join(f'- {note}\n' for note in s.get('notes', []))
-    return (f"{s['title']}; 1-minute load {_load(s)} when the section started{quick}:\n\n"
+    return (f"{s['title'][:1].upper()}{s['title'][1:]}; 1-minute load {_load(s)} when the section started{quick}:\n\n"
             + markdown_table(columns, s['rows'])
             + (f'\nThe section\'s notes:\n\n{notes}' if notes else ''))
 

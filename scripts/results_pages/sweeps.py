@@ -9,7 +9,9 @@ from results_pages.registry import table
 def summary(data):
     """The summary table of one sweep run, with how many episodes it ran and how long it took."""
     t, run = data['table'], data['run']
-    lines = ['| ' + ' | '.join(t['header']) + ' |',
+    # a break opportunity after each underscore: the column names are long snake_case words,
+    # which would otherwise widen the table past the page
+    lines = ['| ' + ' | '.join(h.replace('_', '_<wbr>') for h in t['header']) + ' |',
              '|' + '---|' * len(data['group_by']) + '---:|' * (len(t['header']) - len(data['group_by']))]
     lines += ['| ' + ' | '.join(cells) + ' |' for cells in t['rows']]
     return (f"`{data['sweep']}`, seed {data['seed']}: {data['episodes_per_cell']} episodes per grid "

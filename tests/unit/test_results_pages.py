@@ -170,7 +170,7 @@ def test_a_benchmark_section_table_keeps_its_columns_and_says_its_load():
                'rows': [{'loop': 'one', 'n': 1, 'rate': 24512.6, 'ratio': 0.012345},
                         {'loop': 'batch', 'n': 10000, 'rate': 1.5e6}]}
     text = render('bench', 'batch_closed_loop', {'args': {}, 'sections': {'batch_closed_loop': section}})
-    assert text.startswith('loop rates; 1-minute load 7.0 when the section started:')
+    assert text.startswith('Loop rates; 1-minute load 7.0 when the section started:')
     assert '| loop | N | steps/s | ratio |' in text
     assert '| one | 1 | 24,513 | 0.0123 |' in text and '| batch | 10,000 | 1,500,000 | n/a |' in text
     assert text.endswith("The section's notes:\n\n- batched 14.7x\n")
@@ -182,10 +182,10 @@ def test_a_sweep_summary_lays_out_the_cells_sweep_py_formatted():
     from results_pages.studies import render
     data = {'sweep': 's.yaml', 'seed': 3, 'episodes_per_cell': 2, 'group_by': ['controller'],
             'run': {'episodes': 4, 'wall_s': 61.7, 'workers': 2},
-            'table': {'header': ['controller', 'n', 'reward'], 'caption': 'Mean [CI].',
+            'table': {'header': ['controller', 'n', 'rms_e_m'], 'caption': 'Mean [CI].',
                       'rows': [['los', '2', '1.0 [0.5, 1.5]'], ['ilos', '2', '2.0']]}}
     lines = render('sweeps', 'summary', data).splitlines()
     assert lines[0] == ('`s.yaml`, seed 3: 2 episodes per grid cell, 4 in all, in 62 s on 2 '
                         'workers. Mean [CI].')
-    assert lines[2:] == ['| controller | n | reward |', '|---|---:|---:|',
+    assert lines[2:] == ['| controller | n | rms_<wbr>e_<wbr>m |', '|---|---:|---:|',
                          '| los | 2 | 1.0 [0.5, 1.5] |', '| ilos | 2 | 2.0 |']

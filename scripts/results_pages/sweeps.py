@@ -14,6 +14,7 @@ def summary(data):
     lines = ['| ' + ' | '.join(h.replace('_', '_<wbr>') for h in t['header']) + ' |',
              '|' + '---|' * len(data['group_by']) + '---:|' * (len(t['header']) - len(data['group_by']))]
     lines += ['| ' + ' | '.join(cells) + ' |' for cells in t['rows']]
-    return (f"`{data['sweep']}`, seed {data['seed']}: {data['episodes_per_cell']} episodes per grid "
-            f"cell, {run['episodes']} in all, in {run['wall_s']:.0f} s on {run['workers']} "
+    per_cell = data['episodes_per_cell']
+    return (f"`{data['sweep']}`, seed {data['seed']}: {per_cell} episode{'s' * (per_cell != 1)} "
+            f"per grid cell, {run['episodes']} in all, in {run['wall_s']:.0f} s on {run['workers']} "
             f"workers. {t['caption']}\n\n" + '\n'.join(lines) + '\n')

@@ -29,6 +29,7 @@ section ran, 1 a section failed (its error is in the JSON and printed), 2 bad ar
 """
 import argparse
 import json
+import os
 import sys
 import time
 import traceback
@@ -83,6 +84,8 @@ def main(argv=None):
     failed = []
     for name in args.sections:
         t0 = time.monotonic()
+        # each section's own load: a run's sections meet different loads on a shared machine
+        load = round(os.getloadavg()[0], 1)
         try:
             result = section_function(name)(quick=args.quick)
         except Exception as exc:  # noqa: BLE001 (one broken section must not hide the others' numbers)
@@ -93,6 +96,7 @@ def main(argv=None):
         if result.get('failed') and name not in failed:  # partly failed, numbers kept
             failed.append(name)
         result['wall_s'] = round(time.monotonic() - t0, 2)
+        result['load_1min_start'] = load
         report['sections'][name] = result
         print()
         print(format_section(name, result), flush=True)

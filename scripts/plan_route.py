@@ -16,6 +16,7 @@ chart. Errors (a point on land, no connection, a box too large, ...) print one l
 to change and exit with status 2.
 """
 import argparse
+import json
 import math
 import os
 import shlex
@@ -70,6 +71,8 @@ def parse_args(argv):
     out.add_argument('--out', help='route file to write (YAML, schema of ship_planner.yaml_route_reader)')
     out.add_argument('--png', help='picture of chart, centre lines, candidates and route (default: next to --out)')
     out.add_argument('--name', help='route name (default: the output file name)')
+    out.add_argument('--results', help='results file (JSON): the summary below with the command, commit, '
+                                       'date and load (doc/results/chart_planning.md renders it)')
     out.add_argument('--quiet', action='store_true', help='no progress lines')
     args = p.parse_args(argv)
     if (args.box is None) == (args.chart is None):
@@ -205,6 +208,14 @@ def main(argv=None):
     }
     for k, v in summary.items():
         print(f'{k}: {v}')
+    if args.results:
+        from results_pages.provenance import provenance
+        record = {'provenance': provenance(None if argv is None else [sys.argv[0], *argv]),
+                  'clearance_m': args.clearance,
+                  'resolution_m': args.resolution, 'fillet_radius_m': radius, **summary}
+        with open(args.results, 'w', encoding='utf-8') as f:
+            f.write(json.dumps(record, indent=1) + '\n')
+        say(f'wrote {args.results}')
     if args.out:
         name = args.name or os.path.splitext(os.path.basename(args.out))[0]
         cmd = 'scripts/plan_route.py ' + ' '.join(shlex.quote(a) for a in (sys.argv[1:] if argv is None else argv))

@@ -42,6 +42,7 @@ from montecarlo.backends import SweepRunError
 from montecarlo.driver import rerun_line, run_sweep
 from ship_mission.cli_args import OneLineParser, integer, number, out_folder
 from montecarlo.spec import MAX_EPISODES, PARAMETERS, REPO, SweepError, check_size, load
+from results_pages.provenance import provenance
 from ship_sim.allocator import tune_allocator
 
 #: Most worker processes or Ray CPUs asked for (a cluster's; far beyond one machine's cores).
@@ -158,10 +159,16 @@ def main(argv=None):
     summary = results.summarise(rows, group_by, kind)
     md = results.summary_markdown(summary, group_by, kind)
     (out / 'summary.md').write_text(md)
+    # with its provenance and run, summary.json is a results file (doc/results/sweeps.md)
     (out / 'summary.json').write_text(json.dumps(
-        {'sweep': str(args.sweep), 'seed': sweep.seed, 'group_by': group_by,
+        {'provenance': provenance(None if argv is None else [sys.argv[0], *argv]),
+         'sweep': str(args.sweep), 'kind': sweep.kind, 'seed': sweep.seed,
+         'episodes_per_cell': args.episodes or sweep.episodes, 'group_by': group_by,
          'confidence': f'Student-t 95 % (metrics), Wilson 95 % ({", ".join(kind.proportions)})',
-         'groups': [dict(zip(group_by, k), **v) for k, v in summary.items()]}, indent=1))
+         'groups': [dict(zip(group_by, k), **v) for k, v in summary.items()], 'run': run,
+         'table': dict(zip(('header', 'rows'), results.summary_rows(summary, group_by, kind)),
+                       caption=results.summary_caption(kind))},
+        indent=1))
     (out / 'run.json').write_text(json.dumps(run, indent=1))
     print(md)
     plots = []

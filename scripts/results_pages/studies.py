@@ -92,3 +92,5 @@ from results_pages import degraded_sensors  # noqa: E402, F401
 from results_pages import colregs_judge  # noqa: E402, F401
 from results_pages import land  # noqa: E402, F401
 from results_pages import imazu  # noqa: E402, F401
+from results_pages import sweeps  # noqa: E402, F401
+from results_pages import chart_planning  # noqa: E402, F401

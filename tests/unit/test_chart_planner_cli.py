@@ -1,4 +1,5 @@
 """scripts/plan_route.py end to end on an image chart: route file + PNG, and the error exit."""
+import json
 import math
 
 import numpy as np
@@ -51,7 +52,7 @@ def test_cli_plans_on_an_image_chart_and_writes_a_route_file_and_a_picture(tmp_p
     out = tmp_path / 'route.yaml'
     rc = cli.main(['--chart', str(png), '--resolution', '25', '--start', '1000', '200', '--goal', '1000', '2800',
                    '--clearance', '100', '--fillet-radius', '300', '--generations', '80', '--candidates', '1',
-                   '--out', str(out), '--quiet'])
+                   '--out', str(out), '--results', str(tmp_path / 'plan.json'), '--quiet'])
     assert rc == 0
     plan = load_route_yaml(out)
     assert plan.frame == 'enu'
@@ -74,6 +75,11 @@ def test_cli_plans_on_an_image_chart_and_writes_a_route_file_and_a_picture(tmp_p
     assert (tmp_path / 'route.png').stat().st_size > 10_000
     printed = capsys.readouterr().out
     assert 'length_ratio:' in printed and 'planning_time_s:' in printed
+    # the results file holds what the run printed, with the command and the clearance
+    record = json.loads((tmp_path / 'plan.json').read_text())
+    assert '--clearance 100' in record['provenance']['command'] and record['clearance_m'] == 100.0
+    for key in ('route_length_m', 'shortest_path_length_m', 'length_ratio', 'waypoints'):
+        assert f'{key}: {record[key]}\n' in printed
 
 
 def test_cli_error_exits_2_with_one_line_that_says_what_to_change(tmp_path, capsys):

@@ -143,15 +143,49 @@ def test_platoon_and_encounter_tables_read_the_runs_metrics():
     assert '| s | vessel_0 | 0.0 | +45 | +89.8 | no | 10 / 20 | 500 | 24 |' in text
 
 
-def test_benchmark_goals_show_value_target_and_verdict_per_section():
+def test_benchmark_goals_show_value_target_verdict_and_load_per_section():
     from results_pages.studies import render
     data = {'args': {'quick': True}, 'machine': {'cpu_model': 'cpu'}, 'sections': {
-        'colav': {'goals': [{'text': 'decision', 'value': 18.591, 'target': 10, 'unit': 'ms',
+        'colav': {'load_1min_start': 12.34,
+                  'goals': [{'text': 'decision', 'value': 18.591, 'target': 10, 'unit': 'ms',
                              'relation': '<', 'met': False}]},
         'waves': {'goals': [{'text': 'ratio', 'value': 0.97834, 'target': 1.25, 'unit': '',
                              'relation': '<', 'met': True}]},
-        'sweep': {'error': 'RuntimeError: no ray', 'goals': []}}}
+        'batched': {'load_1min_start': 30.0,
+                    'goals': [{'text': 'rate', 'value': 194512.7, 'target': 1e6,
+                               'unit': 'steps/s', 'relation': '>=', 'met': False}]},
+        'sweep': {'error': 'RuntimeError: no ray', 'goals': [], 'load_1min_start': 3.0}}}
     text = render('bench', 'goals', data)
-    assert '| colav | decision | 18.59 ms | < 10 ms | **no** |' in text
-    assert '| waves | ratio | 0.9783 | < 1.25 | yes |' in text
-    assert '| sweep | section failed: RuntimeError: no ray |' in text and '`--quick`' in text
+    assert '| colav | 12.3 | decision | 18.59 ms | < 10 ms | **no** |' in text
+    # a run from before sections recorded their load
+    assert '| waves | n/a | ratio | 0.9783 | < 1.25 | yes |' in text
+    assert '| batched | 30.0 | rate | 194,513 steps/s | >= 1,000,000 steps/s | **no** |' in text
+    assert '| sweep | 3.0 | section failed: RuntimeError: no ray |' in text and '`--quick`' in text
+
+
+def test_a_benchmark_section_table_keeps_its_columns_and_says_its_load():
+    from results_pages.studies import render
+    section = {'title': 'loop rates', 'load_1min_start': 7.0, 'notes': ['batched 14.7x'],
+               'columns': [['loop', 'loop'], ['n', 'N'], ['rate', 'steps/s'], ['ratio', 'ratio']],
+               'rows': [{'loop': 'one', 'n': 1, 'rate': 24512.6, 'ratio': 0.012345},
+                        {'loop': 'batch', 'n': 10000, 'rate': 1.5e6}]}
+    text = render('bench', 'batch_closed_loop', {'args': {}, 'sections': {'batch_closed_loop': section}})
+    assert text.startswith('Loop rates; 1-minute load 7.0 when the section started:')
+    assert '| loop | N | steps/s | ratio |' in text
+    assert '| one | 1 | 24,513 | 0.0123 |' in text and '| batch | 10,000 | 1,500,000 | n/a |' in text
+    assert text.endswith("The section's notes:\n\n- batched 14.7x\n")
+    with pytest.raises(KeyError, match='it has: batch_closed_loop'):
+        render('bench', 'sweep', {'args': {}, 'sections': {'batch_closed_loop': section}})
+
+
+def test_a_sweep_summary_lays_out_the_cells_sweep_py_formatted():
+    from results_pages.studies import render
+    data = {'sweep': 's.yaml', 'seed': 3, 'episodes_per_cell': 2, 'group_by': ['controller'],
+            'run': {'episodes': 4, 'wall_s': 61.7, 'workers': 2},
+            'table': {'header': ['controller', 'n', 'rms_e_m'], 'caption': 'Mean [CI].',
+                      'rows': [['los', '2', '1.0 [0.5, 1.5]'], ['ilos', '2', '2.0']]}}
+    lines = render('sweeps', 'summary', data).splitlines()
+    assert lines[0] == ('`s.yaml`, seed 3: 2 episodes per grid cell, 4 in all, in 62 s on 2 '
+                        'workers. Mean [CI].')
+    assert lines[2:] == ['| controller | n | rms_<wbr>e_<wbr>m |', '|---|---:|---:|',
+                         '| los | 2 | 1.0 [0.5, 1.5] |', '| ilos | 2 | 2.0 |']

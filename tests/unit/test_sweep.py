@@ -309,6 +309,12 @@ def test_cli_writes_table_summary_and_plots(tmp_path):
             first = [c.strip() for c in line.strip('|').split('|')]
             cells = re.search(r'<tr><td>' + first[0] + r'</td>(.*?)</tr>', page).group(1)
             assert [html.unescape(c) for c in re.findall(r'<td[^>]*>(.*?)</td>', cells)] == first[1:]
+    # summary.json is a results file: its provenance, and a page renders summary.md's table
+    from results_pages.studies import render
+    data = json.loads((out / 'summary.json').read_text())
+    assert data['provenance']['command'].endswith(f"--out {tmp_path / 'o'} --workers 1")
+    table = md.split('\n\n', 1)[1]
+    assert table in render('sweeps', 'summary', data).replace('<wbr>', '') and data['run']['episodes'] == 4
 
 
 def test_where_runs_some_cells_with_the_whole_sweeps_rows(reference_table):

@@ -73,8 +73,8 @@ def _start_graph(ros_graph, scenario, max_steps, tag=''):
     """Start the four nodes of vessel 0 of ``scenario`` in lockstep; the test node listens.
 
     Returns (test node, {name: NodeProcess}, {topic: Inbox}). The simulator publishes step 0
-    once guidance, autopilot and the test node all subscribe odom (lockstep_odom_subscribers =
-    3), and it is started only when the test node hears the other nodes' publishers."""
+    once guidance, autopilot and the test node all follow odom (lockstep_odom_readers names
+    them), and it is started only when the test node hears the other nodes' publishers."""
     spec = scenario.vessels[0]
     ns = f'/{spec.namespace}'
     tn = ros_graph.test_node()
@@ -111,7 +111,9 @@ def _start_graph(ros_graph, scenario, max_steps, tag=''):
                 'initial_yaw_deg': math.degrees(yaw), 'dt': scenario.dt_s,
                 'publish_rate': 1.0 / scenario.dt_s, 'stepping_mode': 'lockstep',
                 'clock_master': True, 'max_steps': max_steps,
-                'lockstep_timeout': scenario.lockstep_timeout_s, 'lockstep_odom_subscribers': 3})
+                'lockstep_timeout': scenario.lockstep_timeout_s,
+                'lockstep_odom_readers': [f'{ns}/guidance_node', f'{ns}/autopilot_node',
+                                          '/test_node']})
     return tn, procs, inbox
 
 

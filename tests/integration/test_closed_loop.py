@@ -90,14 +90,19 @@ def _start_graph(ros_graph, scenario, max_steps, tag=''):
                                          'watch_period_s': 0.0}),
         'guidance': ros_graph.start('ship_guidance', 'guidance_node', namespace=ns,
                                     label='guidance' + tag,
-                                    params={**sim_time, **spec.guidance_params}),
+                                    params={**sim_time, **spec.guidance_params,
+                                            'heading_cmd_readers': [f'{ns}/autopilot_node',
+                                                                    '/test_node']}),
         'autopilot': ros_graph.start('ship_autopilot', 'autopilot_node', namespace=ns,
                                      label='autopilot' + tag,
                                      params={**sim_time, 'vessel_model': spec.model,
-                                             'pairing': 'sequence', **spec.autopilot_params}),
+                                             'pairing': 'sequence', **spec.autopilot_params,
+                                             'rudder_cmd_readers': [f'{ns}/vessel_node',
+                                                                    '/test_node']}),
     }
-    # The simulator only waits for ITS subscribers; the test node must also have matched the
-    # guidance's and the autopilot's publishers before step 0, or it misses the first steps.
+    # The simulator only waits for ITS subscribers, guidance and autopilot hold their first
+    # commands for the test node by name too; it must also have matched the other publishers
+    # before step 0, or it misses the first steps.
     for name in ('heading_cmd', 'rudder_cmd', 'cross_track_error', 'progress', 'route_complete'):
         matched = tn.wait_for_publishers(inbox[name], timeout=20.0)
         assert matched and not _dead(procs), f'no publisher of {name}:\n' + ros_graph.report()

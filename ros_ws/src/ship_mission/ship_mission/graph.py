@@ -25,7 +25,7 @@ from ship_mission.processes import REPO
 from ship_mission.scenario import TARGETS_KEY, route_plan, scenario_origin, start_pose, target_record
 from ship_mission.waves import wave_filter_parameters
 from ship_mission.wind_block import wind_meta, wind_parameters
-from ship_sim.ros.readiness import full_name
+from ship_sim.ros.readiness import READY_TOPIC, full_name
 
 RECORDER = Path(__file__).resolve().parent / 'recorder.py'
 NODES = (('route_node', 'ship_planner'), ('guidance_node', 'ship_guidance'),
@@ -42,6 +42,9 @@ AIS_NODE = ('ais_node', 'ship_guidance')
 #: ais_node runs graph-wide (no namespace): its topics as every colav vessel sees them.
 AIS_TARGETS, AIS_SYNC = '/targets', '/targets_sync'
 RECORD_ACK = 'record_ack'  # per vessel namespace: the recorder's lockstep acknowledgement
+#: Not recorded: ROS's own logging and parameter events, and the start-up announcements (graph
+#: plumbing, not the run: a record with them would differ from one made before they existed).
+EXCLUDED = r'^/(rosout|parameter_events|' + READY_TOPIC.lstrip('/') + r')$'
 RECORDER_NAME = 'mission_recorder'   # the recorder's ROS node name (ship_mission.recorder)
 #: The parameter of a held publisher (ship_sim.ros.held_start) naming the readers of its topic.
 HELD_PARAMETER = '{}_readers'
@@ -371,7 +374,7 @@ def _recorder_argv(scenario, run_dir):
     source = 'sim' if scenario.platoon is None else 'wall'
     acks = record_ack_args(scenario) if scenario.stepping == 'lockstep' else []
     return [sys.executable, RECORDER, Path(run_dir) / 'bag', '--time-source', source,
-            '--exclude', r'^/(rosout|parameter_events)$', '--compression',
+            '--exclude', EXCLUDED, '--compression',
             scenario.bag_compression, *meta, *acks]
 
 

@@ -29,10 +29,10 @@ def wait_for_announced(monitor, names, check, timeout_s):
     """Wait until every node of ``names`` has announced on READY_TOPIC that it is ready."""
     from std_msgs.msg import String
 
-    from ship_sim.ros.qos import LATCHED
+    from ship_sim.ros.qos import READY
     heard = set()
     sub = monitor.node.create_subscription(
-        String, READY_TOPIC, lambda m: heard.add(announced_name(m.data)), LATCHED)
+        String, READY_TOPIC, lambda m: heard.add(announced_name(m.data)), READY)
     try:
         end = time.monotonic() + timeout_s
         while True:

@@ -18,8 +18,8 @@ on the graph-wide READY_TOPIC, which the launcher waits on by name (ship_mission
 import json
 
 #: Where every node says, once, that it is ready for what it serves (std_msgs/String, JSON
-#: ``{"node": full name, "ready_for": [what it waited for]}``; reliable + transient_local, so a
-#: launcher that subscribes after the announcement still gets it).
+#: ``{"node": full name, "ready_for": [what it waited for]}``; ship_sim.ros.qos.READY, so a
+#: launcher that subscribes after the announcements still gets every one).
 READY_TOPIC = '/graph_ready'
 
 
@@ -113,16 +113,16 @@ def announced_name(text):
 
 
 class ReadyAnnouncer:
-    """Publishes ``node``'s readiness once on READY_TOPIC (latched per node: each node's writer
-    keeps its one announcement for late subscribers)."""
+    """Publishes ``node``'s readiness once on READY_TOPIC (each node's writer keeps its one
+    announcement for late subscribers)."""
 
     def __init__(self, node):
         from std_msgs.msg import String
 
-        from ship_sim.ros.qos import LATCHED
+        from ship_sim.ros.qos import READY
         self.node, self.done = node, False
         self._msg_type = String
-        self.pub = node.create_publisher(String, READY_TOPIC, LATCHED)
+        self.pub = node.create_publisher(String, READY_TOPIC, READY)
 
     @property
     def name(self):

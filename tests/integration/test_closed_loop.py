@@ -73,8 +73,8 @@ def _start_graph(ros_graph, scenario, max_steps, tag=''):
     """Start the four nodes of vessel 0 of ``scenario`` in lockstep; the test node listens.
 
     Returns (test node, {name: NodeProcess}, {topic: Inbox}). The simulator publishes step 0
-    once guidance, autopilot and the test node all subscribe odom (lockstep_odom_subscribers =
-    3), and it is started only when the test node hears the other nodes' publishers."""
+    once guidance, autopilot and the test node all follow odom (lockstep_odom_readers names
+    them), and it is started only when the test node hears the other nodes' publishers."""
     spec = scenario.vessels[0]
     ns = f'/{spec.namespace}'
     tn = ros_graph.test_node()
@@ -90,14 +90,19 @@ def _start_graph(ros_graph, scenario, max_steps, tag=''):
                                          'watch_period_s': 0.0}),
         'guidance': ros_graph.start('ship_guidance', 'guidance_node', namespace=ns,
                                     label='guidance' + tag,
-                                    params={**sim_time, **spec.guidance_params}),
+                                    params={**sim_time, **spec.guidance_params,
+                                            'heading_cmd_readers': [f'{ns}/autopilot_node',
+                                                                    '/test_node']}),
         'autopilot': ros_graph.start('ship_autopilot', 'autopilot_node', namespace=ns,
                                      label='autopilot' + tag,
                                      params={**sim_time, 'vessel_model': spec.model,
-                                             'pairing': 'sequence', **spec.autopilot_params}),
+                                             'pairing': 'sequence', **spec.autopilot_params,
+                                             'rudder_cmd_readers': [f'{ns}/vessel_node',
+                                                                    '/test_node']}),
     }
-    # The simulator only waits for ITS subscribers; the test node must also have matched the
-    # guidance's and the autopilot's publishers before step 0, or it misses the first steps.
+    # The simulator only waits for ITS subscribers, guidance and autopilot hold their first
+    # commands for the test node by name too; it must also have matched the other publishers
+    # before step 0, or it misses the first steps.
     for name in ('heading_cmd', 'rudder_cmd', 'cross_track_error', 'progress', 'route_complete'):
         matched = tn.wait_for_publishers(inbox[name], timeout=20.0)
         assert matched and not _dead(procs), f'no publisher of {name}:\n' + ros_graph.report()
@@ -111,7 +116,9 @@ def _start_graph(ros_graph, scenario, max_steps, tag=''):
                 'initial_yaw_deg': math.degrees(yaw), 'dt': scenario.dt_s,
                 'publish_rate': 1.0 / scenario.dt_s, 'stepping_mode': 'lockstep',
                 'clock_master': True, 'max_steps': max_steps,
-                'lockstep_timeout': scenario.lockstep_timeout_s, 'lockstep_odom_subscribers': 3})
+                'lockstep_timeout': scenario.lockstep_timeout_s,
+                'lockstep_odom_readers': [f'{ns}/guidance_node', f'{ns}/autopilot_node',
+                                          '/test_node']})
     return tn, procs, inbox
 
 

@@ -133,8 +133,11 @@ def test_platoon_converges_and_falls_back_when_the_leader_dies(ros_graph, tmp_pa
 
     procs, sims = {}, {}
     for i, spec in enumerate(scenario.vessels):
-        # record=True: the test node is the extra odom subscriber the recorder would be
-        params, _ = node_parameters(scenario, spec, i, record=True)
+        # no recorder: the test's nodes follow odom in its place, named as its readers
+        params, _ = node_parameters(scenario, spec, i, record=False)
+        watcher = '/leader_watch' if spec.namespace == 'vessel_0' else '/test_node'
+        params['vessel_node']['lockstep_odom_readers'] = [
+            *params['vessel_node']['lockstep_odom_readers'], watcher]
         for exe, pkg in vessel_nodes(spec):
             procs[f'{spec.namespace}/{exe}'] = ros_graph.start(
                 pkg, exe, namespace=f'/{spec.namespace}', label=f'{spec.namespace}.{exe}',

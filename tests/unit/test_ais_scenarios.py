@@ -27,8 +27,9 @@ def test_ais_section_starts_ais_node_on_the_clock_and_wires_colav_and_the_record
     p = ais_parameters(sc)
     assert p['use_sim_time'] is True and p['publish_on_clock'] is True
     # step 0 reaches everyone: ais_node waits for the recorder and the one colav_node
-    assert p['wait_subscribers'] == 2 and ais_parameters(sc, record=False)['wait_subscribers'] == 1
-    assert traffic_parameters(sc)['wait_subscribers'] == 2
+    assert p['wait_readers'] == ['/vessel_0/colav_node', '/mission_recorder']
+    assert ais_parameters(sc, record=False)['wait_readers'] == ['/vessel_0/colav_node']
+    assert traffic_parameters(sc)['wait_readers'] == ['/vessel_0/colav_node', '/mission_recorder']
     assert (p['origin_lat_deg'], p['origin_lon_deg']) == (63.44, 10.40)
     params, _ = node_parameters(sc, sc.vessels[0], 0, record=True)
     colav = params['colav_node']
@@ -41,8 +42,8 @@ def test_ais_section_starts_ais_node_on_the_clock_and_wires_colav_and_the_record
 def test_realtime_ais_is_timer_driven_and_not_waited_for(scenario_variant):
     sc = load_scenario(scenario_variant(HEAD_ON_AIS, lambda d: d.update(stepping='realtime')))
     assert ais_parameters(sc)['publish_on_clock'] is False
-    assert 'wait_subscribers' not in ais_parameters(sc)
-    assert traffic_parameters(sc)['wait_subscribers'] == 0     # nobody waits in realtime
+    assert 'wait_readers' not in ais_parameters(sc)
+    assert traffic_parameters(sc)['wait_readers'] == ['']     # nobody waits in realtime
     colav = node_parameters(sc, sc.vessels[0], 0, record=True)[0]['colav_node']
     assert (colav['targets_topic'], colav['targets_sync_topic']) == (AIS_TARGETS, '')
 

@@ -29,15 +29,19 @@ def test_head_on_scenario_wires_colav_between_guidance_and_autopilot():
     assert p_own['colav_node']['method'] == 'sbmpc'
     assert p_own['colav_node']['pairing'] == 'sequence'
     assert 'colav_node' not in p_tgt
-    # own odom: guidance, autopilot, recorder, its colav_node, the target's gate
-    assert p_own['vessel_node']['lockstep_odom_subscribers'] == 5
-    # target odom: guidance, autopilot, recorder, the own colav_node
-    assert p_tgt['vessel_node']['lockstep_odom_subscribers'] == 4
+    # own odom: guidance, autopilot, its colav_node, the recorder, the target's gate
+    assert p_own['vessel_node']['lockstep_odom_readers'] == [
+        '/vessel_0/guidance_node', '/vessel_0/autopilot_node', '/vessel_0/colav_node',
+        '/mission_recorder', '/target_0/vessel_node']
+    # target odom: the own colav_node, guidance, autopilot, recorder
+    assert sorted(p_tgt['vessel_node']['lockstep_odom_readers']) == [
+        '/mission_recorder', '/target_0/autopilot_node', '/target_0/guidance_node',
+        '/vessel_0/colav_node']
     assert p_tgt['vessel_node']['lockstep_follower_odom_topics'] == '/vessel_0/odom'
     assert 'lockstep_follower_odom_topics' not in p_own['vessel_node']
-    # without a recorder one subscriber less each
-    assert node_parameters(sc, own, 0, record=False)[0]['vessel_node'][
-        'lockstep_odom_subscribers'] == 4
+    # without a recorder: the others
+    assert '/mission_recorder' not in node_parameters(sc, own, 0, record=False)[0][
+        'vessel_node']['lockstep_odom_readers']
 
 
 def test_realtime_traffic_is_not_gated(scenario_variant):
@@ -133,4 +137,4 @@ def test_realtime_simulator_waits_for_the_nodes_that_follow_its_odom():
         def spin(self, seconds):
             pass
     wait_for_odom_subscribers(Stuck(), own, group, said.append, timeout_s=0.05)
-    assert len(said) == 1 and 'autopilot_node, colav_node of /vessel_0' in said[0]
+    assert len(said) == 1 and '/vessel_0/autopilot_node, /vessel_0/colav_node not' in said[0]

@@ -24,6 +24,11 @@ def _scenario(name, **options):
     return dataclasses.replace(sc, **options)
 
 
+def _names(graph, labels):
+    """The full ROS names of the node specs ``labels``, sorted."""
+    return sorted(graph.node(label).full_name for label in labels)
+
+
 def _followers_of_topic(graph, topic):
     """The node specs that follow ``topic`` by what their parameters and arguments say (not by
     the graph's own ``counted``): the way the nodes themselves subscribe."""
@@ -79,17 +84,17 @@ def test_graph_of_a_scenario_follows_from_it(name, record, live, tmp_path):
     assert ('ais/ais_node' in labels) == (sc.ais is not None)
     for sim in graph.simulators():
         topic = f'/{sim.namespace}/odom'
-        assert sim.parameters['lockstep_odom_subscribers'] == len(
-            _followers_of_topic(graph, topic)), topic
+        assert sorted(sim.parameters['lockstep_odom_readers']) == _names(
+            graph, _followers_of_topic(graph, topic)), topic
         assert sim.parameters['lockstep_record_topic'] == ('record_ack' if record else '')
     if sc.light:
         topic = f"/{sc.light[0]['name']}/odom"
-        assert graph.node('traffic/traffic_node').parameters['wait_subscribers'] == len(
-            _followers_of_topic(graph, topic))
+        assert sorted(graph.node('traffic/traffic_node').parameters['wait_readers']) == _names(
+            graph, _followers_of_topic(graph, topic))
     if sc.ais is not None:
         colav = [n for n in graph.nodes if n.executable == 'colav_node'
                  and n.parameters.get('targets_topic') == AIS_TARGETS]
-        assert graph.node('ais/ais_node').parameters['wait_subscribers'] == (
+        assert len(graph.node('ais/ais_node').parameters['wait_readers']) == (
             len(colav) + int(bool(record)))
 
 
@@ -98,13 +103,13 @@ def test_realtime_graph_waits_for_no_target_subscribers(name):
     sc = _scenario(name, stepping='realtime')
     graph = mission_graph(sc, True)
     if sc.light:
-        assert graph.node('traffic/traffic_node').parameters['wait_subscribers'] == 0
+        assert graph.node('traffic/traffic_node').parameters['wait_readers'] == ['']
     if sc.ais is not None:
-        assert 'wait_subscribers' not in graph.node('ais/ais_node').parameters
-    # the simulators' counts do not depend on the stepping (a realtime one waits for no one)
+        assert 'wait_readers' not in graph.node('ais/ais_node').parameters
+    # the simulators' readers do not depend on the stepping (a realtime one waits for no one)
     lockstep = mission_graph(dataclasses.replace(sc, stepping='lockstep'), True)
-    assert ([s.parameters['lockstep_odom_subscribers'] for s in graph.simulators()]
-            == [s.parameters['lockstep_odom_subscribers'] for s in lockstep.simulators()])
+    assert ([s.parameters['lockstep_odom_readers'] for s in graph.simulators()]
+            == [s.parameters['lockstep_odom_readers'] for s in lockstep.simulators()])
 
 
 def test_a_new_subscriber_is_counted_where_it_is_declared():
@@ -113,5 +118,5 @@ def test_a_new_subscriber_is_counted_where_it_is_declared():
     with_aivdm = mission_graph(dataclasses.replace(sc, aivdm_out={'file': 'out.nmea'}), True)
     for sim in base.simulators():
         other = with_aivdm.node(sim.label)
-        assert (other.parameters['lockstep_odom_subscribers']
-                == sim.parameters['lockstep_odom_subscribers'] + 1)
+        assert (sorted(other.parameters['lockstep_odom_readers'])
+                == sorted(sim.parameters['lockstep_odom_readers'] + ['/aivdm_out_node']))

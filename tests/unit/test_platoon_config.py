@@ -82,7 +82,7 @@ def test_shipped_scenario_wires_a_five_vessel_string():
         assert v['stepping_mode'] == 'lockstep'
         # own guidance/follower + autopilot + recorder, + the next vessel's follower, + the
         # predecessor's simulator (it keeps within lockstep_follower_window steps of this odom)
-        assert v['lockstep_odom_subscribers'] == 3 + int(i < 4) + int(i > 0)
+        assert len(v['lockstep_odom_readers']) == 3 + int(i < 4) + int(i > 0)
         assert v['lockstep_follower_odom_topics'] == ('' if i == 4 else f'/vessel_{i + 1}/odom')
         assert v['current_speed'] == 0.5 and v['current_direction_deg'] == 90.0
         exes = [exe for exe, _ in vessel_nodes(spec)]
@@ -132,7 +132,7 @@ def test_five_mixed_models_get_their_own_autopilot_design_and_speed(tmp_path):
         assert params['vessel_node']['model'] == models[i]
         assert params['autopilot_node']['vessel_model'] == models[i]
         # guidance + autopilot (no recorder), + the next follower, + the predecessor's gate
-        assert params['vessel_node']['lockstep_odom_subscribers'] == 2 + int(i < 4) + int(i > 0)
+        assert len(params['vessel_node']['lockstep_odom_readers']) == 2 + int(i < 4) + int(i > 0)
         if i == 0:
             continue
         f = params['follower_node']
@@ -154,7 +154,7 @@ def test_a_tree_counts_every_follower_of_a_vessel(tmp_path):
     pl['vessels'][2]['predecessor'] = 'vessel_0'   # vessel_0 leads two followers
     sc = load_scenario(write(tmp_path, pl))
     check_scenario(sc)
-    subs = [node_parameters(sc, s, i, True)[0]['vessel_node']['lockstep_odom_subscribers']
+    subs = [len(node_parameters(sc, s, i, True)[0]['vessel_node']['lockstep_odom_readers'])
             for i, s in enumerate(sc.vessels)]
     assert subs == [5, 4, 4]   # followers: + the predecessor's simulator's gate
     f2 = node_parameters(sc, sc.vessels[2], 2, True)[0]['follower_node']

@@ -44,6 +44,7 @@ from ship_autopilot.wave_filter import WaveFilter
 from ship_sim.models import make_model
 from ship_sim.pacing import SequencePairer
 from ship_sim.ros.held_start import HeldStart
+from ship_sim.ros.readiness import names_param
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import STREAM
@@ -70,6 +71,7 @@ class AutopilotNode(Node):
         rrate = p.param('rudder_rate_max_deg')
         shape = p.param('saturation')
         self.pairing = p.param('pairing')
+        readers = names_param(p.param('rudder_cmd_readers'))
         self.timeout = p.param('heading_timeout_s')
         recovery = p.param('policy_recovery')
 
@@ -89,8 +91,10 @@ class AutopilotNode(Node):
         self.wave_filter = self._declare_wave_filter(p, kind)
         self.pub = self.create_publisher(Float64, 'rudder_cmd', STREAM)
         # Sequence pairing: the simulator takes the n-th rudder_cmd it receives as step n's, so
-        # the first ones wait until every listed subscriber has matched (none is lost).
-        self.out = HeldStart(self, self.pub) if self.pairing == 'sequence' else self.pub
+        # the first ones wait until the named readers (the simulator, the recorder; without
+        # names, any one) are listed and every listed subscriber has matched (none is lost).
+        self.out = (HeldStart(self, self.pub, names=readers) if self.pairing == 'sequence'
+                    else self.pub)
         self.pairer = SequencePairer()  # sequence pairing: A odometry, B commands
         self.latest = None          # latest pairing: the last accepted command
         self.t_cmd = None           # sim time of the last command (latest pairing)

@@ -5,7 +5,7 @@ from it and the launcher checks scenario values against it before anything start
 """
 from ship_autopilot.gains import CONTROLLERS, FUZZY_SCALING_PARAMETERS, ZETA
 from ship_sim.models import MODEL_NAMES
-from ship_sim.param_schema import NodeSchema, Param
+from ship_sim.param_schema import NodeSchema, Param, readers_param
 
 AUTOPILOT_NODE = NodeSchema('ship_autopilot', 'autopilot_node', summary='heading autopilot: '
                             'rudder commands from heading commands',
@@ -53,6 +53,7 @@ AUTOPILOT_NODE = NodeSchema('ship_autopilot', 'autopilot_node', summary='heading
     Param.of('wave_filter_zeta', 0.1, 'notch gain at its frequency (depth/width)', lo=0.01, hi=0.99, read_only=True),
     Param.of('wave_filter_lowpass', 0.0, 'low-pass corner (0: the notch '
         'frequency)', lo=0.0, hi=10.0, unit='rad/s', read_only=True),
+    readers_param('rudder_cmd'),
 ))
 
 SCHEMAS = {AUTOPILOT_NODE.node: AUTOPILOT_NODE}

@@ -28,8 +28,8 @@ Lockstep (`publish_on_clock`, as the launcher runs it): the targets of a step ar
 target of that stamp is out, and how many there were. One message per step, whatever the number
 of targets, so colav_node (`targets_sync_topic`) can wait until it holds every target up to its
 own stamp, and the recorder can acknowledge the step: the run stays deterministic and lossless.
-With `wait_subscribers`, `~/ready` (std_msgs/Bool, latched) turns true once `targets` and
-`targets_sync` have that many subscribers (ship_sim.ros.ready); the launcher starts the
+With `wait_readers` (full node names), the node announces that it is ready on /graph_ready once
+`targets` and `targets_sync` serve each of them (ship_sim.ros.ready); the launcher starts the
 simulators only then, so neither the recorder nor a colav_node misses step 0.
 """
 import math
@@ -45,6 +45,7 @@ from ship_guidance.ais import BAD_REASONS, AisTracker, parse_replay
 from ship_sim.ros.conversions import make_odometry
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import CLOCK_STEPS, STREAM
+from ship_sim.ros.readiness import names_param
 from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
 from ship_sim.safe_load import InputError, read_regular_file
@@ -80,7 +81,7 @@ class AisNode(Node):
         period = p.param('publish_period_s')
         self.per_target = p.param('per_target_topics')
         self.on_clock = p.param('publish_on_clock')
-        wait = p.param('wait_subscribers')
+        wait = names_param(p.param('wait_readers'))
         if not path and not port:
             raise ParameterError('file', message='give a replay file (file) or a UDP port '
                                  '(udp_port), or both')

@@ -66,6 +66,7 @@ from ship_sim.frames import psi_to_yaw, yaw_to_psi
 from ship_sim.pacing import SequencePairer
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
+from ship_sim.ros.held_start import held_publisher
 from ship_sim.ros.qos import LATCHED, STREAM, STREAM_KEPT, stream_with_depth
 from ship_sim.ros.run import run_node
 from ship_guidance.schema import COLAV_NODE, LISTS, OWN_SHIP_KEYS, SCALARS
@@ -89,6 +90,7 @@ class ColavRosNode(Node):
         self.wait_timeout = p.param('lockstep_target_timeout_s')
         self.pairing = p.param('pairing')
         self.has_shaft = p.param('has_shaft')
+        held = {t: p.param(f'{t}_readers') for t in ('heading_cmd', 'speed_factor_cmd')}
         chart_topic = p.param('chart_topic')
         values = {name: p.param(name) for name, *_ in SCALARS}
         lists = {name: p.param(name) for name, *_ in LISTS}
@@ -115,8 +117,13 @@ class ColavRosNode(Node):
         self.wait_since = None
         self.warned = set()
 
-        self.pub_heading = self.create_publisher(Float64, 'heading_cmd', STREAM)
-        self.pub_speed = self.create_publisher(Float64, 'speed_factor_cmd', STREAM)
+        # Lockstep: the autopilot takes the n-th heading_cmd, the simulator the n-th
+        # speed_factor_cmd as step n's; the first ones wait until their named readers matched.
+        self.pub_heading = held_publisher(
+            self, self.create_publisher(Float64, 'heading_cmd', STREAM), held['heading_cmd'])
+        self.pub_speed = held_publisher(
+            self, self.create_publisher(Float64, 'speed_factor_cmd', STREAM),
+            held['speed_factor_cmd'])
         self.pub_targets = self.create_publisher(Float64MultiArray, 'colav_targets', STREAM)
         self.pub_decision = self.create_publisher(Float64MultiArray, 'colav_decision', STREAM)
         self.pub_markers = self.create_publisher(MarkerArray, 'colav_markers', STREAM)

@@ -146,7 +146,7 @@ class FollowerNode(Node):
         for w in probe.warnings:
             self.get_logger().warning(w)
 
-        self.out = GuidancePublishers(self)
+        self.out = GuidancePublishers(self, readers=p.param('heading_cmd_readers'))
         self.pub_gap = self.create_publisher(Float64, 'gap_error', STREAM)
         self.pub_speed = self.create_publisher(Float64, 'speed_cmd', STREAM)
         self.pub_shaft = (self.create_publisher(Float64, 'shaft_cmd', STREAM)

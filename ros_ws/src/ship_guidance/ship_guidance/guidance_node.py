@@ -82,7 +82,7 @@ class GuidanceNode(Node):
                                  f'(got {zeta}, {omega}, {speed}); set all three or none')
         self._validate_lookahead()
 
-        self.out = GuidancePublishers(self)
+        self.out = GuidancePublishers(self, readers=p.param('heading_cmd_readers'))
         self.features = self.pub_state = None
         if self.want_path_state:
             # Imported only when asked for: the one implementation the policy was trained on.

@@ -18,7 +18,7 @@ from ship_guidance.node_defaults import FOLLOWER_DEFAULTS, GUIDANCE_DEFAULTS
 from ship_guidance.own_ship_prediction import OwnShipModel
 from ship_guidance.tracker import TrackerConfig
 from ship_sim.models import MODEL_NAMES
-from ship_sim.param_schema import NodeSchema, Param
+from ship_sim.param_schema import NodeSchema, Param, readers_param
 
 DEFAULTS = ColavParams()
 SHIP = OwnShipModel()
@@ -148,6 +148,7 @@ GUIDANCE_NODE = NodeSchema('ship_guidance', 'guidance_node', summary='path follo
         '4.24; law los, without curvature_lead)', read_only=True),
     Param.of('max_plausible_speed', 50.0, 'odometry implying a faster move '
         'than this since the previous sample is refused as an outlier', lo=1e-3, hi=1e4, unit='m/s', read_only=True),
+    readers_param('heading_cmd'),
 ))
 
 FOLLOWER_NODE = NodeSchema('ship_guidance', 'follower_node', summary='platoon follower: keeps a '
@@ -201,6 +202,7 @@ FOLLOWER_NODE = NodeSchema('ship_guidance', 'follower_node', summary='platoon fo
     Param.of('max_plausible_speed', 50.0, 'odometry (own or predecessor) '
         'implying a faster move than this since the previous sample is '
         'refused as an outlier', lo=1e-3, hi=1e4, unit='m/s', read_only=True),
+    readers_param('heading_cmd'),
 ))
 
 AIS_NODE = NodeSchema('ship_guidance', 'ais_node', summary='AIS targets from NMEA (replay file '
@@ -226,9 +228,9 @@ AIS_NODE = NodeSchema('ship_guidance', 'ais_node', summary='AIS targets from NME
     Param.of('publish_on_clock', False, 'publish at every /clock message, '
         'stamped with it, each step followed by targets_sync '
         '(lockstep graphs); else every publish_period_s', read_only=True),
-    Param.of('wait_subscribers', 0, 'with publish_on_clock: subscribers targets and '
-        'targets_sync must have before ~/ready turns true (the launcher waits '
-        'for it in lockstep)', lo=0, hi=1000, read_only=True),
+    Param('wait_readers', 'str[]', [''], 'with publish_on_clock: full names of the nodes '
+        'targets and targets_sync must serve before the node announces that it is ready (the '
+        "launcher waits for it in lockstep; '' = none: at once)", read_only=True),
 ))
 
 COLAV_NODE = NodeSchema('ship_guidance', 'colav_node', summary='collision avoidance between '
@@ -261,6 +263,8 @@ COLAV_NODE = NodeSchema('ship_guidance', 'colav_node', summary='collision avoida
       for name, default, desc, lo, hi, unit in SCALARS),
     *(Param(name, f'{type(default[0]).__name__}[]', default, desc, read_only=True)
       for name, default, desc in LISTS),
+    readers_param('heading_cmd'),
+    readers_param('speed_factor_cmd'),
 ))
 
 NAV_DISPLAY_NODE = NodeSchema('ship_guidance', 'nav_display_node', summary="the live view's "

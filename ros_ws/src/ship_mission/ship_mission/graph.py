@@ -7,10 +7,12 @@ for a platoon follower), autopilot_node and colav_node where the scenario has co
 graph-wide traffic_node (light targets), ais_node (`ais:`), aivdm_out_node (`aivdm_out:`), the
 recorder (record on), every vessel's nav_display_node (unless `display: false`), the live view
 (--live), and last every vessel_node (started in ship_mission.launcher.simulator_start_plan
-order). Each spec names the topics on which a lockstep publisher counts it before step 0
-(``counted``); the subscriber counts the simulators, traffic_node and ais_node wait for are
-read off those (``Graph.subscribers``), so a new subscriber node is one more spec, not more
-arithmetic.
+order). Each spec names the topics on which a lockstep publisher waits for it before step 0
+(``counted``) and, in lockstep, the per-step topics it takes message by message whose publisher
+holds its first messages until it has matched (``paired``: commands paired with steps by
+sequence). The nodes the simulators, traffic_node, ais_node and the held publishers wait for
+are read off those by name (``Graph.names``, ship_sim.ros.readiness), so a new subscriber node
+is one more spec, not more arithmetic.
 """
 import json
 import math
@@ -23,6 +25,7 @@ from ship_mission.processes import REPO
 from ship_mission.scenario import TARGETS_KEY, route_plan, scenario_origin, start_pose, target_record
 from ship_mission.waves import wave_filter_parameters
 from ship_mission.wind_block import wind_meta, wind_parameters
+from ship_sim.ros.readiness import READY_TOPIC, full_name
 
 RECORDER = Path(__file__).resolve().parent / 'recorder.py'
 NODES = (('route_node', 'ship_planner'), ('guidance_node', 'ship_guidance'),
@@ -39,13 +42,20 @@ AIS_NODE = ('ais_node', 'ship_guidance')
 #: ais_node runs graph-wide (no namespace): its topics as every colav vessel sees them.
 AIS_TARGETS, AIS_SYNC = '/targets', '/targets_sync'
 RECORD_ACK = 'record_ack'  # per vessel namespace: the recorder's lockstep acknowledgement
+#: Not recorded: ROS's own logging and parameter events, and the start-up announcements (graph
+#: plumbing, not the run: a record with them would differ from one made before they existed).
+EXCLUDED = r'^/(rosout|parameter_events|' + READY_TOPIC.lstrip('/') + r')$'
+RECORDER_NAME = 'mission_recorder'   # the recorder's ROS node name (ship_mission.recorder)
+#: The parameter of a held publisher (ship_sim.ros.held_start) naming the readers of its topic.
+HELD_PARAMETER = '{}_readers'
 
 
 @dataclass
 class NodeSpec:
     """One process of the graph. ``package`` None: a script started as ``argv`` (the recorder,
-    the live view). ``counted``: the topics on which a lockstep publisher counts this node
-    among the subscribers it waits for before step 0."""
+    the live view). ``counted``: the topics on which a lockstep publisher waits for this node
+    (by name) before step 0; ``paired``: the per-step topics whose held publisher waits for it
+    (lockstep); ``ros_name``: the ROS node name when it is not the executable's."""
     label: str
     package: str
     executable: str
@@ -54,11 +64,18 @@ class NodeSpec:
     remaps: list = field(default_factory=list)
     argv: list = field(default_factory=list)
     counted: tuple = ()
+    paired: tuple = ()
+    ros_name: str = None
 
     @property
     def name(self):
         """The ROS node name (each executable names its node after itself)."""
-        return self.executable
+        return self.ros_name or self.executable
+
+    @property
+    def full_name(self):
+        """'/<namespace>/<name>', as the ROS graph lists the node."""
+        return full_name(self.namespace, self.name)
 
 
 @dataclass
@@ -69,6 +86,11 @@ class Graph:
     def subscribers(self, topic):
         """How many node specs a lockstep publisher of ``topic`` counts."""
         return sum(1 for n in self.nodes if topic in n.counted)
+
+    def names(self, topic):
+        """Full names of the nodes a publisher of ``topic`` waits for (counted or paired), in
+        start order."""
+        return [n.full_name for n in self.nodes if topic in n.counted or topic in n.paired]
 
     def topics(self):
         """{topic: [labels of the nodes counted on it]}: the wiring the waits rest on."""
@@ -240,12 +262,55 @@ def _counted_topics(scenario, spec, exe):
     return (own,)       # guidance_node, autopilot_node
 
 
+def _paired_topics(scenario, spec, exe):
+    """The per-step topics of a vessel that ``exe`` takes by sequence in lockstep (the n-th
+    message as step n's), so that their publishers hold the first ones until it has matched."""
+    if scenario.stepping != 'lockstep':
+        return ()
+    ns = f'/{spec.namespace}'
+    if exe == 'vessel_node':
+        return (f'{ns}/rudder_cmd',) + ((f'{ns}/speed_factor_cmd',)
+                                        if spec.colav_params is not None else ())
+    if exe == 'autopilot_node':   # a policy steers by path_state, which no one holds
+        policy = spec.autopilot_params.get('controller') == 'policy'
+        return () if policy else (f'{ns}/heading_cmd',)
+    if exe == 'colav_node':
+        return (f'{ns}/heading_ref',)
+    return ()
+
+
+def _recorded_paired(scenario):
+    """The held per-step topics of every vessel: the recorder takes each of them from the first
+    message on (its bag pairs the unstamped ones with odom by sequence)."""
+    return tuple(t for spec in scenario.vessels
+                 for exe in ('vessel_node', 'autopilot_node', 'colav_node')
+                 for t in _paired_topics(scenario, spec, exe)) + tuple(
+        f'/{spec.namespace}/heading_cmd' for spec in scenario.vessels
+        if scenario.stepping == 'lockstep' and
+        spec.autopilot_params.get('controller') == 'policy')
+
+
+def _held_publishers(scenario, spec):
+    """{executable: {held topic parameter: topic}} of a vessel's publishers that hold their
+    first messages in lockstep (ship_sim.ros.held_start) until the topic's readers matched."""
+    ns = f'/{spec.namespace}'
+    guide = 'guidance_node' if spec.predecessor is None else 'follower_node'
+    held = {'autopilot_node': {'rudder_cmd': f'{ns}/rudder_cmd'}}
+    if spec.colav_params is None:
+        held[guide] = {'heading_cmd': f'{ns}/heading_cmd'}
+    else:   # guidance's heading_cmd is remapped to colav_node's heading_ref
+        held[guide] = {'heading_cmd': f'{ns}/heading_ref'}
+        held['colav_node'] = {'heading_cmd': f'{ns}/heading_cmd',
+                              'speed_factor_cmd': f'{ns}/speed_factor_cmd'}
+    return held
+
+
 def traffic_parameters(scenario, record=True):
     """traffic_node's parameters: the light targets as JSON text (ship_sim.light_traffic), and
     in lockstep the subscribers it waits for on each target topic (0 in realtime)."""
     graph = mission_graph(scenario, record)
     return graph.node('traffic/traffic_node').parameters if scenario.light else {
-        'use_sim_time': True, 'targets': json.dumps(scenario.light), 'wait_subscribers': 0}
+        'use_sim_time': True, 'targets': json.dumps(scenario.light), 'wait_readers': ['']}
 
 
 def ais_parameters(scenario, record=True):
@@ -309,7 +374,7 @@ def _recorder_argv(scenario, run_dir):
     source = 'sim' if scenario.platoon is None else 'wall'
     acks = record_ack_args(scenario) if scenario.stepping == 'lockstep' else []
     return [sys.executable, RECORDER, Path(run_dir) / 'bag', '--time-source', source,
-            '--exclude', r'^/(rosout|parameter_events)$', '--compression',
+            '--exclude', EXCLUDED, '--compression',
             scenario.bag_compression, *meta, *acks]
 
 
@@ -329,10 +394,12 @@ def mission_graph(scenario, record=None, run_dir=Path('.')):
         for exe, pkg in vessel_nodes(spec):
             nodes.append(NodeSpec(f'{spec.namespace}/{exe}', pkg, exe, spec.namespace,
                                   params[exe], list(node_remaps(spec, exe)),
-                                  counted=_counted_topics(scenario, spec, exe)))
+                                  counted=_counted_topics(scenario, spec, exe),
+                                  paired=_paired_topics(scenario, spec, exe)))
         simulators.append(NodeSpec(f'{spec.namespace}/vessel_node', SIMULATOR[1], SIMULATOR[0],
                                    spec.namespace, params['vessel_node'],
-                                   counted=tuple(_gated_topics(scenario, spec))))
+                                   counted=tuple(_gated_topics(scenario, spec)),
+                                   paired=_paired_topics(scenario, spec, 'vessel_node')))
     if scenario.light:
         nodes.append(NodeSpec('traffic/traffic_node', 'ship_sim', 'traffic_node', None,
                               {'use_sim_time': True, 'targets': json.dumps(scenario.light)}))
@@ -350,7 +417,8 @@ def mission_graph(scenario, record=None, run_dir=Path('.')):
         nodes.append(NodeSpec('recorder', None, 'recorder', None,
                               argv=_recorder_argv(scenario, run_dir),
                               counted=tuple(vessel_odom + light) +
-                              ((AIS_TARGETS,) if scenario.ais is not None else ())))
+                              ((AIS_TARGETS,) if scenario.ais is not None else ()),
+                              paired=_recorded_paired(scenario), ros_name=RECORDER_NAME))
     if scenario.display is not None:
         exe, pkg = DISPLAY_NODE
         for spec in scenario.vessels:
@@ -368,14 +436,20 @@ def mission_graph(scenario, record=None, run_dir=Path('.')):
                               counted=tuple(early)))
     graph = Graph(nodes + simulators)
     for sim in simulators:   # guidance + autopilot (+ recorder, colav, followers) hear step 0
-        sim.parameters['lockstep_odom_subscribers'] = graph.subscribers(odom(sim.namespace))
+        sim.parameters['lockstep_odom_readers'] = graph.names(odom(sim.namespace)) or ['']
+    if lockstep:
+        for spec in scenario.vessels:
+            for exe, held in _held_publishers(scenario, spec).items():
+                node = graph.node(f'{spec.namespace}/{exe}')
+                for out, topic in held.items():
+                    node.parameters[HELD_PARAMETER.format(out)] = graph.names(topic) or ['']
     if scenario.light:
         # every light target has the same subscribers: the recorder, each colav_node (aivdm)
-        graph.node('traffic/traffic_node').parameters['wait_subscribers'] = (
-            graph.subscribers(light[0]) if lockstep else 0)
+        graph.node('traffic/traffic_node').parameters['wait_readers'] = (
+            graph.names(light[0]) if lockstep else []) or ['']
     if scenario.ais is not None:
         ais = graph.node('ais/ais_node').parameters
         if lockstep:
-            ais['wait_subscribers'] = graph.subscribers(AIS_TARGETS)
+            ais['wait_readers'] = graph.names(AIS_TARGETS) or ['']
         ais.update(scenario.ais)
     return graph

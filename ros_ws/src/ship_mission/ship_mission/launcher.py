@@ -44,6 +44,7 @@ from ship_mission.graph import (  # noqa: F401 (the launcher's API: the graph as
     light_odom_topics, mission_graph, node_parameters, node_remaps, record_ack_arg,
     record_ack_args, simulator_start_plan, traffic_parameters, vessel_nodes)
 from ship_mission.processes import REPO, ProcessGroup, install_env
+from ship_mission.ready_wait import wait_for_announced, wait_for_subscribers
 from ship_mission.scenario_checks import check_scenario  # noqa: F401 (the launcher's API)
 from ship_mission.node_checks import RCLPY_PARAMETERS, node_parameter_names  # noqa: F401 (the launcher's API)
 from ship_mission.scenario import scenario_origin, scenario_text
@@ -111,17 +112,12 @@ def write_run_json(run, summary):
         raise MissionFailed(f'cannot write {path}: {exc.strerror or exc}') from None
 
 
-def _wait_for_clock_subscriber(monitor, node_name, group, timeout_s=30.0):
-    """Wait until ``node_name`` subscribes /clock: the simulators start after it, so it hears
+def _wait_for_clock_subscriber(monitor, node, group, timeout_s=30.0):
+    """Wait until graph ``node`` subscribes /clock: the simulators start after it, so it hears
     step 0 (colav_node waits for its samples from step 0 on)."""
-    end = time.monotonic() + timeout_s
-    while time.monotonic() < end:
-        infos = monitor.node.get_subscriptions_info_by_topic('/clock')
-        if any(i.node_name == node_name for i in infos):
-            return
-        _raise_if_failed(group)
-        monitor.spin(0.1)
-    raise MissionFailed(f'{node_name} did not subscribe /clock within {timeout_s:.0f} s')
+    if wait_for_subscribers(monitor, '/clock', [node.full_name], lambda: _raise_if_failed(group),
+                            timeout_s):
+        raise MissionFailed(f'{node.full_name} did not subscribe /clock within {timeout_s:.0f} s')
 
 
 def _raise_if_failed(group):
@@ -141,42 +137,23 @@ def wait_for_odom_subscribers(monitor, spec, group, progress, timeout_s=30.0):
     loaded machine) misses the first seconds of odom, which the record then counts as missing
     answers. Gives up with a warning after ``timeout_s``."""
     ns = f'/{spec.namespace}'
-    wanted = {exe for exe, _ in vessel_nodes(spec) if exe != 'route_node'}
-    end = time.monotonic() + timeout_s
-    while time.monotonic() < end:
-        infos = monitor.node.get_subscriptions_info_by_topic(f'{ns}/odom')
-        if wanted <= {i.node_name for i in infos if i.node_namespace == ns}:
-            return
-        if group.failed():
-            return                  # the run loop reports the dead process
-        monitor.spin(0.1)
-    infos = monitor.node.get_subscriptions_info_by_topic(f'{ns}/odom')
-    late = sorted(wanted - {i.node_name for i in infos if i.node_namespace == ns})
-    progress(f'  warning: {", ".join(late)} of {ns} not following {ns}/odom after '
-             f'{timeout_s:.0f} s; starting its simulator anyway (its first steps go unanswered)')
+    wanted = [f'{ns}/{exe}' for exe, _ in vessel_nodes(spec) if exe != 'route_node']
+    # a dead process ends the wait: the run loop reports it
+    late = wait_for_subscribers(monitor, f'{ns}/odom', wanted, group.failed, timeout_s)
+    if late:
+        progress(f'  warning: {", ".join(late)} not following {ns}/odom after {timeout_s:.0f} s; '
+                 'starting its simulator anyway (its first steps go unanswered)')
 
 
-def _wait_for_ready_topic(monitor, node_name, group, timeout_s=60.0):
-    """Wait until ``node_name``'s latched ``/<node_name>/ready`` is true (ship_sim.ros.ready:
-    every target topic has its recorder and colav_node subscribers, as the publisher counts
-    them), so that no one misses step 0 of a lockstep run."""
-    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-    from std_msgs.msg import Bool
-    got = []
-    qos = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
-                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
-    sub = monitor.node.create_subscription(Bool, f'/{node_name}/ready',
-                                           lambda m: got.append(m.data), qos)
-    try:
-        end = time.monotonic() + timeout_s
-        while not any(got):
-            _raise_if_failed(group)
-            if time.monotonic() > end:
-                raise MissionFailed(f'{node_name}: its target topics did not get their '
-                                    f'subscribers (recorder, colav_node) within {timeout_s:.0f} s')
-            monitor.spin(0.1)
-    finally:
-        monitor.node.destroy_subscription(sub)
+def _wait_until_ready(monitor, nodes, group, timeout_s=60.0):
+    """Wait until every graph node of ``nodes`` has announced that it is ready (ship_sim.ros.ready:
+    each of its target topics serves the recorder and every colav_node, by name), so that no
+    one misses step 0 of a lockstep run."""
+    late = wait_for_announced(monitor, [n.full_name for n in nodes],
+                              lambda: _raise_if_failed(group), timeout_s)
+    if late:
+        raise MissionFailed(f'never ready within {timeout_s:.0f} s: {", ".join(late)} (their '
+                            'logs name the readers they waited for)')
 
 
 def write_params(run, namespace, node, params):
@@ -361,13 +338,13 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         monitor = Monitor(namespaces)
         starter.publish_load = load_publisher(monitor.node)
         monitor.spin(1.0)
-        if scenario.light:
-            _wait_for_clock_subscriber(monitor, 'traffic_node', group)
-            if scenario.stepping == 'lockstep':
-                _wait_for_ready_topic(monitor, 'traffic_node', group)
-        if scenario.ais is not None and scenario.stepping == 'lockstep':
-            _wait_for_clock_subscriber(monitor, 'ais_node', group)
-            _wait_for_ready_topic(monitor, 'ais_node', group)
+        on_clock = ([graph.node('traffic/traffic_node')] if scenario.light else []) + (
+            [graph.node('ais/ais_node')] if scenario.ais is not None
+            and scenario.stepping == 'lockstep' else [])
+        for node in on_clock:
+            _wait_for_clock_subscriber(monitor, node, group)
+        if scenario.stepping == 'lockstep':
+            _wait_until_ready(monitor, on_clock, group)
         simulators = {}
         for ns, awaited in simulator_start_plan(scenario):
             for other in awaited:

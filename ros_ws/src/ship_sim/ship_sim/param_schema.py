@@ -129,6 +129,14 @@ class NodeSchema:
 RCLPY_PARAMETERS = ('use_sim_time', 'start_type_description_service')
 
 
+def readers_param(topic):
+    """The string-array parameter ``<topic>_readers`` of a publisher that holds its first
+    messages (ship_sim.ros.held_start) until the named nodes read them."""
+    return Param(f'{topic}_readers', 'str[]', [''], f'lockstep: full names of the nodes that take '
+                 f'{topic} by sequence (the launcher gives them from the graph); its first '
+                 "messages are held until each is listed and matched ('' = none)", read_only=True)
+
+
 def node_schema(package, executable):
     """The NodeSchema of ``executable`` in ``package`` (KeyError naming it if there is none)."""
     try:

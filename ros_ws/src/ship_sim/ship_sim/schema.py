@@ -83,8 +83,9 @@ VESSEL_NODE = NodeSchema('ship_sim', 'vessel_node', summary='the plant: a ship m
     Param.of('command_timeout_s', 5.0, 'realtime: sim time without a rudder_cmd after which the '
         'rudder is centred, with a warning, until commands come again (0 = hold the last '
         'command for ever)', lo=0.0, hi=1e6, unit='s', read_only=True),
-    Param.of('lockstep_odom_subscribers', 1, 'lockstep: odom subscribers to wait for before step '
-        '0 (e.g. 2 when guidance and autopilot both follow odom)', lo=1, hi=1000, read_only=True),
+    Param('lockstep_odom_readers', 'str[]', [''], 'lockstep: full names of the nodes that must '
+        "follow odom before step 0 (e.g. /vessel_0/guidance_node); '' = none: any one subscriber",
+        read_only=True),
     Param.of('display_every', 0, 'also publish every n-th step\'s odom on odom_display (0 = '
         'never): nav_display_node\'s input, reliable + transient_local with a deep history '
         '(qos.DISPLAY), so the display gets the same frames on every run whatever its lag, '
@@ -148,8 +149,9 @@ TRAFFIC_NODE = NodeSchema('ship_sim', 'traffic_node', summary='light targets on 
         '(ENU; course clockwise from north), each with an optional behaviour '
         '(straight or no_alteration)', check='light_targets', allowed='a JSON list of light targets',
         read_only=True),
-    Param.of('wait_subscribers', 0, 'subscribers every target topic must have '
-        'before ~/ready turns true (the launcher waits for it in lockstep)', lo=0, hi=1000, read_only=True),
+    Param('wait_readers', 'str[]', [''], 'full names of the nodes every target topic must '
+        "serve before the node announces that it is ready (the launcher waits for it in lockstep; "
+        "'' = none: at once)", read_only=True),
 ))
 
 SCHEMAS = {s.node: s for s in (VESSEL_NODE, TRAFFIC_NODE)}

@@ -8,9 +8,10 @@ body FLU with the body along the course (surge = speed, no sway, no yaw rate). c
 list these topics in its ``target_topics`` and stays deterministic in lockstep: one sample per
 simulator step, stamped at the step, computed in closed form from the clock time alone.
 
-Parameter ``wait_subscribers``: in lockstep, `~/ready` (std_msgs/Bool, latched) turns true once
-every target topic has that many subscribers (the recorder, the colav_nodes; ship_sim.ros.ready),
-and the launcher starts the simulators only then, so nobody misses step 0.
+Parameter ``wait_readers``: in lockstep, the full names of the nodes every target topic must
+serve (the recorder, the colav_nodes); once each is listed and matched, the node announces that
+it is ready on /graph_ready (ship_sim.ros.ready, ship_sim.ros.readiness), and the launcher starts
+the simulators only then, so nobody misses step 0.
 
 Parameter ``targets``: the targets as JSON text (ROS 2 parameters carry no list of mappings),
 schema in ship_sim.light_traffic.parse_targets; a bad list is refused at start (exit 2, one
@@ -28,6 +29,7 @@ from ship_sim.light_traffic import parse_targets
 from ship_sim.ros.conversions import MAP_FRAME, base_link_frame, fill_odometry
 from ship_sim.ros.params import NodeParameters
 from ship_sim.ros.qos import CLOCK_STEPS, STREAM
+from ship_sim.ros.readiness import names_param
 from ship_sim.ros.ready import ReadyWhenMatched
 from ship_sim.ros.run import run_node
 from ship_sim.schema import TRAFFIC_NODE
@@ -40,7 +42,7 @@ class TrafficNode(Node):
         super().__init__('traffic_node')
         p = self.params = NodeParameters(self, TRAFFIC_NODE)
         text = p.param('targets')
-        wait = p.param('wait_subscribers')
+        wait = names_param(p.param('wait_readers'))
         self.traffic = parse_targets(text)
         # /clock first: once the odom publishers are visible, the clock subscription exists.
         self._clock_sub = self.create_subscription(ClockMsg, '/clock', self._on_clock,

@@ -35,10 +35,13 @@ Stepping modes (parameter stepping_mode; the pacing rules live in ship_sim.pacin
 - lockstep (doc/design.md "Lockstep needs a deterministic pairing of messages"): publish step k,
   then advance to k+1 only when the rudder_cmd for step k (the k-th rudder_cmd message since
   start, pairing by sequence, 0-based) has arrived. Deterministic: the same run repeats bit for
-  bit whatever the load. Step 0 is published only when odom has lockstep_odom_subscribers
-  subscribers, rudder the recorder's subscription (with lockstep_record_topic) and rudder_cmd a
-  publisher (then START_GRACE_S more so that the controller's
-  publisher has also matched us), or after lockstep_start_timeout (warning). If the command
+  bit whatever the load. Step 0 is published only when odom serves the nodes named in
+  lockstep_odom_readers (each listed on odom by name and matched, ship_sim.ros.readiness;
+  without names, any one subscriber), rudder the recorder's subscription (with
+  lockstep_record_topic) and rudder_cmd a publisher (then START_GRACE_S more so that the
+  controller's publisher has also matched us), or after lockstep_start_timeout (a warning naming
+  the nodes still missing, e.g. "/vessel_0/odom: waiting for /vessel_0/colav_node"). Step 0 out,
+  the node announces that it is ready on /graph_ready. If the command
   for step k does not come within lockstep_timeout (wall seconds): a warning naming the step,
   then the previous command is held for that step and the run continues; the late message,
   when it comes, is recognised by its sequence number and dropped (counted), so pairing stays
@@ -75,6 +78,7 @@ from ship_sim.pacing import LockstepPacer, RealtimePacer, StepGate
 from ship_sim.ros.conversions import base_link_frame, fill_odometry, time_to_msg
 from ship_sim.ros.params import NodeParameters, ParameterError
 from ship_sim.ros.qos import CLOCK, DISPLAY, LATCHED, RECORD_ACK, STREAM
+from ship_sim.ros.readiness import PeerWait, ReadyAnnouncer, describe_waits, names_param
 from ship_sim.ros.run import finish, run_node, wait_for_acks
 from ship_sim.ros.waves import WaveOdometry, declare_waves
 from ship_sim.simulator import VesselSimulator
@@ -137,7 +141,7 @@ class VesselNode(Node):
         self.follower_topics = p.param('lockstep_follower_odom_topics')
         self.follower_window = p.param('lockstep_follower_window')
         self.command_timeout = p.param('command_timeout_s')
-        self.min_odom_subs = p.param('lockstep_odom_subscribers')
+        self.odom_readers = names_param(p.param('lockstep_odom_readers'))
         self.display_every = p.param('display_every')
         self.clock_master = p.param('clock_master')
         self.max_steps = p.param('max_steps')
@@ -242,6 +246,14 @@ class VesselNode(Node):
                                                     STREAM)
                            if self.sim.model.has_shaft else None)
         self._ready_pub = self.create_publisher(Bool, 'ready', LATCHED)
+        self._announcer = ReadyAnnouncer(self)
+        # Before step 0 in lockstep: the readers of odom by name, the recorder on rudder, and
+        # a publisher of rudder_cmd (the autopilot holds its first commands until it has
+        # matched us by name, ship_sim.ros.held_start).
+        self._start_waits = [PeerWait(self, self._odom_pub, self.odom_readers),
+                             PeerWait(self, self._cmd_sub)]
+        if self.record_topic:
+            self._start_waits.append(PeerWait(self, self._rudder_pub))
         self._waves = None if self._sea is None else WaveOdometry(self, self._sea, self.sim.model)
         # Lockstep step gates: who must keep up before the next step goes out.
         self._lockstep = None
@@ -316,6 +328,7 @@ class VesselNode(Node):
             if not self._ready_msg.data:
                 self._ready_msg.data = True
                 self._ready_pub.publish(self._ready_msg)
+                self._announcer.announce(['odom'])
         except Exception:  # re-raised unless we are shutting down
             if self.context.ok():
                 raise
@@ -439,14 +452,10 @@ class VesselNode(Node):
         # With a recorder, its rudder subscription too: our publisher may match it only after
         # the recorder has said it is ready (discovery is per endpoint), and step 0 would be
         # missing from the bag.
-        return (self._odom_pub.get_subscription_count() >= self.min_odom_subs
-                and self._cmd_sub.get_publisher_count() > 0
-                and (not self.record_topic or self._rudder_pub.get_subscription_count() > 0))
+        return all(w.ready() for w in self._start_waits)
 
     def _describe_graph(self):
-        return (f'odom has {self._odom_pub.get_subscription_count()} of {self.min_odom_subs} '
-                f'subscribers, rudder {self._rudder_pub.get_subscription_count()} subscribers, '
-                f'rudder_cmd {self._cmd_sub.get_publisher_count()} publishers')
+        return describe_waits(self._start_waits) or 'every reader and writer is there'
 
     def _lockstep_watchdog(self):
         if self._done or (self._lockstep.started and not self._running):

@@ -16,6 +16,7 @@ import math
 from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension
 
 from ship_sim.frames import psi_to_yaw
+from ship_sim.ros.held_start import held_publisher
 from ship_sim.ros.qos import STREAM, STREAM_KEPT
 
 PROGRESS_LABELS = ('s_m', 'remaining_m', 'leg', 'finished', 'path_yaw_rad', 'curvature_1pm')
@@ -30,9 +31,12 @@ def progress_values(out):
 class GuidancePublishers:
     """Publishers and reused messages of heading_cmd, cross_track_error and progress."""
 
-    def __init__(self, node, qos=STREAM):
-        self.pub_heading = node.create_publisher(Float64, 'heading_cmd',
-                                                 STREAM_KEPT if qos is STREAM else qos)
+    def __init__(self, node, qos=STREAM, readers=('',)):
+        # readers (lockstep, from the graph): heading_cmd's first messages wait until the node
+        # that pairs them (the autopilot, or colav_node on heading_ref) and the recorder matched
+        self.pub_heading = held_publisher(
+            node, node.create_publisher(Float64, 'heading_cmd', STREAM_KEPT if qos is STREAM else qos),
+            readers)
         self.pub_xte = node.create_publisher(Float64, 'cross_track_error', qos)
         self.pub_progress = node.create_publisher(Float64MultiArray, 'progress', qos)
         self.m_heading, self.m_xte = Float64(), Float64()

@@ -64,6 +64,15 @@ CLOCK_STEPS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                          reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
+#: The graph's readiness announcements (ship_sim.ros.readiness.READY_TOPIC): reliable +
+#: transient_local, so a late subscriber still gets each node's one announcement, and deep: the
+#: topic has no key, so a subscription keeps one history for every writer, and with depth 1 an
+#: announcement arriving before the previous one was taken replaced it (seen: the launcher
+#: missed traffic_node's because ais_node's came right after).
+READY = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
+                   reliability=ReliabilityPolicy.RELIABLE,
+                   durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
 RECORD_ACK = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
                         reliability=ReliabilityPolicy.RELIABLE,
                         durability=DurabilityPolicy.TRANSIENT_LOCAL)

@@ -1,37 +1,47 @@
-"""A latched `~/ready` (std_msgs/Bool) that turns true once every given publisher has matched
-at least `n` subscribers, as the publisher itself counts them.
+"""A node's readiness announcement (ship_sim.ros.readiness.READY_TOPIC) once every given
+publisher serves every named subscriber (ship_sim.ros.readiness: listed by name, and matched as
+the publisher itself counts them).
 
 For nodes that publish on the simulator's /clock (traffic_node, ais_node with publish_on_clock):
 they cannot hold the simulator back, so in lockstep the launcher starts the simulators only
-after this says that the recorder and every colav_node will get step 0. A subscriber that has
-discovered a publisher is not yet one the publisher sends to; only the publisher's own count
-says so (vessel_node's lockstep start waits on the same count).
+after they have announced that the recorder and every colav_node will get step 0.
 """
 from rclpy.clock import Clock, ClockType
-from std_msgs.msg import Bool
 
-from ship_sim.ros.qos import LATCHED
+from ship_sim.ros.readiness import PeerWait, ReadyAnnouncer, describe_waits
 
 POLL_S = 0.05
+WARN_EVERY_S = 10.0
 
 
 class ReadyWhenMatched:
-    """Publish True on `~/ready` once ``publishers()`` (a callable giving the publishers to
-    check) all have at least ``n`` subscriptions; n = 0: at once."""
+    """Announce readiness once ``publishers()`` (a callable giving the publishers to check) all
+    serve the nodes ``names`` (full names); no names: at once."""
 
-    def __init__(self, node, publishers, n):
-        self.node, self.publishers, self.n = node, publishers, int(n)
-        self.pub = node.create_publisher(Bool, '~/ready', LATCHED)
+    def __init__(self, node, publishers, names):
+        self.node, self.publishers, self.names = node, publishers, tuple(names)
+        self.announcer = ReadyAnnouncer(node)
         self.ready = False
+        self._polls = 0
         self.timer = node.create_timer(POLL_S, self._check,
                                        clock=Clock(clock_type=ClockType.STEADY_TIME))
         self._check()
 
+    def waits(self):
+        return [PeerWait(self.node, p, self.names) for p in self.publishers()] if self.names else []
+
     def _check(self):
         if self.ready:
             return
-        if all(p.get_subscription_count() >= self.n for p in self.publishers()):
+        waits = self.waits()
+        if all(w.ready() for w in waits):
             self.ready = True
-            self.pub.publish(Bool(data=True))
+            self.announcer.announce(sorted({w.topic for w in waits}))
             self.node.destroy_timer(self.timer)
-            self.node.get_logger().info(f'ready: every target topic has {self.n} subscribers')
+            self.node.get_logger().info(
+                'ready: ' + (f"every target topic serves {', '.join(self.names)}" if self.names
+                             else 'nobody to wait for'))
+            return
+        self._polls += 1
+        if self._polls % int(WARN_EVERY_S / POLL_S) == 0:
+            self.node.get_logger().warning(describe_waits(waits))

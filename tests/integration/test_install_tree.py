@@ -120,6 +120,7 @@ BAD_PARAMETER = {
 #: Executables that are not nodes: their arguments, and a bad one of them (refused the same way).
 BAD_ARGUMENTS = {
     'run_mission': ('duration', ['scenarios/flagship_mariner.yaml', '--duration', '-1']),
+    'component_container': ('spec', ['/no/such/spec.json']),
 }
 
 

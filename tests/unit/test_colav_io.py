@@ -235,10 +235,11 @@ def test_colav_yaml_lists_exactly_the_node_parameters():
     declared.update(method='sbmpc', decision_period_s=1.0, pairing='sequence', targets_topic='targets',
                     target_stale_s=30.0, lockstep_target_timeout_s=10.0, has_shaft=True,
                     targets_sync_topic='', chart_topic='',
-                    max_targets=colav_io.DEFAULT_MAX_TARGETS)
+                    max_targets=colav_io.DEFAULT_MAX_TARGETS,
+                    heading_cmd_readers=[''], speed_factor_cmd_readers=[''])
     assert set(listed) == set(declared)
     for key, value in listed.items():
-        numeric = not isinstance(value, (str, bool)) and key != 'target_topics'
+        numeric = not isinstance(value, (str, bool, list))
         assert value == (pytest.approx(declared[key], rel=1e-4) if numeric else declared[key]), key
     assert set(declared) - {f for f in ColavParams.__dataclass_fields__} >= colav_io.NODE_KEYS
 

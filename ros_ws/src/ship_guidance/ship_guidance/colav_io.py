@@ -52,7 +52,8 @@ MODE_CODES = {'nominal': 0, 'stand-on': 1, 'avoid': 2, 'last-resort': 3}
 #: colav_node's own parameters (config/colav.yaml lists them beside the decision's).
 NODE_KEYS = frozenset({'method', 'decision_period_s', 'pairing', 'targets_topic', 'target_topics',
                        'target_stale_s', 'lockstep_target_timeout_s', 'targets_sync_topic',
-                       'chart_topic', 'max_targets'})
+                       'chart_topic', 'max_targets', 'heading_cmd_readers',
+                       'speed_factor_cmd_readers'})
 DECISION_COLUMNS = ('t_s', 'mode', 'course_offset_rad', 'speed_multiplier', 'threat',
                     'n_targets')
 #: Targets a decision considers at most (colav_node's ``max_targets``): SB-MPC's cost grows

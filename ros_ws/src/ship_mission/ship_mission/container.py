@@ -154,7 +154,11 @@ def main(argv=None):
     if len(argv) != 1:
         print(f'usage: {prog} SPEC.json', file=sys.stderr)
         return 2
-    spec = json.loads(Path(argv[0]).read_text())
+    try:
+        spec = json.loads(Path(argv[0]).read_text())
+    except (OSError, ValueError) as exc:
+        print(f'{prog}: cannot read the container spec {argv[0]}: {exc}', file=sys.stderr)
+        return 2
     tune_allocator()
     node_run.install_stop_handlers()
     try:

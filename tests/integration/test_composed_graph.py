@@ -27,8 +27,11 @@ def _call(tn, future, timeout=10.0):
 def test_members_are_nodes_with_their_own_names_and_parameters(ros_graph, launch):
     from rclpy.parameter import parameter_value_to_python
     from rclpy.parameter_client import AsyncParameterClient
-    run = launch(SCENARIO, '--compose', 'all', '--duration', 10000, '--wall-timeout', 100)
-    assert run.wait_for_log('component_container', 'publishing step 0', timeout=60.0), \
+    # realtime: the graph stays up while the test reads it (in lockstep this short scenario can
+    # finish within seconds on an idle machine)
+    run = launch(SCENARIO, '--compose', 'all', '--stepping', 'realtime', '--duration', 10000,
+                 '--wall-timeout', 100)
+    assert run.wait_for_log('component_container', 'clock master', timeout=60.0), \
         run.report()
     params_dir = run.run_dir() / 'params'
     files = sorted(params_dir.glob('vessel_0.*.yaml'))
@@ -36,9 +39,12 @@ def test_members_are_nodes_with_their_own_names_and_parameters(ros_graph, launch
                 for f in files}
     assert set(expected) == {'route_node', 'guidance_node', 'autopilot_node', 'vessel_node'}
     tn = ros_graph.test_node()
-    assert tn.spin_until(lambda: {('vessel_0', n) for n in expected} | {('', 'component_container')}
-                         <= {(ns.strip('/'), n) for n, ns
-                             in tn.node.get_node_names_and_namespaces()}, timeout=20.0)
+    wanted = {('vessel_0', n) for n in expected} | {('', 'component_container')}
+
+    def listed():
+        return {(ns.strip('/'), n) for n, ns in tn.node.get_node_names_and_namespaces()}
+    assert tn.spin_until(lambda: wanted <= listed(), timeout=20.0), (sorted(wanted - listed()),
+                                                                    sorted(listed()))
     for exe, params in expected.items():
         client = AsyncParameterClient(tn.node, f'/vessel_0/{exe}')
         assert tn.spin_until(client.services_are_ready, timeout=20.0), exe

@@ -87,3 +87,17 @@ def test_one_set_in_two_folders_is_refused(tmp_path):
         merge(folders, ['mariner'], ['vo'], CASES, {})
     with pytest.raises(MergeError, match='no summary.json'):
         merge([tmp_path], ['mariner'], ['vo'], CASES, {})
+
+
+def test_a_folder_of_the_other_encounter_set_is_refused_and_the_dnv_commands_name_it(tmp_path):
+    imazu = _folder(tmp_path, 'a', 'mariner', 'sbmpc', 'a' * 40)      # no 'set': an Imazu run
+    with pytest.raises(MergeError, match='a run of the imazu set, not of dnv'):
+        merge([imazu], ['mariner'], ['sbmpc'], CASES, {}, 'dnv')
+    dnv = _folder(tmp_path, 'b', 'tanker', 'sbmpc', 'b' * 40)
+    summary = json.loads((dnv / 'summary.json').read_text())
+    (dnv / 'summary.json').write_text(json.dumps({**summary, 'set': 'dnv'}))
+    data = merge([dnv], ['tanker'], ['sbmpc', 'vo'], CASES, {}, 'dnv')
+    assert data['set'] == 'dnv' and data['not_run'] == ['tanker/vo']
+    missing = render('dnv', 'not_run', data)
+    assert '--set dnv --ships tanker --methods vo' in missing
+    assert 'imazu_results.py --set dnv' in missing

@@ -21,9 +21,17 @@ from ship_guidance.ais_sensor import SensorConfig, Truth
 from ship_guidance.aivdm_out import AivdmOut, VesselInfo
 from ship_sim.ros.conversions import odometry_to_ned
 from ship_sim.ros.params import NodeParameters, ParameterError
-from ship_sim.ros.qos import STREAM
+from ship_sim.ros.qos import stream_with_depth
 from ship_sim.ros.run import run_node
 from ship_guidance.schema import AIVDM_OUT_NODE, SENSOR_PARAMETERS
+
+#: Odometry samples each subscription queues: 100 s of sim time at dt 0.1 s. Nobody waits for
+#: this node (it is outside the lockstep loop), so while it is descheduled on a loaded machine
+#: the simulators run on; STREAM's 100 samples (1.4 s of wall time at 7x real time) overflowed
+#: once under test load and one position report went out 1.4 s late. Reports must come from every
+#: sample: the report times are drawn from the odometry stamps.
+ODOM_QUEUE = 1000
+ODOM_IN = stream_with_depth(ODOM_QUEUE)
 
 VESSEL_KEYS = {'topic', 'mmsi', 'class', 'own', 'name', 'callsign', 'ship_type', 'length_m',
                'beam_m', 'antenna_x_m', 'antenna_y_m'}
@@ -101,7 +109,7 @@ class AivdmOutNode(Node):
         self.sent = 0
         for topic, info in vessels:
             self.create_subscription(Odometry, topic,
-                                     lambda data, m=info.mmsi: self._on_odom(m, data), STREAM,
+                                     lambda data, m=info.mmsi: self._on_odom(m, data), ODOM_IN,
                                      raw=True)
         where = ([f'UDP {self.dest[0]}:{self.dest[1]}'] if self.dest else []) + \
             ([f'file {path}'] if path else [])

@@ -388,10 +388,12 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
         sim_t = monitor.t if monitor else 0.0
         if monitor is not None:
             monitor.close()
-        # Simulators first (nothing new is published), then give the recorder time to write
-        # what it still has queued, then everything else.
+        # Simulators first (nothing new is published), then give the nodes outside the lockstep
+        # loop that write every sample (the recorder, AIVDM out) time to take what they still
+        # have queued, then everything else.
+        drains = record or scenario.aivdm_out is not None
         codes = group.stop(first=lambda p: starter is not None and starter.simulators_in(p) > 0,
-                           settle=1.0 if record else 0.0)
+                           settle=1.0 if drains else 0.0)
         wall = time.monotonic() - t_wall0
         summary = {'scenario': str(scenario.file), 'name': scenario.name, 'outcome': outcome,
                    'sim_time_s': sim_t,

@@ -102,7 +102,7 @@ class Starter:
     (``start_process(node)``), a spec of a container by starting that container (in ``group``,
     its spec file in ``run``/params/, each member's parameter file ``params_file(node)``) or,
     for a simulator, by loading it into its container (``publish_load(topic, label)``, set by the
-    launcher once its monitor node is up: ``load_publisher``)."""
+    launcher once its monitor node is up: ``launcher.Monitor.load_publisher``)."""
 
     def __init__(self, graph, mode, run, group, start_process, params_file):
         self.containers = containers(graph, mode)
@@ -133,18 +133,3 @@ class Starter:
                 return len(c.deferred())
         return 1 if proc.label.endswith('/' + SIMULATOR[0]) else 0
 
-
-def load_publisher(node):
-    """``Starter.publish_load`` on rclpy ``node``: one latched publisher per container, deep
-    enough to keep every load message for a container subscription that matches late."""
-    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-    from std_msgs.msg import String
-    qos = QoSProfile(depth=LOAD_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
-                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
-    pubs = {}
-
-    def publish(topic, label):
-        if topic not in pubs:
-            pubs[topic] = node.create_publisher(String, topic, qos)
-        pubs[topic].publish(String(data=label))
-    return publish

@@ -28,17 +28,14 @@ from importlib.metadata import entry_points
 from pathlib import Path
 
 import rclpy
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import String
 
 from ship_mission.composition import CONTAINER, LOAD_DEPTH, LOAD_TOPIC
-from ship_sim.allocator import tune_allocator
 from ship_sim.ros import run as node_run
-from ship_sim.ros.params import ParameterError
 
-#: ~/_load (as ship_mission.composition.load_publisher publishes it).
+#: ~/_load, on both ends (the launcher's Monitor.load_publisher publishes with it).
 LOAD_QOS = QoSProfile(depth=LOAD_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
                       durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
@@ -98,7 +95,7 @@ class Container:
         while self.to_build:
             m = self.members[self.to_build.pop(0)]
             cls = with_args(node_class(m['package'], m['executable']), m['ros_args'])
-            node = node_run._build(cls)
+            node = node_run.build_node(cls)
             node.end_alone = lambda code, node=node, label=m['label']: \
                 self.ended.append((label, node, code))
             self.running[m['label']] = node
@@ -134,9 +131,8 @@ def spin(container):
     callbacks: build what was loaded, take out what ended."""
     ok = rclpy.ok
     spin_once = container.executor.spin_once
-    node_run._spinning = True
-    try:
-        while ok() and not node_run._stop_signals and container.code is None:
+    with node_run.spinning():
+        while ok() and not node_run.stop_signalled() and container.code is None:
             container.build_pending()
             try:
                 spin_once(timeout_sec=node_run.SPIN_TIMEOUT_S)
@@ -144,8 +140,6 @@ def spin(container):
                 if ok():
                     raise
             container.reap()
-    finally:
-        node_run._spinning = False
 
 
 def main(argv=None):
@@ -159,29 +153,9 @@ def main(argv=None):
     except (OSError, ValueError) as exc:
         print(f'{prog}: cannot read the container spec {argv[0]}: {exc}', file=sys.stderr)
         return 2
-    tune_allocator()
-    node_run.install_stop_handlers()
-    try:
-        node_run._init(None)
-    except KeyboardInterrupt:
-        rclpy.try_shutdown()
-        return 0
-    container = None
-    code = 0
-    try:
-        container = Container(spec, node_run.make_executor())
-        spin(container)
-        code = container.code or 0
-    except ParameterError as exc:
-        print(f'{prog}: {exc}', file=sys.stderr, flush=True)
-        code = 2
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if container is not None:
-            container.destroy()
-        rclpy.try_shutdown()
-    return code
+    return node_run.run_process(lambda: Container(spec, node_run.make_executor()), spin,
+                                lambda container: container.destroy(),
+                                lambda container: container.code, prog=prog)
 
 
 if __name__ == '__main__':

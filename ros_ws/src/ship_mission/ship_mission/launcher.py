@@ -35,7 +35,7 @@ from pathlib import Path
 
 import yaml
 
-from ship_mission.composition import Starter, load_publisher, member_ros_args
+from ship_mission.composition import Starter, member_ros_args
 from ship_mission.console import progress_line
 from ship_mission.domain import LeaseError, lease_domain_id
 from ship_mission.graph import (  # noqa: F401 (the launcher's API: the graph as it starts it)
@@ -232,6 +232,19 @@ class Monitor:
     def _on_clock(self, msg):
         self.t = msg.clock.sec + 1e-9 * msg.clock.nanosec
 
+    def load_publisher(self):
+        """``Starter.publish_load`` on this node: a publisher per container on its ``~/_load``,
+        with the container's own QoS (kept for a container subscription that matches late)."""
+        from std_msgs.msg import String
+        from ship_mission.container import LOAD_QOS
+        pubs = {}
+
+        def publish(topic, label):
+            if topic not in pubs:
+                pubs[topic] = self.node.create_publisher(String, topic, LOAD_QOS)
+            pubs[topic].publish(String(data=label))
+        return publish
+
     def spin(self, seconds):
         end = time.monotonic() + seconds
         while time.monotonic() < end:
@@ -336,7 +349,7 @@ def run_scenario(scenario, runs_root=REPO / 'runs', domain_id=None, record=None,
             else:
                 starter.start(node)
         monitor = Monitor(namespaces)
-        starter.publish_load = load_publisher(monitor.node)
+        starter.publish_load = monitor.load_publisher()
         monitor.spin(1.0)
         on_clock = ([graph.node('traffic/traffic_node')] if scenario.light else []) + (
             [graph.node('ais/ais_node')] if scenario.ais is not None

@@ -30,6 +30,7 @@ vessel/echo loop several times faster than SingleThreadedExecutor (numbers in
 doc/results/performance.md).
 The environment variable SHIPNAV_EXECUTOR=single|events overrides the choice, for benchmarks.
 """
+import contextlib
 import os
 import re
 import signal
@@ -108,13 +109,11 @@ def spin(node, executor=None):
     (see the module docstring) and seen here between two callbacks: no callback is cut short
     and nothing publishes on a context that is gone.
     """
-    global _spinning
     ex = make_executor(executor, context=node.context)
     ex.add_node(node)
     ok = node.context.ok
     spin_once = ex.spin_once
-    _spinning = True
-    try:
+    with spinning():
         while ok() and not _stop_signals:
             try:
                 spin_once(timeout_sec=SPIN_TIMEOUT_S)
@@ -123,8 +122,23 @@ def spin(node, executor=None):
                 # publish of the same callback: the normal end; anything else is a real error.
                 if ok():
                     raise
+
+
+@contextlib.contextmanager
+def spinning():
+    """While inside, a stop signal is only noted (``stop_signalled``), for a spin loop to see
+    between two callbacks; outside, it ends the start at once (module docstring)."""
+    global _spinning
+    _spinning = True
+    try:
+        yield
     finally:
         _spinning = False
+
+
+def stop_signalled():
+    """Whether a stop signal (SIGINT, SIGTERM) came: a spin loop's cue to end."""
+    return bool(_stop_signals)
 
 
 def _on_stop_signal(signum, frame):
@@ -191,7 +205,7 @@ def _init(args):
     held.release()
 
 
-def _build(node_factory):
+def build_node(node_factory):
     """The node, built and its parameters checked (check_overrides). rcl's and rclpy's errors
     of node creation become ParameterError; on any ParameterError the node's log output of its
     construction is dropped, so the refusal stays one line."""
@@ -216,10 +230,14 @@ def _build(node_factory):
     return node
 
 
-def run_node(node_factory, *, args=None, executor=None):
-    """Build the node with ``node_factory()``, spin it until shutdown; return the exit code."""
+def run_process(build, spin_it, destroy, exit_code, *, args=None, prog=None):
+    """The frame of every node process (run_node; ship_mission.container's main): rclpy
+    started, ``obj = build()`` built and ``spin_it(obj)`` spun, ``destroy(obj)`` and rclpy shut
+    down on every way out; the exit codes of the module docstring, ``exit_code(obj)`` when it
+    ends by itself. A ParameterError from ``build`` is the one line ``<prog>: <message>``."""
     tune_allocator()   # every node's hot loop (waves, SB-MPC) without mmap churn
-    prog = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else 'node'
+    if prog is None:
+        prog = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else 'node'
     install_stop_handlers()
     try:
         _init(args)
@@ -230,20 +248,27 @@ def run_node(node_factory, *, args=None, executor=None):
     except KeyboardInterrupt:
         rclpy.try_shutdown()
         return 0
-    node = None
+    obj = None
     code = 0
     try:
-        node = _build(node_factory)
-        spin(node, executor)
+        obj = build()
+        spin_it(obj)
     except ParameterError as exc:
         print(f'{prog}: {exc}', file=sys.stderr, flush=True)
         code = 2
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
-        if node is not None:
-            node.destroy_node()
+        if obj is not None:
+            destroy(obj)
         rclpy.try_shutdown()
-    if node is not None:
-        code = getattr(node, 'exit_code', 0) or code
+    if obj is not None:
+        code = exit_code(obj) or code
     return code
+
+
+def run_node(node_factory, *, args=None, executor=None):
+    """Build the node with ``node_factory()``, spin it until shutdown; return the exit code."""
+    return run_process(lambda: build_node(node_factory), lambda node: spin(node, executor),
+                       lambda node: node.destroy_node(),
+                       lambda node: getattr(node, 'exit_code', 0), args=args)

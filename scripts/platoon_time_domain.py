@@ -23,7 +23,9 @@ Predicted: the real part of the dominant oscillatory eigenvalue pair of one vess
 (every follower's block has the same, eq. 40), of the thesis's model (doc) and of the sampled
 closed loop (sampled).
 
-Writes to --out: summary.json, rates.csv, and PNGs <model>_cross_track.png (cross-track
+Writes to --out: summary.json (with the run's provenance: its committed copy
+doc/results/data/platoon_time_domain.json renders the tables of doc/results/string_stability.md),
+rates.csv, and PNGs <model>_cross_track.png (cross-track
 deviation of each vessel vs time above/below, linear and log envelope with the fits).
 
     scripts/platoon_time_domain.py --thesis-ic [--models nomoto1] [--ic-ratios 1.5 0.8]
@@ -36,7 +38,8 @@ platoon_simulation.linear_string_response, non-dimensional) and the ship model w
 (rudder limit, atan LOS; simulate_platoon with the same initial deviations in metres and
 rad/s). Design: the model's gain-table zeta and omega_n (nomoto1: 0.8 and 1 U/L). Writes
 thesis_ic.csv (per case and vessel: fitted envelope rate of the linear run and the real part
-of its dominant eigenvalue, peak and final |y|) and thesis_ic_<model>.png (the five figures
+of its dominant eigenvalue, peak and final |y|), thesis_ic.json (the same rows with the run's
+provenance; committed as doc/results/data/platoon_thesis_ic.json) and thesis_ic_<model>.png (the five figures
 side by side, above and below the limit).
 """
 import argparse
@@ -48,6 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
+from results_pages.provenance import provenance
 from ship_autopilot.gains import autopilot_gains
 from ship_autopilot.platoon_simulation import (doc_eigenvalues, dominant_pair,
                                                envelope_peaks, envelope_rate,
@@ -286,6 +290,9 @@ def main_thesis_ic(a):
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    (a.out / 'thesis_ic.json').write_text(json.dumps(
+        {'provenance': a.provenance, 'ratios': a.ic_ratios, 'rows': rows}, indent=1,
+        default=float))
     print(f'\nwritten to {a.out}; every fitted rate has the sign of its eigenvalue: {ok}')
     return 0 if ok else 1
 
@@ -307,6 +314,7 @@ def main(argv=None):
     ap.add_argument('--ic-ratios', type=float, nargs='+', default=[1.5, 0.8],
                     help='--thesis-ic look-aheads as multiples of d* (default 1.5 0.8)')
     a = ap.parse_args(argv)
+    a.provenance = provenance(argv and [__file__, *argv])
     a.out.mkdir(parents=True, exist_ok=True)
     if a.thesis_ic:
         if a.models == ap.get_default('models'):
@@ -352,8 +360,9 @@ def main(argv=None):
         w = csv.DictWriter(f, fieldnames=list(all_rows[0]))
         w.writeheader()
         w.writerows(all_rows)
-    (a.out / 'summary.json').write_text(json.dumps({'models': infos, 'rows': all_rows},
-                                                   indent=1, default=float))
+    (a.out / 'summary.json').write_text(json.dumps(
+        {'provenance': a.provenance, 'margin': a.margin, 'models': infos, 'rows': all_rows},
+        indent=1, default=float))
     print(f'\nwritten to {a.out}; every fitted growth rate has the sign of the sampled '
           f'eigenvalue: {ok}')
     return 0 if ok else 1

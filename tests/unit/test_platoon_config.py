@@ -287,6 +287,19 @@ def test_follower_with_integral_action_uses_the_integral_limit(tmp_path):
     check_scenario(load_scenario(_limit_case(tmp_path, d)))   # without integral action: fine
 
 
+def test_a_followers_guidance_is_checked_by_follower_nodes_own_ranges(tmp_path):
+    # follower_node takes integral_gain 0 (no integral action: Angelopoulos's law), which
+    # guidance_node's ILOS gain refuses; the check must apply the follower's schema, and the
+    # variant scenario that runs that law must pass it
+    pl = string(2)
+    pl['vessels'][1]['guidance'] = {'aim': 'predecessor', 'integral_gain': 0.0}
+    check_scenario(load_scenario(write(tmp_path, pl)))
+    pl['vessels'][1]['guidance'] = {'integral_gain': -1.0}
+    refused(write(tmp_path, pl), 'platoon.vessels[1] (vessel_1).guidance.integral_gain',
+            '[0.0, 100.0]')
+    check_scenario(load_scenario(ROOT / 'scenarios' / 'platoon_mariner_5_predecessor.yaml'))
+
+
 def test_ilos_leader_uses_the_integral_limit(tmp_path):
     # (U + 4 zeta^2 sigma) / (2 zeta omega_n) with sigma 0.5 m/s = 46.86 m (hand)
     ilos = (MARINER_U + 4 * 0.8 ** 2 * 0.5) / (2 * 0.8 * 0.12)

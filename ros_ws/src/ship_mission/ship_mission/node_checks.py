@@ -58,9 +58,12 @@ def colav_problems(params):
     return out
 
 
-def check_vessel_sections(spec, where):
+def check_vessel_sections(spec, where, guidance=NODES['guidance']):
     """ScenarioError (one line) for the first value of a vessel's node sections its node would
-    refuse at start; ``where``: the key prefix in messages (``<file>: vessels.<ns>.``)."""
+    refuse at start; ``where``: the key prefix in messages (``<file>: vessels.<ns>.``);
+    ``guidance``: (package, executable) of the node that reads the guidance section (a platoon
+    follower's is follower_node, whose ranges differ)."""
+    nodes = {**NODES, 'guidance': guidance}
     blocks = {'vessel': spec.vessel_params, 'guidance': spec.guidance_params,
               'autopilot': spec.autopilot_params, 'colav': spec.colav_params}
     for block, params in blocks.items():
@@ -69,7 +72,7 @@ def check_vessel_sections(spec, where):
         if block == 'colav':
             problems = colav_problems(params)
         else:
-            problems = section_problems(*NODES[block], params)
+            problems = section_problems(*nodes[block], params)
         if problems:
             key, bad = problems[0]
             raise ScenarioError(f'{where}{block}' + (f'.{key}' if key else '') + f': {bad}')

@@ -63,7 +63,7 @@ def check_scenario(scenario):
                     hint = f' (did you mean "{near[0]}"?)' if near else ''
                     raise ScenarioError(f'{where}{block}.{key}: {exe} has no parameter '
                                         f'{key!r}{hint}')
-        check_vessel_sections(spec, where)   # values, by the nodes' own rules
+        check_vessel_sections(spec, where, guidance[::-1])   # values, by the nodes' own rules
     if scenario.ais is not None:
         names = node_parameter_names(*reversed(AIS_NODE))
         for key in scenario.ais:

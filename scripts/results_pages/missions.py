@@ -29,7 +29,27 @@ def _vessel_rows(metrics):
 def platoon_vessels(data):
     """Per vessel of the platoon scenario: tracking after settling, the string-stability ratios
     to the predecessor, the gap error."""
-    metrics = _run(data, 'platoon_mariner_5')
+    return _platoon_table(_run(data, 'platoon_mariner_5'))
+
+
+@table('platoon', 'predecessor_law')
+def platoon_predecessor_law(data):
+    """The same per vessel for the variant with Angelopoulos's follower law."""
+    return _platoon_table(_run(data, 'platoon_mariner_5_predecessor'))
+
+
+@table('flagship', 'slow_autopilot')
+def flagship_slow_autopilot(data):
+    """The flagship's variant with the gain table's autopilot, a longer look-ahead and no lead:
+    its tracking after settling, as the flagship's own line reads."""
+    m = _run(data, 'flagship_mariner_slow_autopilot')
+    v = m['vessels']['/vessel_0']
+    return (f"Route completed in {fmt(v.get('time_to_complete_s'), '.0f')} s; after the "
+            f"scenario's settling time: RMS cross-track {fmt(v['xte_rms_m'], '.1f')} m, max "
+            f"{fmt(v['xte_max_abs_m'], '.1f')} m.\n")
+
+
+def _platoon_table(metrics):
     return markdown_table([
         ('vessel', 'vessel', ''), ('follows', 'predecessor', ''),
         ('XTE RMS (m)', 'xte_rms_m', '.1f'), ('XTE peak (m)', 'xte_max_abs_m', '.1f'),

@@ -64,15 +64,6 @@ def module_ros_graph(tmp_path_factory):
         yield graph
 
 
-@pytest.fixture(scope='module')
-def other_module_ros_graph(tmp_path_factory, module_ros_graph):
-    """A second fresh ROS graph for the module, on a domain of its own: two runs at the same
-    time, one on each graph (as harness.start_pair does for launches)."""
-    with pytest.MonkeyPatch.context() as monkeypatch, \
-            _fresh_graph(tmp_path_factory.mktemp('module_graph'), monkeypatch) as graph:
-        yield graph
-
-
 @pytest.fixture
 def launch(ros_graph, tmp_path):
     """launch(scenario, *args, own_domain=False) -> Launch; every launch is ended at teardown."""

@@ -292,22 +292,8 @@ def test_graph_completes_the_route_with_bounded_cross_track_error(ros_graph):
 DETERMINISM_STEPS = 600  # 60 s: the approach from the start offset and the first corner
 
 
-def _start_run(ros_graph, scenario, tag):
-    """Start the graph to DETERMINISM_STEPS; returns (test node, processes, inboxes) once its
-    first odom is in (the simulator stepping), so that a second run starts after it."""
-    tn, procs, inbox = run = _start_graph(ros_graph, scenario, DETERMINISM_STEPS, tag)
-    assert tn.spin_until(lambda: len(inbox['odom']) > 0 or _dead(procs), timeout=60.0,
-                         poll=0.2), ros_graph.report()
-    return run
-
-
-def _finish_run(ros_graph, run, tag):
-    """Wait for a run of _start_run to end at max_steps; every message of its three streams.
-
-    The test node of a run need not be spun while the other run's is: it follows the graph by
-    name only (lockstep_odom_readers and the readers of the commands wait for it to be matched,
-    never for an answer), and its DEEP inboxes hold a whole run."""
-    tn, procs, inbox = run
+def _run_to_max_steps(ros_graph, scenario, tag):
+    tn, procs, inbox = _start_graph(ros_graph, scenario, DETERMINISM_STEPS, tag)
     n = DETERMINISM_STEPS + 1  # steps 0..max_steps
     assert tn.spin_until(lambda: len(inbox['odom']) >= n or _dead(procs), timeout=60.0,
                          poll=0.2), ros_graph.report()
@@ -331,19 +317,11 @@ def _finish_run(ros_graph, run, tag):
 
 
 @pytest.fixture(scope='module')
-def two_runs(module_ros_graph, other_module_ros_graph):
-    """The graph run twice to DETERMINISM_STEPS at the same time, each on a domain of its own:
-    the repeat test compares them, the in-process test checks the first. A lockstep run is
-    bound by message latency, not CPU, so two at once take little more than one, and each is
-    made under the other's load. The second starts once the first is stepping (start-ups kept
-    apart, as harness.start_pair does for launches)."""
+def two_runs(module_ros_graph):
+    """The graph run twice to DETERMINISM_STEPS, one run after the other: the repeat test
+    compares them, the in-process test checks the first."""
     scenario = load_scenario(SCENARIO)
-    graphs = (module_ros_graph, other_module_ros_graph)
-    runs = []
-    for k, graph in enumerate(graphs, 1):
-        runs.append(_start_run(graph, scenario, f'_run{k}'))
-    return [_finish_run(graph, run, f'_run{k}')
-            for k, (graph, run) in enumerate(zip(graphs, runs), 1)]
+    return [_run_to_max_steps(module_ros_graph, scenario, f'_run{k}') for k in (1, 2)]
 
 
 @pytest.mark.timeout(150)

@@ -18,9 +18,9 @@ SCENARIO ?= scenarios/flagship_mariner.yaml
 WITH_INSTALL := source $(WS)/install/setup.bash &&
 PYTEST_ARGS ?=
 # pytest worker processes for `make test` (pytest-xdist; 2 by default, 0 for the suite in one
-# process). With --dist loadgroup every integration file goes to one worker, so no two graph
-# tests run at a time, and every other file stays whole on a worker, so its module-scoped runs
-# are made once (the scheduler: tests/conftest.py).
+# process). With --dist loadgroup every integration file that starts a graph goes to one
+# worker, so no two graph tests run at a time, and every other file stays whole on a worker, so
+# its module-scoped runs are made once (the scheduler: tests/conftest.py).
 TEST_JOBS ?= 2
 
 .PHONY: all venv venv-sweep venv-test venv-interop venv-judge build demo lint docs test bench clean distclean

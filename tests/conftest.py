@@ -20,15 +20,32 @@ def pytest_configure(config):
 #: Where the tests that start node graphs live (tests/integration/conftest.py marks them
 #: `integration`), as pytest-xdist names a test: relative to the rootdir.
 GRAPH_TESTS = 'tests/integration/'
+#: The files there that start no graph (a Ray cluster or a local Ray instance; executables
+#: that refuse a bad parameter and exit): the scheduler lets them run beside the graphs, on the
+#: other worker. Checked at collection: none of their tests may take a graph fixture.
+WITHOUT_GRAPHS = frozenset(GRAPH_TESTS + name for name in (
+    'test_install_tree.py', 'test_sweep_ray.py', 'test_sweep_ray_cluster.py'))
+#: The fixtures that start a ROS graph (``launch`` and the others build on them).
+GRAPH_FIXTURES = frozenset({'ros_graph', 'module_ros_graph'})
+
+
+def pytest_collection_modifyitems(items):
+    for item in items:
+        path = item.nodeid.split('::', 1)[0]
+        if path in WITHOUT_GRAPHS and GRAPH_FIXTURES & set(item.fixturenames):
+            raise pytest.UsageError(
+                f'{item.nodeid} starts a ROS graph: take {path} out of WITHOUT_GRAPHS '
+                '(tests/conftest.py), so that it runs on the graphs\' worker')
 
 
 @pytest.hookimpl(tryfirst=True, optionalhook=True)
 def pytest_xdist_make_scheduler(config, log):
-    """`make test TEST_JOBS=2` (``--dist loadgroup``): every integration file on one worker, so
-    no two graph tests run at a time (two lockstep graphs starting together under the doubled
-    load can miss a first command, doc/known_limits.md) while the other worker runs the rest;
-    every other file whole on a worker, so a module-scoped fixture is made once, as with
-    ``--dist loadfile``. The integration files go out first: they take longest, and another
+    """`make test TEST_JOBS=2` (``--dist loadgroup``): every integration file that starts a
+    graph on one worker, so no two graph tests run at a time (two lockstep graphs starting
+    together under the doubled load can miss a first command, doc/known_limits.md) while the
+    other worker runs the rest (WITHOUT_GRAPHS among them: the graphs' worker is the suite's
+    longest); every other file whole on a worker, so a module-scoped fixture is made once, as
+    with ``--dist loadfile``. The graph files go out first: they take longest, and another
     worker's queue is then only the short files (longest job first).
 
     xdist 3.8's own loadgroup puts a group into the node id (``item._nodeid``), which pytest 9
@@ -41,7 +58,8 @@ def pytest_xdist_make_scheduler(config, log):
     class GraphsOnOneWorker(LoadScopeScheduling):
         def _split_scope(self, nodeid):
             path = nodeid.split('::', 1)[0]
-            return GRAPH_TESTS if path.startswith(GRAPH_TESTS) else path
+            graphs = path.startswith(GRAPH_TESTS) and path not in WITHOUT_GRAPHS
+            return GRAPH_TESTS if graphs else path
 
         def _assign_work_unit(self, node):
             if GRAPH_TESTS in self.workqueue:

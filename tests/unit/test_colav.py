@@ -535,6 +535,11 @@ def test_a_stand_on_after_an_avoidance_keeps_the_avoidance_course_not_the_turn_b
     held = col.scenarios(own, [crosser], col.anchor, 1.0)
     assert held.offsets[held.held] == first.scenario_offset
     assert held.dist[held.held].min() >= P.stand_on_dcpa_m      # why it may keep standing on
+    # once the crosser has passed (opening) the turn back is free, though it is a threat still
+    passed = Target(300.0, 1000.0, math.pi / 2, U, name='so')
+    d = col.decide(2.0, own, [passed], back, 1.0)
+    assert d.targets[0].threat and d.targets[0].tcpa_s < 0.0
+    assert (d.mode, d.course, col.anchor) == ('stand-on', back, None)
     # Rule 17(a)(ii) judged on the held command: a port crosser meeting it within
     # stand_on_act_time_s makes the own ship act
     v_o, v_t = velocity(first.course, U), velocity(first.course + math.pi / 2, U)

@@ -37,8 +37,11 @@ and role (ship_guidance.colregs). The steps:
    target and to port (what 17(c) forbids). Returning it let the ship swing into the target
    while "standing on", and Rule 17(b)'s moment (the best manoeuvre no longer keeps the
    distance) then came only when no manoeuvre could keep it. So a stand-on entered from an
-   avoidance holds the avoidance's command (``Scenarios.held``), the anchor kept, until no
-   threat is left, and both moments of acting are judged on that held command.
+   avoidance holds the avoidance's command (``Scenarios.held``), the anchor kept, while a
+   stand-on threat is still closing (straight-line TCPA > 0), and both moments of acting are
+   judged on that held command. Once every one is opening the turn back is free (a threat is
+   judged on the anchor's course, so a target the held course runs beside stays one, and a
+   hold until no threat is left escorted it away from the route).
 4. Otherwise the method (ship_guidance.sbmpc or ship_guidance.velocity_obstacles) picks a
    scenario; ties go to the first in a fixed order: the larger speed multiplier first, then
    offsets 0, +15, -15, +30, ... deg (smaller first, starboard before port).
@@ -202,7 +205,9 @@ class CollisionAvoidance:
             return Decision(nominal_course, nominal_speed_factor, 'nominal', 0.0, 1.0, False,
                             assessments)
         if self._hold_as_stand_on(sc):
-            if self.anchor is None:
+            closing = any(a.threat and a.role == colregs.STAND_ON and a.tcpa_s > 0.0
+                          for a in assessments)
+            if self.anchor is None or not closing:
                 self.reset()
                 return Decision(nominal_course, nominal_speed_factor, 'stand-on', 0.0, 1.0, True,
                                 assessments)

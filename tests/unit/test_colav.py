@@ -509,6 +509,48 @@ def test_avoidance_holds_its_anchor_while_the_nominal_drifts_back(method):
 
 
 @pytest.mark.parametrize('method', METHODS)
+def test_a_stand_on_after_an_avoidance_keeps_the_avoidance_course_not_the_turn_back(method):
+    # The own ship gave way to a starboard crosser and is on its avoidance course; that ship is
+    # gone, another crosses from port (the own ship stands on for it) and guidance's nominal is
+    # the turn back to port towards the route. Rule 17(a)(i): keep course and speed, i.e. the
+    # avoidance's command, not the turn back, which here would run into the crosser.
+    col = make_colav(method, ship=SHIP)
+    first = col.decide(0.0, OWN, [_target_on_collision_course(270.0, 480.0, name='gw')], 0.0, 1.0)
+    assert first.mode == 'avoid' and first.course > 0.0
+    own = ShipState(0.0, 0.0, first.course, U)
+    back = math.radians(-45.0)                                  # guidance's turn back
+    # a crosser from port heading east that the turn back, as predicted, meets after 400 s
+    t = time_grid(P.horizon_s, P.dt_s)
+    p_back, _ = predict_own(0.0, 0.0, first.course, U, [back], [U], t, SHIP)
+    p_t = p_back[0, np.searchsorted(t, 400.0)] - velocity(math.pi / 2, U) * 400.0
+    crosser = Target(float(p_t[0]), float(p_t[1]), math.pi / 2, U, name='so')
+    turn_back = make_colav(method, ship=SHIP).scenarios(own, [crosser], back, 1.0)
+    assert turn_back.codes[0] == colregs.CROSSING_STAND_ON
+    assert turn_back.dist[0].min() < P.collision_m            # the turn back would run into it
+    d = col.decide(1.0, own, [crosser], back, 1.0)
+    assert d.mode == 'stand-on' and d.targets[0].threat     # a threat on the anchor's course
+    assert (d.course, d.speed_multiplier, d.scenario_offset) == (
+        first.course, first.speed_multiplier, first.scenario_offset)
+    assert col.anchor == 0.0                                    # still the avoidance's anchor
+    held = col.scenarios(own, [crosser], col.anchor, 1.0)
+    assert held.offsets[held.held] == first.scenario_offset
+    assert held.dist[held.held].min() >= P.stand_on_dcpa_m      # why it may keep standing on
+    # once the crosser has passed (opening) the turn back is free, though it is a threat still
+    passed = Target(300.0, 1000.0, math.pi / 2, U, name='so')
+    d = col.decide(2.0, own, [passed], back, 1.0)
+    assert d.targets[0].threat and d.targets[0].tcpa_s < 0.0
+    assert (d.mode, d.course, col.anchor) == ('stand-on', back, None)
+    # Rule 17(a)(ii) judged on the held command: a port crosser meeting it within
+    # stand_on_act_time_s makes the own ship act
+    v_o, v_t = velocity(first.course, U), velocity(first.course + math.pi / 2, U)
+    p_t = (v_o - v_t) * 0.8 * P.stand_on_act_time_s
+    late = Target(float(p_t[0]), float(p_t[1]), first.course + math.pi / 2, U, name='late')
+    col = make_colav(method, ship=SHIP)
+    col.decide(0.0, OWN, [_target_on_collision_course(270.0, 480.0, name='gw')], 0.0, 1.0)
+    assert col.decide(1.0, own, [late], back, 1.0).mode == 'avoid'
+
+
+@pytest.mark.parametrize('method', METHODS)
 @pytest.mark.parametrize('target_course_deg', [180.0, 270.0])
 def test_give_way_alteration_is_readily_apparent(method, target_course_deg):
     # Rule 8(b): head-on and crossing give-way (Imazu cases 1 and 2, closest point 480 s ahead):

@@ -52,9 +52,6 @@ def _turn_back_run(ship='tanker'):
     return res, evaluate(res, ref, case, ship)
 
 
-@pytest.mark.xfail(strict=True, reason='SB-MPC on the MSS tanker: ts1 at 626 m at 1491 s after '
-                   'the turn back, inside its domain (domain index 0.64, inside below 1; 1.6 x 305 m = 488 m abeam, '
-                   '1219 m ahead)')
 def test_turning_back_to_the_route_keeps_the_still_closing_target_outside_its_domain():
     # the specification: the own ship gives way to ts2, then returns to its route without
     # bringing ts1 (still closing) inside either ship's domain, and the run ends with every

@@ -30,6 +30,18 @@ and role (ship_guidance.colregs). The steps:
    at once (a starboard turn that clears the stand-on target but closes another is no way out).
    The benchmark's evaluator widens its stand-on window to the same moment, computed with all
    the case's targets (scripts/imazu/evaluate.py).
+   Standing on keeps the course and speed the ship has (Rule 17(a)(i)). On its route that is
+   guidance's nominal; but when the threats left are stand-on ones while the ship is still off
+   its route from an avoidance (e.g. it gave way to one ship and another, crossing from port,
+   is still closing), guidance's nominal is a turn back towards the route, often towards that
+   target and to port (what 17(c) forbids). Returning it let the ship swing into the target
+   while "standing on", and Rule 17(b)'s moment (the best manoeuvre no longer keeps the
+   distance) then came only when no manoeuvre could keep it. So a stand-on entered from an
+   avoidance holds the avoidance's command (``Scenarios.held``), the anchor kept, while a
+   stand-on threat is still closing (straight-line TCPA > 0), and both moments of acting are
+   judged on that held command. Once every one is opening the turn back is free (a threat is
+   judged on the anchor's course, so a target the held course runs beside stays one, and a
+   hold until no threat is left escorted it away from the route).
 4. Otherwise the method (ship_guidance.sbmpc or ship_guidance.velocity_obstacles) picks a
    scenario; ties go to the first in a fixed order: the larger speed multiplier first, then
    offsets 0, +15, -15, +30, ... deg (smaller first, starboard before port).
@@ -140,6 +152,8 @@ class Scenarios:
     must_act: np.ndarray = None    # (M,) bool: Rule 17(b) moment for a stand-on target (step 3)
     u: np.ndarray = None           # (S, N+1) predicted speed through the water, m/s
     d_safe: np.ndarray = None      # (M,) each target's safe distance, m (d_safe_m widened)
+    held: int = 0                  # the scenario a stand-on keeps: the nominal, or while avoiding
+    #                                the command in force (step 3)
 
 
 class CollisionAvoidance:
@@ -191,9 +205,17 @@ class CollisionAvoidance:
             return Decision(nominal_course, nominal_speed_factor, 'nominal', 0.0, 1.0, False,
                             assessments)
         if self._hold_as_stand_on(sc):
-            self.reset()
-            return Decision(nominal_course, nominal_speed_factor, 'stand-on', 0.0, 1.0, True,
-                            assessments)
+            closing = any(a.threat and a.role == colregs.STAND_ON and a.tcpa_s > 0.0
+                          for a in assessments)
+            if self.anchor is None or not closing:
+                self.reset()
+                return Decision(nominal_course, nominal_speed_factor, 'stand-on', 0.0, 1.0, True,
+                                assessments)
+            # still off the route from an avoidance: keep its course and speed (module doc, 3)
+            course, mult = float(sc.chi_c[sc.held]), float(sc.multipliers[sc.held])
+            return Decision(course, mult * nominal_speed_factor, 'stand-on',
+                            float(wrap_angle(course - nominal_course)), mult, True, assessments,
+                            None, float(sc.offsets[sc.held]))
         k, cost = self._choose(sc)
         mode = 'avoid'
         if sc.dist.min(axis=(1, 2)).max() < self.params.collision_m:
@@ -242,24 +264,33 @@ class CollisionAvoidance:
         beyond = (tcpa_b > 0.0) & (tcpa_b <= p.horizon_s)
         dcpa_b = np.where(beyond, dcpa_b, np.inf)
         v_rel_b = np.hypot(*(v_tgt[None] - v_own_end[:, None]).transpose(2, 0, 1))
-        n_min = dist[0].argmin(axis=1)                                         # (M,)
+        # the command a stand-on keeps (module doc, 3): the nominal, or the avoidance's in force
+        held = 0 if self.anchor is None else self._index(self.last_offset, self.last_multiplier)
+        d_held = dist[held].min(axis=1)
+        n_min = dist[held].argmin(axis=1)                                      # (M,)
         m_idx = np.arange(len(targets))
-        t_min = self._t[n_min] + frac[0, m_idx, n_min] * p.dt_s     # nominal closest point, s
+        t_min = self._t[n_min] + frac[held, m_idx, n_min] * p.dt_s  # its closest point, s
         stand_on = threat & np.isin(codes, STAND_ON_CODES)
-        # Rule 17(b): the best manoeuvre of the own ship alone (no turn to port, 17(c)) can no
-        # longer keep stand_on_dcpa_m from every threat at once, counting the pass beyond the
-        # horizon too (one manoeuvre must clear them all: judged per target, a starboard turn
-        # that clears the stand-on target but runs into another threat counted as a way out)
-        clear = np.minimum(dist.min(axis=2), dcpa_b)[self._offsets >= 0.0]       # (S', M)
+        # Rule 17(b): the best manoeuvre of the own ship alone (no turn to port of the course
+        # kept, 17(c)) can no longer keep stand_on_dcpa_m from every threat at once, counting
+        # the pass beyond the horizon too (one manoeuvre must clear them all: judged per
+        # target, a starboard turn that clears the stand-on target but runs into another threat
+        # counted as a way out)
+        starboard = self._offsets >= self._offsets[held]
+        clear = np.minimum(dist.min(axis=2), dcpa_b)[starboard]                  # (S', M)
         joint = clear[:, threat].min(axis=1).max() if threat.any() else np.inf
         must = stand_on & (joint < p.stand_on_dcpa_m)
-        late = stand_on & (d_nom < p.stand_on_dcpa_m) & (t_min <= p.stand_on_act_time_s)
+        late = stand_on & (d_held < p.stand_on_dcpa_m) & (t_min <= p.stand_on_act_time_s)
         acting = bool((late | must).any())
         d_safe = p.safe_distance(np.array([tg.position_sigma_m for tg in targets]))
         return Scenarios(self._offsets, self._multipliers, chi_c, u_c, max(float(u_nom), 0.1),
                          self._t, p_own, chi, p_own0, p_tgt, p_tgt0, v_tgt, dist, frac, step,
                          codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must, u,
-                         d_safe)
+                         d_safe, held)
+
+    def _index(self, offset, multiplier):
+        """Index of the scenario (offset, multiplier)."""
+        return int(np.flatnonzero((self._offsets == offset) & (self._multipliers == multiplier))[0])
 
     def _assess(self, own, targets, sc):
         if sc is None:

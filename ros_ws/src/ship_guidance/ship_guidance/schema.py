@@ -65,7 +65,8 @@ SCALARS = (
     ('w_change_course_port', DEFAULTS.w_change_course_port, 'change to port weight', 0.0, 1e9, ''),
     ('w_change_speed', DEFAULTS.w_change_speed, 'speed change weight', 0.0, 1e9, ''),
     ('stand_on_dcpa_m', DEFAULTS.stand_on_dcpa_m, 'Rule 17(a)(ii): a stand-on ship acts when '
-     'the nominal passes closer than this ...', 0.0, 1e5, 'm'),
+     'the command it keeps (the nominal; after an avoidance, the avoidance\'s) passes closer '
+     'than this ...', 0.0, 1e5, 'm'),
     ('stand_on_act_time_s', DEFAULTS.stand_on_act_time_s, '... with the closest point this near '
      '(the give-way ship is late)', 0.0, 7200.0, 's'),
     ('uncertainty_k', DEFAULTS.uncertainty_k, 'a target\'s safe distance is d_safe_m + this x '

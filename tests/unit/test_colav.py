@@ -535,8 +535,11 @@ def test_a_stand_on_after_an_avoidance_keeps_the_avoidance_course_not_the_turn_b
     held = col.scenarios(own, [crosser], col.anchor, 1.0)
     assert held.offsets[held.held] == first.scenario_offset
     assert held.dist[held.held].min() >= P.stand_on_dcpa_m      # why it may keep standing on
-    # once the crosser has passed (opening) the turn back is free, though it is a threat still
+    # once the crosser has passed and the turn back is predicted to keep stand_on_dcpa_m from
+    # it, the turn back is taken, though the crosser is a threat still (on the anchor's course)
     passed = Target(300.0, 1000.0, math.pi / 2, U, name='so')
+    assert make_colav(method, ship=SHIP).scenarios(own, [passed], back, 1.0).dist[0].min() \
+        >= P.stand_on_dcpa_m
     d = col.decide(2.0, own, [passed], back, 1.0)
     assert d.targets[0].threat and d.targets[0].tcpa_s < 0.0
     assert (d.mode, d.course, col.anchor) == ('stand-on', back, None)

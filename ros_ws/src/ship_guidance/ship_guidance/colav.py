@@ -37,11 +37,13 @@ and role (ship_guidance.colregs). The steps:
    target and to port (what 17(c) forbids). Returning it let the ship swing into the target
    while "standing on", and Rule 17(b)'s moment (the best manoeuvre no longer keeps the
    distance) then came only when no manoeuvre could keep it. So a stand-on entered from an
-   avoidance holds the avoidance's command (``Scenarios.held``), the anchor kept, while a
-   stand-on threat is still closing (straight-line TCPA > 0), and both moments of acting are
-   judged on that held command. Once every one is opening the turn back is free (a threat is
-   judged on the anchor's course, so a target the held course runs beside stays one, and a
-   hold until no threat is left escorted it away from the route).
+   avoidance holds the avoidance's command (``Scenarios.held``), the anchor kept, while the
+   turn back to guidance's command is predicted to pass a threat closer than
+   ``stand_on_dcpa_m`` (``Scenarios.back_min``), and both moments of acting are judged on that
+   held command. Once the turn back is predicted clear it is taken: neither holding until no
+   threat is left (a threat is judged on the anchor's course, so a target the held course ran
+   beside stayed one and the ship escorted it away from its route) nor until every stand-on
+   threat is opening on the present course (the turn back itself can close one again).
 4. Otherwise the method (ship_guidance.sbmpc or ship_guidance.velocity_obstacles) picks a
    scenario; ties go to the first in a fixed order: the larger speed multiplier first, then
    offsets 0, +15, -15, +30, ... deg (smaller first, starboard before port).
@@ -154,6 +156,7 @@ class Scenarios:
     d_safe: np.ndarray = None      # (M,) each target's safe distance, m (d_safe_m widened)
     held: int = 0                  # the scenario a stand-on keeps: the nominal, or while avoiding
     #                                the command in force (step 3)
+    back_min: np.ndarray = None    # (M,) closest approach of the turn back to guidance's command
 
 
 class CollisionAvoidance:
@@ -198,16 +201,14 @@ class CollisionAvoidance:
         del t
         targets = tuple(targets)
         base = nominal_course if self.anchor is None else self.anchor
-        sc = self.scenarios(own_state, targets, base, nominal_speed_factor)
+        sc = self.scenarios(own_state, targets, base, nominal_speed_factor, nominal_course)
         assessments = self._assess(own_state, targets, sc)
         if sc is None or not sc.threat.any():
             self.reset()
             return Decision(nominal_course, nominal_speed_factor, 'nominal', 0.0, 1.0, False,
                             assessments)
         if self._hold_as_stand_on(sc):
-            closing = any(a.threat and a.role == colregs.STAND_ON and a.tcpa_s > 0.0
-                          for a in assessments)
-            if self.anchor is None or not closing:
+            if self.anchor is None or not (sc.back_min[sc.threat] < self.params.stand_on_dcpa_m).any():
                 self.reset()
                 return Decision(nominal_course, nominal_speed_factor, 'stand-on', 0.0, 1.0, True,
                                 assessments)
@@ -234,9 +235,11 @@ class CollisionAvoidance:
 
     # --- shared pieces -------------------------------------------------------------------
 
-    def scenarios(self, own, targets, nominal_course, nominal_speed_factor):
+    def scenarios(self, own, targets, nominal_course, nominal_speed_factor, guidance_course=None):
         """The predicted ``Scenarios`` for these inputs (None without targets); it latches the
-        situations of new threats, as ``decide`` does."""
+        situations of new threats, as ``decide`` does. ``guidance_course``: guidance's nominal
+        now when ``nominal_course`` is an avoidance's anchor (step 5): the command a stand-on
+        would turn back to (``Scenarios.back_min``); None: ``nominal_course`` itself."""
         if not targets:
             return None
         p = self.params
@@ -283,10 +286,17 @@ class CollisionAvoidance:
         late = stand_on & (d_held < p.stand_on_dcpa_m) & (t_min <= p.stand_on_act_time_s)
         acting = bool((late | must).any())
         d_safe = p.safe_distance(np.array([tg.position_sigma_m for tg in targets]))
+        if guidance_course is None or guidance_course == nominal_course:
+            back_min = d_nom
+        else:               # the turn back to guidance's command, predicted (module doc, 3)
+            p_back, _ = predict_own(own.north, own.east, own.course, own.speed,
+                                    np.array([guidance_course]), np.array([u_nom]), self._t,
+                                    self.ship, own.yaw_rate)
+            back_min = segment_min_distance(p_back, p_tgt)[0][0].min(axis=1)
         return Scenarios(self._offsets, self._multipliers, chi_c, u_c, max(float(u_nom), 0.1),
                          self._t, p_own, chi, p_own0, p_tgt, p_tgt0, v_tgt, dist, frac, step,
                          codes, threat, acting, v_own_end, tcpa_b, dcpa_b, v_rel_b, must, u,
-                         d_safe, held)
+                         d_safe, held, back_min)
 
     def _index(self, offset, multiplier):
         """Index of the scenario (offset, multiplier)."""

@@ -45,7 +45,8 @@ def replay(path, runs, wall_timeout_s=3600.0):
     before = set(runs.iterdir())
     subprocess.run([sys.executable, str(REPO / 'scripts' / 'run_mission.py'), str(path),
                     '--runs', str(runs), '--wall-timeout', str(wall_timeout_s)], check=True)
-    new = [p for p in runs.iterdir() if p not in before and (p / 'metrics.json').exists()]
+    new = [p for p in runs.iterdir() if p not in before and not p.is_symlink()   # runs/latest
+           and (p / 'metrics.json').exists()]
     if len(new) != 1:
         raise RuntimeError(f'{path}: expected one new run folder in {runs}, found {len(new)}')
     return in_process_min_distance(path), run_min_distance(new[0])

@@ -147,3 +147,36 @@ def test_a_written_failure_states_its_in_process_distance_and_runs_to_its_end(tm
     assert scenario['vessels']['vessel_0']['colav']['method'] == 'vo'
     assert (tmp_path / 'route.yaml').exists()
     assert replay.scenarios(tmp_path) == [path]
+
+
+def _row(n, x, failure, score, distance, generation=0):
+    return {'generation': generation, 'n_targets': n, 'x': list(x), 'score': score,
+            'failure': failure, 'collision': False, 'near_miss': failure,
+            'min_distance_m': distance, 't_min_s': 300.0, 'end_s': 400.0, 'end': 'clear',
+            'wall_s': 1.0}
+
+
+def test_the_summary_scales_counts_to_1000_sims_and_marks_the_distinct_failures():
+    from failure_search import study
+    x = _feasible_vectors(1, 1, seed=11)[0]
+    rows = [_row(1, x, False, 2.0, 900.0)] * 3 + [_row(1, x, True, 0.5, 200.0),
+                                                  _row(1, x, True, 0.6, 210.0)]
+    s = study.summary(rows, 'mariner', 'vo')
+    assert (s['sims'], s['failures'], s['distinct_failures']) == (5, 2, 1)
+    assert s['failures_per_1000'] == pytest.approx(2 * 1000 / 5)
+    assert s['distinct_failures_per_1000'] == pytest.approx(1000 / 5)
+    assert s['first_failure_sim'] == 4
+    assert [f['distinct'] for f in s['failure_list']] == [True, False]
+
+
+def test_the_failures_table_lists_only_the_distinct_failures():
+    from results_pages.failure_search import failures
+    x = _feasible_vectors(1, 1, seed=11)[0]
+    listed = {'index': 3, 'generation': 1, 'collision': False, 'min_distance_m': 200.0,
+              'domain_index': 0.5, 't_min_s': 300.0, 'x': list(x), 'scenario': 'a.yaml',
+              **encounter.describe(1, x)}
+    data = {'samplers': {'uniform': {'failure_list': [
+        dict(listed, distinct=True), dict(listed, distinct=False, scenario='b.yaml')]}}}
+    table = failures(data)
+    assert '`a.yaml`' in table and '`b.yaml`' not in table
+    assert failures({'samplers': {'uniform': {'failure_list': []}}}) == 'No failure was found.\n'

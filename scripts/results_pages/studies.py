@@ -95,3 +95,4 @@ from results_pages import imazu  # noqa: E402, F401
 from results_pages import sweeps  # noqa: E402, F401
 from results_pages import chart_planning  # noqa: E402, F401
 from results_pages import platoon_time_domain  # noqa: E402, F401
+from results_pages import failure_search  # noqa: E402, F401

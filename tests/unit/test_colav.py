@@ -535,11 +535,22 @@ def test_a_stand_on_after_an_avoidance_keeps_the_avoidance_course_not_the_turn_b
     held = col.scenarios(own, [crosser], col.anchor, 1.0)
     assert held.offsets[held.held] == first.scenario_offset
     assert held.dist[held.held].min() >= P.stand_on_dcpa_m      # why it may keep standing on
-    # once the crosser has passed and the turn back is predicted to keep stand_on_dcpa_m from
-    # it, the turn back is taken, though the crosser is a threat still (on the anchor's course)
+    # a crosser the turn back would pass beyond stand_on_dcpa_m but inside threat_m, still
+    # closing: the hold goes on (a release on a prediction just beyond stand_on_dcpa_m left no
+    # room for a plant that turns slower than the course model; Imazu 13, the Mariner)
+    near = Target(float(p_t[0]) + 1200.0, float(p_t[1]), math.pi / 2, U, name='so')
+    near_back = make_colav(method, ship=SHIP).scenarios(own, [near], back, 1.0).dist[0].min()
+    assert P.stand_on_dcpa_m < near_back < P.threat_m
+    assert near_back < math.hypot(near.north, near.east)         # the turn back closes it
+    d = col.decide(1.5, own, [near], back, 1.0)
+    assert d.mode == 'stand-on' and d.targets[0].threat
+    assert (d.course, col.anchor) == (first.course, 0.0)
+    # once the crosser has passed, the turn back only opens it (its closest approach is now):
+    # the turn back is taken, though the crosser is a threat still (on the anchor's course)
     passed = Target(300.0, 1000.0, math.pi / 2, U, name='so')
-    assert make_colav(method, ship=SHIP).scenarios(own, [passed], back, 1.0).dist[0].min() \
-        >= P.stand_on_dcpa_m
+    passed_back = make_colav(method, ship=SHIP).scenarios(own, [passed], back, 1.0).dist[0].min()
+    assert passed_back < P.threat_m
+    assert passed_back >= math.hypot(passed.north, passed.east) - 1.0
     d = col.decide(2.0, own, [passed], back, 1.0)
     assert d.targets[0].threat and d.targets[0].tcpa_s < 0.0
     assert (d.mode, d.course, col.anchor) == ('stand-on', back, None)

@@ -37,13 +37,16 @@ and role (ship_guidance.colregs). The steps:
    target and to port (what 17(c) forbids). Returning it let the ship swing into the target
    while "standing on", and Rule 17(b)'s moment (the best manoeuvre no longer keeps the
    distance) then came only when no manoeuvre could keep it. So a stand-on entered from an
-   avoidance holds the avoidance's command (``Scenarios.held``), the anchor kept, while the
-   turn back to guidance's command is predicted to pass a threat closer than
-   ``stand_on_dcpa_m`` (``Scenarios.back_min``), and both moments of acting are judged on that
-   held command. Once the turn back is predicted clear it is taken: neither holding until no
+   avoidance holds the avoidance's command (``Scenarios.held``), the anchor kept, and both
+   moments of acting are judged on that held command. The turn back to guidance's command
+   (predicted, ``Scenarios.back_min``) is taken once it passes every threat beyond
+   ``threat_m`` or only opens it (its closest approach is now): neither holding until no
    threat is left (a threat is judged on the anchor's course, so a target the held course ran
-   beside stayed one and the ship escorted it away from its route) nor until every stand-on
-   threat is opening on the present course (the turn back itself can close one again).
+   beside stayed one and the ship escorted it away from its route), nor until every stand-on
+   threat is opening on the present course (the turn back itself can close one again), nor
+   once the turn back is predicted to keep ``stand_on_dcpa_m`` (no room for a plant that turns
+   slower than the course model; a Rule 17(b) action that then forbids continuing the port
+   turn passes closer still).
 4. Otherwise the method (ship_guidance.sbmpc or ship_guidance.velocity_obstacles) picks a
    scenario; ties go to the first in a fixed order: the larger speed multiplier first, then
    offsets 0, +15, -15, +30, ... deg (smaller first, starboard before port).
@@ -208,7 +211,7 @@ class CollisionAvoidance:
             return Decision(nominal_course, nominal_speed_factor, 'nominal', 0.0, 1.0, False,
                             assessments)
         if self._hold_as_stand_on(sc):
-            if self.anchor is None or not (sc.back_min[sc.threat] < self.params.stand_on_dcpa_m).any():
+            if self.anchor is None or self._turn_back_clear(sc):
                 self.reset()
                 return Decision(nominal_course, nominal_speed_factor, 'stand-on', 0.0, 1.0, True,
                                 assessments)
@@ -232,6 +235,17 @@ class CollisionAvoidance:
         return Decision(course, mult * nominal_speed_factor, mode,
                         float(wrap_angle(course - nominal_course)), mult, True, assessments, cost,
                         off)
+
+    def _turn_back_clear(self, sc):
+        """Whether a stand-on held after an avoidance may turn back to guidance's command (module
+        doc, 3): the turn back, as predicted, makes no threat of any threat left (passes it
+        beyond ``threat_m``) or only opens it (its closest approach is now, to a metre).
+        Keeping ``stand_on_dcpa_m`` is not enough: a release on a prediction just beyond it
+        leaves no room for the plant turning slower than the course model, and a Rule 17(b)
+        action that then forbids continuing the port turn back can pass closer still."""
+        d_now = np.hypot(*(sc.p_tgt0 - sc.p_own0).T)
+        ok = sc.back_min >= np.minimum(self.params.threat_m, d_now - 1.0)
+        return bool(ok[sc.threat].all())
 
     # --- shared pieces -------------------------------------------------------------------
 

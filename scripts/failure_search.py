@@ -14,33 +14,44 @@ in its header. ``--replay`` runs each scenario of a file or folder through run_m
 launcher in lockstep and compares the minimum distance (exit 1 if one differs by more than
 1 m). Run with the install sourced (source ros_ws/install/setup.bash).
 """
-import argparse
 import json
 import sys
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+from failure_search import episode, replay, study
+from imazu.runner import METHODS, SHIPS
+from ship_mission.cli_args import OneLineParser, integer, out_folder
 
-from failure_search import episode, replay, study  # noqa: E402
+MAX_JOBS = 64
 
 
 def parse_args(argv):
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('--ship', default='mariner')
-    ap.add_argument('--method', default='sbmpc')
-    ap.add_argument('--budget', type=int, default=100, help='simulations per sampler')
-    ap.add_argument('--generation', type=int, default=20, help='simulations per generation')
-    ap.add_argument('--seed', type=int, default=1)
+    ap = OneLineParser(description=__doc__.split('\n')[0])
+    ap.add_argument('--ship', choices=SHIPS, default='mariner', help='own ship (default mariner)')
+    ap.add_argument('--method', choices=METHODS, default='sbmpc',
+                    help='collision-avoidance method (default sbmpc)')
+    ap.add_argument('--budget', type=integer(1, 10 ** 6), default=100,
+                    help='simulations per sampler (default 100)')
+    ap.add_argument('--generation', type=integer(2, 10 ** 5), default=20,
+                    help='simulations per cross-entropy generation (default 20)')
+    ap.add_argument('--seed', type=integer(0, 2 ** 31 - 1), default=1,
+                    help='seed of both samplers (default 1)')
     ap.add_argument('--samplers', nargs='+', default=list(study.SAMPLERS),
-                    choices=study.SAMPLERS)
-    ap.add_argument('--jobs', type=int, default=1)
-    ap.add_argument('--out', type=Path, default=Path('runs/failure_search'))
+                    choices=study.SAMPLERS, help='default: both')
+    ap.add_argument('--jobs', type=integer(1, MAX_JOBS), default=1,
+                    help=f'worker processes, 1-{MAX_JOBS} (default 1)')
+    ap.add_argument('--out', type=out_folder, default=Path('runs/failure_search'),
+                    help='output folder: failure_search.json and failures/ (default '
+                         'runs/failure_search)')
     ap.add_argument('--replay', type=Path, default=None, metavar='FOLDER_OR_YAML',
                     help='replay written failures through run_mission and compare')
     ap.add_argument('--runs', type=Path, default=Path('runs/failure_replay'),
-                    help='run folders of --replay')
-    return ap.parse_args(argv)
+                    help='run folders of --replay (default runs/failure_replay)')
+    args = ap.parse_args(argv)
+    if args.replay is not None and not args.replay.exists():
+        ap.error(f'{args.replay}: no such file or folder')
+    return args
 
 
 def do_replay(args):

@@ -92,13 +92,18 @@ def test_rendered_tables_count_what_the_pairs_say():
     assert d['our_verdict'] == 'not_apparent' and d['their_verdict'] == 'compliant'
 
 
-def test_setup_names_the_cases_of_the_folder_not_judged_yet():
+def test_setup_names_the_imazu_cases_not_judged_yet():
+    # the set's cases, not the run folder's: a folder of four cases judged whole is not the
+    # whole set
     from results_pages.colregs_judge import setup
     data = {'runs': 2, 'cases': [1, 3], 'cases_in_run_dir': [1, 2, 3, 4], 'package': 'x',
             'dt_s': 10.0, 'monitor_wall_s': 5.0,
             'readings_result': {'seconds': {'sets': {'mariner/sbmpc': {}}}}}
     text = setup(data)
     assert '| cases judged | 1, 3 |' in text
-    assert '| cases of the run folder not judged yet | 2, 4 |' in text
+    left = ', '.join(str(c) for c in [2] + list(range(4, 23)))
+    assert f'| Imazu cases not judged yet | {left} |' in text
     data['cases'] = [1, 2, 3, 4]
-    assert '| cases of the run folder not judged yet | none |' in setup(data)
+    assert f'| Imazu cases not judged yet | {", ".join(map(str, range(5, 23)))} |' in setup(data)
+    data['cases'] = list(range(1, 23))
+    assert '| Imazu cases not judged yet | none |' in setup(data)

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Search for collision-avoidance failures: uniform Monte Carlo against the cross-entropy method
-at an equal simulation budget (the package failure_search explains the parameterisation, the
+at an equal simulation budget (the package colav_search explains the parameterisation, the
 samplers, the score and what counts as a distinct failure).
 
     .venv/bin/python scripts/failure_search.py --ship mariner --method sbmpc --budget 100 \
@@ -19,7 +19,7 @@ import sys
 import time
 from pathlib import Path
 
-from failure_search import episode, replay, study
+from colav_search import episode, replay, study
 from imazu.runner import METHODS, SHIPS
 from ship_mission.cli_args import OneLineParser, integer, out_folder
 

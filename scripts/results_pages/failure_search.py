@@ -20,8 +20,8 @@ def settings(data):
 
 @table('failure_search', 'box')
 def box(data):
-    """The searched box: failure_search.encounter's (the code's, not the results file's)."""
-    from failure_search import encounter
+    """The searched box: colav_search.encounter's (the code's, not the results file's)."""
+    from colav_search import encounter
     specs = [encounter.MEETING] + [(f'per target: {n}', lo, hi, c)
                                    for n, lo, hi, c in encounter.PER_TARGET]
     rows = [{'name': 'target count', 'low': min(encounter.TARGET_COUNTS),

@@ -2,7 +2,7 @@
 launcher, lockstep): the bag's own-target minimum distance equals the in-process run's to 1 m
 (issue 30 item 2).
 
-The failure is built with the search's own geometry (failure_search.encounter), short enough
+The failure is built with the search's own geometry (colav_search.encounter), short enough
 for the suite: the mariner with SB-MPC and one target on a reciprocal course at 1.6 times its
 speed, on a collision course (CPA offset 0) meeting at 120 s, so it starts under 2 km ahead
 closing at 16 m/s; the mariner cannot turn far enough in time and the target comes inside its
@@ -12,7 +12,7 @@ domain (a near miss). The scenario is written as the search writes a failure
 import numpy as np
 import pytest
 
-from failure_search import encounter, episode, replay
+from colav_search import encounter, episode, replay
 from harness import run_to_duration
 
 SHIP, METHOD, MEETING_S = 'mariner', 'sbmpc', 120.0

@@ -1,4 +1,4 @@
-"""The failure search (scripts/failure_search): the encounter geometry, the cross-entropy method
+"""The failure search (scripts/colav_search): the encounter geometry, the cross-entropy method
 against uniform sampling on a toy problem whose failure probability is known, determinism by
 seed, what counts as a distinct failure, and a written failure's header."""
 import math
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from scipy.stats import binom
 
-from failure_search import distinct, encounter, episode, replay
-from failure_search.sampling import CrossEntropy, Uniform
+from colav_search import distinct, encounter, episode, replay
+from colav_search.sampling import CrossEntropy, Uniform
 from montecarlo.encounters import target_cpa
 
 
@@ -157,7 +157,7 @@ def _row(n, x, failure, score, distance, generation=0):
 
 
 def test_the_summary_scales_counts_to_1000_sims_and_marks_the_distinct_failures():
-    from failure_search import study
+    from colav_search import study
     x = _feasible_vectors(1, 1, seed=11)[0]
     rows = [_row(1, x, False, 2.0, 900.0)] * 3 + [_row(1, x, True, 0.5, 200.0),
                                                   _row(1, x, True, 0.6, 210.0)]

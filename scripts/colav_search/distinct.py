@@ -1,7 +1,7 @@
 """Which failures are distinct.
 
 Two failures are the same failure if they have the same number of targets and their unit-box
-parameter vectors (failure_search.encounter: meeting time, and per target the relative course,
+parameter vectors (colav_search.encounter: meeting time, and per target the relative course,
 speed ratio and CPA offset, each scaled to [0, 1] over its range) are within ``TOLERANCE`` of
 each other in every used dimension (the largest difference, circular for the course), for some
 order of the targets (the targets are interchangeable). A failure is distinct if it is not the
@@ -13,7 +13,7 @@ import itertools
 
 import numpy as np
 
-from failure_search import encounter
+from colav_search import encounter
 
 TOLERANCE = 0.1
 

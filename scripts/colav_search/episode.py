@@ -20,7 +20,7 @@ from pathlib import Path
 
 import yaml
 
-from failure_search import encounter
+from colav_search import encounter
 
 #: Longest run (s): the latest meeting plus time to pass after an avoidance.
 LIMIT_S = encounter.MEETING[2] + 1500.0
@@ -36,10 +36,10 @@ def scenario_of(n_targets, x, ship, method, duration_s=LIMIT_S, name='failure_se
     scenario, route = case_scenario(0, case, ship, method, duration_s)
     scenario['name'] = name
     scenario['source'] = ('scripts/failure_search.py: an encounter of the failure search '
-                          '(failure_search.encounter geometry)')
+                          '(colav_search.encounter geometry)')
     scenario['description'] = (f'{len(case["targets"])} target(s), own ship {ship}, colav '
                                f'{method}')
-    route['source'] = 'Straight route of the Imazu own ship (scripts/failure_search)'
+    route['source'] = 'Straight route of the Imazu own ship (scripts/colav_search)'
     return case, scenario, route
 
 

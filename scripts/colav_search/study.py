@@ -8,8 +8,8 @@ draw order, so the search is deterministic for a seed whatever ``jobs`` is.
 """
 import time
 
-from failure_search import distinct, encounter, episode
-from failure_search.sampling import CrossEntropy, Uniform
+from colav_search import distinct, encounter, episode
+from colav_search.sampling import CrossEntropy, Uniform
 
 SAMPLERS = ('uniform', 'cross_entropy')
 

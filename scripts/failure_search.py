@@ -21,9 +21,8 @@ from pathlib import Path
 
 from colav_search import episode, replay, study
 from imazu.runner import METHODS, SHIPS
+from imazu_benchmark import MAX_JOBS, tune_allocator
 from ship_mission.cli_args import OneLineParser, integer, out_folder
-
-MAX_JOBS = 64
 
 
 def parse_args(argv):
@@ -65,7 +64,6 @@ def do_replay(args):
 
 
 def main(argv=None):
-    from imazu_benchmark import tune_allocator
     from results_pages.provenance import provenance
     args = parse_args(argv)
     if args.replay is not None:

@@ -79,14 +79,14 @@ def disagreements_steps(data):
 
 @table('colregs_judge', 'setup')
 def setup(data):
-    from imazu.cases import load_set
+    from imazu.cases import load_cases       # the cases the judge reads (colregs_judge.py)
     judged = data.get('cases') or data.get('cases_in_run_dir')
     rows = [{'what': 'runs judged', 'value': str(data['runs'])}]
     if judged is not None:
         # the set's cases, not the run folder's: a folder may hold a few cases only
         rows.append({'what': 'cases judged', 'value': ', '.join(map(str, judged))})
         rows.append({'what': 'Imazu cases not judged yet',
-                     'value': ', '.join(str(c) for c in sorted(load_set('imazu'))
+                     'value': ', '.join(str(c) for c in sorted(load_cases())
                                         if c not in judged) or 'none'})
     rows += [{'what': 'sets (ship/method)',
               'value': ', '.join(sorted(data['readings_result']['seconds']['sets']))},

@@ -37,7 +37,7 @@ def test_the_design_page_has_every_passage_the_code_quotes():
 
 
 def test_no_citation_of_a_design_file_outside_the_repository():
-    # the house plan (../shared/DESIGN.md) is not part of the repository: the code cites ours
+    # the house plan beside the repository is not part of it: the code cites doc/design.md
     stale = [f'{p.relative_to(ROOT)}' for p in sources()
              if re.search(r'(?<![\w/])DESIGN\.md|\.\./shared', p.read_text())]
     assert not stale, f'cite doc/design.md instead in: {stale}'

@@ -12,7 +12,10 @@ Never in the graph's way:
   bridge costs the graph nothing but discovery;
 - subscriptions are best effort, keep-last ``depth`` (a latched topic, all of whose publishers
   are transient_local, is reliable + transient_local, so a client joining late still gets the
-  route); a slow bridge loses messages, it never holds a publisher back;
+  route); a slow bridge loses messages, it never holds a publisher back. A topic is subscribed
+  only once it has a publisher (discovery also lists topics only subscribers have named, and a
+  volatile subscription made then would never get a route latched before it), and is subscribed
+  again with the other QoS when its publishers change between latched and not;
 - the sdk queues at most ``backlog`` messages per client and drops the oldest when a client
   reads too slowly (its control queue overflowing disconnects that client);
 - messages lost before the bridge (its DDS queue overflowing) are counted per topic from the
@@ -85,6 +88,7 @@ class LiveBridge:
         self._last_log = {}    # channel topic -> last log time (ns)
         self._early_seen = set()   # early topics that have delivered a message
         self.subs = {}         # topic -> rclpy Subscription (while a client listens)
+        self._latched = {}     # topic -> whether its subscription is the latched QoS
         self.refused = {}      # topic -> reason it is not served
         self.forwarded = Counter()
         self.dropped = Counter()
@@ -136,6 +140,7 @@ class LiveBridge:
         if now - self._last_discovery >= DISCOVERY_PERIOD_S:
             self._last_discovery = now
             self.discover()
+            self._requalify()
         # Step 0 is out once the ready topics say so, or once every early topic (every
         # vessel's odom) has delivered: on a busy machine the latched ready can come seconds
         # after the odom the bridge itself receives.
@@ -155,8 +160,7 @@ class LiveBridge:
             if listening and topic not in self.subs:
                 self._subscribe(topic, channel, msgtype)
             elif not listening and topic in self.subs:
-                self.node.destroy_subscription(self.subs.pop(topic))
-                self._last_seq.pop(topic, None)
+                self._unsubscribe(topic)
         self._follow_clock(bool(self.subs))
         if self.server is not None and self._sim_ns is not None \
                 and self._sim_ns != self._last_broadcast:
@@ -183,9 +187,27 @@ class LiveBridge:
             return False
         return first[1] in _STAMPED_FIRST
 
+    def _is_latched(self, pubs):
+        return all(p.qos_profile.durability == self._transient for p in pubs)
+
+    def _requalify(self):
+        """Drop the subscriptions whose QoS no longer fits their publishers (the next update
+        subscribes them again with the right one)."""
+        for topic in list(self.subs):
+            pubs = self.node.get_publishers_info_by_topic(topic)
+            if pubs and self._is_latched(pubs) != self._latched[topic]:
+                self._unsubscribe(topic)
+
+    def _unsubscribe(self, topic):
+        self.node.destroy_subscription(self.subs.pop(topic))
+        self._latched.pop(topic, None)
+        self._last_seq.pop(topic, None)
+
     def _subscribe(self, topic, channel, msgtype):
         pubs = self.node.get_publishers_info_by_topic(topic)
-        latched = bool(pubs) and all(p.qos_profile.durability == self._transient for p in pubs)
+        if not pubs:   # named by subscribers only so far: nothing to receive, QoS unknown
+            return
+        latched = self._is_latched(pubs)
         qos = self._latched_qos if latched else self._stream_qos
         count_drops = len(pubs) == 1
         stamped = self._stamped(msgtype)
@@ -223,6 +245,7 @@ class LiveBridge:
 
         self.subs[topic] = self.node.create_subscription(message_class(msgtype), topic,
                                                          callback, qos, raw=True)
+        self._latched[topic] = latched
 
     def _tf_to(self, topic):
         """A function serialized Odometry -> one transform on /tf (while anyone listens)."""

@@ -59,7 +59,7 @@ def parse_args(argv):
     ap.add_argument('--out', type=out_folder, default=Path('runs/ais_cpa'),
                     help='output folder (default runs/ais_cpa)')
     a = ap.parse_args(argv)
-    if not a.log.is_file():
+    if not (a.log.exists() or a.log.is_symlink()):
         ap.error(f'argument log: {a.log}: no such file')
     if a.own_fixed is not None:
         lat, lon, cog, sog = a.own_fixed

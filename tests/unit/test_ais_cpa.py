@@ -418,6 +418,7 @@ def test_script_writes_csv_json_png(tmp_path):
 
 @pytest.mark.parametrize('args, what', [
     (['missing.nmea'], 'no such file'),
+    ([str(DATA)], 'it is a directory, not a regular file'),
     ([str(DATA / 'pyais_samples.nmea')], 'no times'),
     ([str(REAL), '--rate', '2'], 'only for logs without times'),
     ([str(REAL)], 'no AIVDO'),

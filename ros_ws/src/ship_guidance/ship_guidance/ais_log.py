@@ -36,12 +36,14 @@ Output: ``AisLog.sentences``, [(t, sentence)] sorted by time, stable, so that a 
 parts, which share a time, stay in their order. Receivers stamp with whole seconds and several
 stations' streams are merged out of order, hence the sort.
 """
+import io
 import math
 from collections import Counter
 from dataclasses import dataclass, field
 from functools import reduce
 
 from ship_guidance.ais import _later_part
+from ship_sim.safe_load import InputError, open_regular_file
 
 FORMS = ('replay', 'tag_block', 'untimed')
 REJECT_REASONS = (
@@ -204,9 +206,14 @@ def _untimed(rows, rate):
 
 
 def read_log_file(path, rate=None):
-    """``read_log`` of a text file; LogFormatError (one line) if it cannot be read as text."""
+    """``read_log`` of a file, streamed (logs may be long); LogFormatError (one line, without
+    the path: the caller names the file) if it is not a regular file or cannot be read. Bytes
+    that are not ASCII become U+FFFD (NMEA is ASCII): their lines are rejected, not the log."""
     try:
-        with open(path, encoding='ascii', errors='replace') as f:
+        with io.TextIOWrapper(open_regular_file(path), encoding='ascii',
+                              errors='replace') as f:
             return read_log(f, rate)
-    except (OSError, UnicodeError) as exc:
-        raise LogFormatError(f'{path}: {exc.strerror or exc}') from None
+    except InputError as exc:
+        raise LogFormatError(exc.detail) from None
+    except OSError as exc:
+        raise LogFormatError(exc.strerror or str(exc)) from None

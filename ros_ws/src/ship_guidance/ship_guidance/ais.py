@@ -153,7 +153,7 @@ def parse_replay(lines, rate_hz, offset_s=0.0):
             t = None
         if t is not None and rest.strip() and math.isfinite(t):
             out.append((offset_s + t, rest.strip()))
-        elif plain and _later_part(line):
+        elif plain and later_part(line):
             out.append((offset_s + (plain - 1) / rate_hz, line))
         else:
             out.append((offset_s + plain / rate_hz, line))
@@ -162,7 +162,7 @@ def parse_replay(lines, rate_hz, offset_s=0.0):
     return out
 
 
-def _later_part(line):
+def later_part(line):
     """Whether an NMEA line is part 2 or later of a multi-sentence message (by its fields)."""
     fields = line.split(',', 3)
     return len(fields) == 4 and fields[2].isdigit() and int(fields[2]) > 1

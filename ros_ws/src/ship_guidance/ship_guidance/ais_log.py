@@ -42,7 +42,7 @@ from collections import Counter
 from dataclasses import dataclass, field
 from functools import reduce
 
-from ship_guidance.ais import _later_part
+from ship_guidance.ais import later_part
 from ship_sim.safe_load import InputError, open_regular_file
 
 FORMS = ('replay', 'tag_block', 'untimed')
@@ -197,7 +197,7 @@ def read_log(lines, rate=None):
 def _untimed(rows, rate):
     out, i = [], 0
     for _, _, sentence in rows:
-        if i and _later_part(sentence):
+        if i and later_part(sentence):
             out.append(((i - 1) / rate, sentence))
         else:
             out.append((i / rate, sentence))

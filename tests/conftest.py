@@ -27,6 +27,16 @@ WITHOUT_GRAPHS = frozenset(GRAPH_TESTS + name for name in (
     'test_install_tree.py', 'test_sweep_ray.py', 'test_sweep_ray_cluster.py'))
 #: The fixtures that start a ROS graph (``launch`` and the others build on them).
 GRAPH_FIXTURES = frozenset({'ros_graph', 'module_ros_graph'})
+#: The files there whose tests start single node processes on their own domain, fed by the test
+#: node, and never a lockstep graph through the launcher: no two lockstep graphs can start
+#: together through them (what keeps the graph files on one worker), so the scheduler lets them
+#: run on either worker. Checked at collection: none of their tests may take ``launch``.
+SINGLE_NODES = frozenset(GRAPH_TESTS + name for name in (
+    'test_ais_node.py', 'test_ais_node_hostile.py', 'test_colav_node_hostile.py',
+    'test_colav_uncertainty.py', 'test_live_bridge_latched.py',
+    'test_node_input_processes.py', 'test_param_schema_processes.py', 'test_planner_node.py',
+    'test_tracker_node.py'))
+LAUNCH_FIXTURE = 'launch'
 
 
 def pytest_collection_modifyitems(items):
@@ -36,6 +46,10 @@ def pytest_collection_modifyitems(items):
             raise pytest.UsageError(
                 f'{item.nodeid} starts a ROS graph: take {path} out of WITHOUT_GRAPHS '
                 '(tests/conftest.py), so that it runs on the graphs\' worker')
+        if path in SINGLE_NODES and LAUNCH_FIXTURE in item.fixturenames:
+            raise pytest.UsageError(
+                f'{item.nodeid} launches a graph: take {path} out of SINGLE_NODES '
+                '(tests/conftest.py), so that it runs on the graphs\' worker')
 
 
 @pytest.hookimpl(tryfirst=True, optionalhook=True)
@@ -43,8 +57,8 @@ def pytest_xdist_make_scheduler(config, log):
     """`make test TEST_JOBS=2` (``--dist loadgroup``): every integration file that starts a
     graph on one worker, so no two graph tests run at a time (two lockstep graphs starting
     together under the doubled load can miss a first command, doc/known_limits.md) while the
-    other worker runs the rest (WITHOUT_GRAPHS among them: the graphs' worker is the suite's
-    longest); every other file whole on a worker, so a module-scoped fixture is made once, as
+    other worker runs the rest (WITHOUT_GRAPHS and SINGLE_NODES among them: the graphs' worker
+    is the suite's longest); every other file whole on a worker, so a module-scoped fixture is made once, as
     with ``--dist loadfile``. The graph files go out first: they take longest, and another
     worker's queue is then only the short files (longest job first).
 
@@ -58,7 +72,7 @@ def pytest_xdist_make_scheduler(config, log):
     class GraphsOnOneWorker(LoadScopeScheduling):
         def _split_scope(self, nodeid):
             path = nodeid.split('::', 1)[0]
-            graphs = path.startswith(GRAPH_TESTS) and path not in WITHOUT_GRAPHS
+            graphs = path.startswith(GRAPH_TESTS) and path not in WITHOUT_GRAPHS | SINGLE_NODES
             return GRAPH_TESTS if graphs else path
 
         def _assign_work_unit(self, node):

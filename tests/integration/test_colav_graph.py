@@ -10,6 +10,8 @@ holding its route.
   while the decision in force keeps the nominal course, another value while it alters.
 - The record is complete (every step of both vessels) and two runs give identical metrics
   (vessels sections) and identical heading_cmd / colav_targets / colav_decision messages.
+- Both ships with their own colav_node (scenarios/head_on_mariner_reciprocal.yaml): each
+  alters to starboard, apparently, and they pass port to port beyond d_safe_m.
 - colav_node alone, fed by the test: it waits for a lockstep target up to its own stamp, decides
   on the target state stamped at or before that stamp, stops waiting for a silent target.
 """
@@ -24,9 +26,10 @@ from ship_mission.encounter import alteration, decision_rows, min_distance
 from ship_guidance.colav_params import ColavParams
 from ship_sim.ros.qos import STREAM_KEPT
 
-from harness import REPO_ROOT, run_twice_complete
+from harness import REPO_ROOT, run_complete, run_twice_complete
 
 SCENARIO = REPO_ROOT / 'scenarios' / 'head_on_mariner_2.yaml'
+RECIPROCAL = REPO_ROOT / 'scenarios' / 'head_on_mariner_reciprocal.yaml'
 OWN, TARGET = 'vessel_0', 'target_0'
 # The run must hold the closest approach and colav_node's return to the nominal course. Head-on
 # from R0 = 4000 m at U = 7.7175 m/s each, the own course altered by theta: the relative velocity
@@ -78,6 +81,41 @@ def test_head_on_mariners_pass_port_to_port_beyond_d_safe_identically_twice(laun
     same = np.array([a == b for a, b in zip(msgs['heading_cmd'], msgs['heading_ref'])])
     assert keeps.any() and (~keeps).any()
     np.testing.assert_array_equal(same, keeps)
+
+
+
+def _starboard_turn_deg(vessel, until_s):
+    """The largest turn to starboard (deg) from the start heading before ``until_s``: ENU yaw
+    decreases turning to starboard, whatever the ship's course."""
+    before = vessel.t <= until_s
+    return -float(np.degrees(np.unwrap(vessel.yaw[before]) - vessel.yaw[0]).min())
+
+
+@pytest.mark.timeout(300)
+def test_two_mariners_each_with_its_own_colav_both_alter_to_starboard_and_pass_port_to_port(
+        launch):
+    """A reciprocal encounter in the node graph (issue 31 item 4): the head-on geometry of
+    head_on_mariner_2 with both ships under way with colav_node, each the other's target. Rule 14
+    binds both: each alters to starboard, apparently (Rule 8(b): at least 30 deg of heading),
+    before the closest point, and they pass port to port beyond d_safe_m."""
+    scenario = yaml.safe_load(RECIPROCAL.read_text())
+    names = sorted(scenario['vessels'])
+    assert all('colav' in scenario['vessels'][n] for n in names) and len(names) == 2
+    d_safe = ColavParams().d_safe_m
+    folder, _ = run_complete(launch, RECIPROCAL, DURATION_S)
+    data = read_bag(folder / 'bag', namespaces=[f'/{n}' for n in names])
+    a, b = (data.vessels[f'/{n}'] for n in names)
+    enc = min_distance(a, b)
+    print(f'reciprocal head-on: {enc}')
+    assert enc['t_min_s'] < a.t[-1], 'still closing at the end of the run'
+    assert enc['min_distance_m'] > d_safe, enc
+    assert enc['side'] == 'port', enc
+    for name, vessel in zip(names, (a, b)):
+        alt = alteration(decision_rows(folder / 'bag', name))
+        assert alt['first_avoid_s'] is not None and alt['first_offset_deg'] > 0.0, (name, alt)
+        assert not alt['last_resort'], (name, alt)
+        turn = _starboard_turn_deg(vessel, enc['t_min_s'])
+        assert turn >= 30.0, f'{name}: largest starboard turn {turn:.1f} deg'
 
 
 @pytest.mark.timeout(120)

@@ -273,3 +273,44 @@ def test_radar_plot_goes_to_the_gated_nearest_track():
     assert edge < 200.0                            # the plot above b: far outside a's gate
     assert tracker.associate_radar(20.0, x[0] + 1.02 * edge, x[1], 20.0) is None
     assert tracker.associate_radar(20.0, x[0] + 0.98 * edge, x[1], 20.0) == MMSI + 1
+
+
+def test_a_confirmed_track_keeps_the_plots_a_stray_tentative_track_beside_it_would_win():
+    """A stray plot opens a tentative track 150 m from a confirmed radar track (20 plots of
+    sigma 20 m, east-going at 5 m/s; the stray track's covariance is its one plot's, 75 m, and
+    the unknown velocity's). The next plot, 100 m off the confirmed track towards the stray one,
+    is inside both gates and nearer the stray track by Mahalanobis distance (its covariance is
+    the larger): plain nearest neighbour gives it to the stray track, which then takes the
+    target's plots until the confirmed track starves. With ``confirmed_reports`` it goes to the
+    confirmed track; a plot outside every confirmed gate still goes to the tentative one."""
+    from ship_guidance.tracker import predict
+    c = TrackerConfig()
+    confirm = 20
+
+    def tracks():
+        tr = Tracker()
+        for k in range(confirm):
+            tr.update(AisReport(MMSI, 2.5 * k, 0.0, 12.5 * k, position_sigma_m=20.0))
+        t0 = 2.5 * confirm
+        tr.update(AisReport(MMSI + 1, t0, 150.0, 12.5 * confirm, position_sigma_m=75.0))
+        return tr, t0 + 2.5
+
+    def d2(tr, mmsi, t, z, sigma):
+        _, x, P = tr._tracks[mmsi].newest
+        x, P = predict(x, P, t - tr._tracks[mmsi].newest[0].t, c.process_noise)
+        y = np.asarray(z) - x[:2]
+        return float(y @ np.linalg.solve(P[:2, :2] + sigma ** 2 * np.eye(2), y)), x
+
+    tr, t = tracks()
+    _, x = d2(tr, MMSI, t, (0.0, 0.0), 75.0)
+    near = (x[0] + 100.0, x[1])
+    d_conf, _ = d2(tr, MMSI, t, near, 75.0)
+    d_tent, _ = d2(tr, MMSI + 1, t, near, 75.0)
+    assert d_tent < d_conf < c.radar_gate        # the premise: in both gates, nearer the stray
+    assert tr.associate_radar(t, *near, 75.0) == MMSI + 1
+    tr, t = tracks()
+    assert tr.associate_radar(t, *near, 75.0, confirmed_reports=confirm) == MMSI
+    far = (x[0] + 300.0, x[1])
+    tr, t = tracks()
+    assert d2(tr, MMSI, t, far, 75.0)[0] > c.radar_gate > d2(tr, MMSI + 1, t, far, 75.0)[0]
+    assert tr.associate_radar(t, *far, 75.0, confirmed_reports=confirm) == MMSI + 1

@@ -72,7 +72,8 @@ class SensedTargets:
         if self.radar is not None:
             for p in self.radar.scan(t, own_north, own_east, [(tg.north, tg.east)
                                                               for tg in truths]):
-                if self.tracker.associate_radar(p.t, p.north, p.east, p.sigma_m) is None:
+                if self.tracker.associate_radar(p.t, p.north, p.east, p.sigma_m,
+                                               self.level.radar_confirm_plots) is None:
                     self.n_radar_tracks += 1
                     self.radar_ids.add(self.n_radar_tracks)
                     self.tracker.update(AisReport(self.n_radar_tracks, p.t, p.north, p.east,

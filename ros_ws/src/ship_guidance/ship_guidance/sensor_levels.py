@@ -25,7 +25,9 @@ Each level says what colav sees of the other ships (ship_guidance.sensed_targets
     a tracked target's motion trend within one minute), so colav never acts on a track
     without a velocity; a track without a plot for ``radar_coast_s`` (20 s, 8 scans: all
     missed at 80 % about once in 400 000 scans) is deleted, so a track opened by a plot
-    outside the true track's gate (1 % of plots with the 99 % gate) dies before it confirms.
+    outside the true track's gate (1 % of plots with the 99 % gate) dies before it confirms:
+    the confirmed track keeps the target's plots (the tracker associates to confirmed tracks
+    first).
 
 For every AIS level the tracker's measurement model is the level's own noise (the filter knows
 its sensor); reports are stamped with their time of reception, as tracker_node stamps them,

@@ -27,15 +27,17 @@ WITHOUT_GRAPHS = frozenset(GRAPH_TESTS + name for name in (
     'test_install_tree.py', 'test_sweep_ray.py', 'test_sweep_ray_cluster.py'))
 #: The fixtures that start a ROS graph (``launch`` and the others build on them).
 GRAPH_FIXTURES = frozenset({'ros_graph', 'module_ros_graph'})
-#: The files there whose tests start single node processes on their own domain, fed by the test
-#: node, and never a lockstep graph through the launcher: no two lockstep graphs can start
-#: together through them (what keeps the graph files on one worker), so the scheduler lets them
-#: run on either worker. Checked at collection: none of their tests may take ``launch``.
+#: The files there whose tests start one node process at a time on their own domain, driven by
+#: the test node (a lockstep simulator the test itself steps among them), and never a graph of
+#: nodes that wait for each other: no two lockstep graphs can start together through them (what
+#: keeps the graph files on one worker), so the scheduler lets them run on either worker.
+#: Checked at collection: none of their tests may take ``launch``.
 SINGLE_NODES = frozenset(GRAPH_TESTS + name for name in (
     'test_ais_node.py', 'test_ais_node_hostile.py', 'test_colav_node_hostile.py',
-    'test_colav_uncertainty.py', 'test_live_bridge_latched.py',
+    'test_colav_uncertainty.py', 'test_held_by_name.py', 'test_live_bridge_latched.py',
     'test_node_input_processes.py', 'test_param_schema_processes.py', 'test_planner_node.py',
-    'test_tracker_node.py'))
+    'test_speed_factor_node.py', 'test_tracker_node.py', 'test_vessel_node.py',
+    'test_vessel_node_wind.py', 'test_waves_node.py'))
 LAUNCH_FIXTURE = 'launch'
 
 

@@ -30,6 +30,9 @@ from harness import REPO_ROOT, run_complete, run_twice_complete
 
 SCENARIO = REPO_ROOT / 'scenarios' / 'head_on_mariner_2.yaml'
 RECIPROCAL = REPO_ROOT / 'scenarios' / 'head_on_mariner_reciprocal.yaml'
+# Both ships avoiding: the closest point still comes at about R0 / (2 U) = 259 s (above), a
+# little earlier as both turn away; the run need not hold the return to the nominal course.
+RECIPROCAL_S = 300.0
 OWN, TARGET = 'vessel_0', 'target_0'
 # The run must hold the closest approach and colav_node's return to the nominal course. Head-on
 # from R0 = 4000 m at U = 7.7175 m/s each, the own course altered by theta: the relative velocity
@@ -102,7 +105,7 @@ def test_two_mariners_each_with_its_own_colav_both_alter_to_starboard_and_pass_p
     names = sorted(scenario['vessels'])
     assert all('colav' in scenario['vessels'][n] for n in names) and len(names) == 2
     d_safe = ColavParams().d_safe_m
-    folder, _ = run_complete(launch, RECIPROCAL, DURATION_S)
+    folder, _ = run_complete(launch, RECIPROCAL, RECIPROCAL_S)
     data = read_bag(folder / 'bag', namespaces=[f'/{n}' for n in names])
     a, b = (data.vessels[f'/{n}'] for n in names)
     enc = min_distance(a, b)

@@ -14,6 +14,7 @@ from rclpy.executors import SingleThreadedExecutor
 
 from ship_mission.foxglove_client import FoxgloveClient
 from ship_mission.live_bridge import LiveBridge
+from ship_mission.live_front import SubprotocolFront
 from ship_sim.ros.qos import LATCHED
 
 TOPIC = '/vessel_0/route'
@@ -36,9 +37,12 @@ def test_a_client_listening_before_the_route_node_starts_gets_the_latched_route(
     context = foxglove.Context()
     server = foxglove.start_server(name='test', host='127.0.0.1', port=0,
                                    supported_encodings=['cdr'], context=context)
+    # The client reaches the server through the live view's front, as every viewer does (the
+    # sdk alone can refuse a subscription sent right after an advertisement: live_front).
+    front = SubprotocolFront('127.0.0.1', 0, f'ws://127.0.0.1:{server.port}')
     bridge = LiveBridge(tn.node, context)
     bridge.server = server
-    client = FoxgloveClient(f'ws://127.0.0.1:{server.port}', topics=[TOPIC],
+    client = FoxgloveClient(f'ws://127.0.0.1:{front.port}', topics=[TOPIC],
                             connect_timeout_s=TIMEOUT_S)
     route_ctx = None
     try:
@@ -63,6 +67,7 @@ def test_a_client_listening_before_the_route_node_starts_gets_the_latched_route(
             f'no route reached the client in {TIMEOUT_S} s ({bridge.summary()})'
     finally:
         client.close()
+        front.close()
         server.stop()
         if route_ctx is not None:
             route_ctx.try_shutdown()

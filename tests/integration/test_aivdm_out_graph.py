@@ -68,6 +68,7 @@ def test_udp_stream_has_the_types_mmsis_and_intervals(launch, tmp_path):
     lines = [ln for d in datagrams for ln in d.split('\r\n') if ln]
     assert lines, 'nothing received on UDP'
     assert (run / 'aivdm.nmea').read_text().split() == lines    # the file has the same
+    node_log = (run / 'logs' / 'aivdm.aivdm_out_node.log').read_text()    # says if samples went missing
     by_mmsi = {}
     for d in datagrams:
         sentences = [ln for ln in d.split('\r\n') if ln]
@@ -88,6 +89,7 @@ def test_udp_stream_has_the_types_mmsis_and_intervals(launch, tmp_path):
         gaps = [(b - a) % 60 for a, b in zip(seconds, seconds[1:])]
         # the node may miss the first steps while the graph comes up: at most one interval
         expected = (DURATION_S - nominal * (1 + SLOT_SELECTION)) / (nominal * (1 + SLOT_SELECTION))
-        assert len(seconds) >= math.floor(expected), (ns, seconds)
+        assert len(seconds) >= math.floor(expected), f'{ns}: seconds {seconds}'
         assert all(nominal * (1 - SLOT_SELECTION) - 1 <= g <= nominal * (1 + SLOT_SELECTION) + 1
-                   for g in gaps), (ns, gaps)
+                   for g in gaps), (f'{ns}: seconds {seconds}, gaps {gaps}; node log:\n'
+                                    + node_log)

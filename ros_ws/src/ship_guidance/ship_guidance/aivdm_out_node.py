@@ -107,6 +107,8 @@ class AivdmOutNode(Node):
             except OSError as exc:
                 raise ParameterError('file', path, f'a writable file ({exc.strerror})') from None
         self.sent = 0
+        self.last_stamp = {}        # mmsi -> last odometry stamp (s)
+        self.step_s = {}            # mmsi -> smallest stamp step seen (s): the sim's dt
         for topic, info in vessels:
             self.create_subscription(Odometry, topic,
                                      lambda data, m=info.mmsi: self._on_odom(m, data), ODOM_IN,
@@ -122,11 +124,26 @@ class AivdmOutNode(Node):
             self.get_logger().warning(f'odometry of {mmsi} not finite: skipped',
                                       throttle_duration_sec=5.0)
             return
+        self._watch_stamps(mmsi, o.t)
         c, s = math.cos(o.psi), math.sin(o.psi)
         vn, ve = o.u * c - o.v * s, o.u * s + o.v * c
         truth = Truth(o.t, o.north, o.east, o.psi, math.hypot(vn, ve), math.atan2(ve, vn), o.r)
         for _, lines in self.out.step(mmsi, truth):
             self._send(lines)
+
+    def _watch_stamps(self, mmsi, t):
+        # A report falls due on the first sample at or after its time: samples that never came
+        # (dropped by DDS under load, or a queue overflow) make it late. Say so, with how much.
+        last = self.last_stamp.get(mmsi)
+        self.last_stamp[mmsi] = t
+        if last is None or t <= last:
+            return
+        step = self.step_s.get(mmsi)
+        if step is None or t - last < step:
+            self.step_s[mmsi] = step = t - last
+        if t - last > 1.5 * step:
+            self.get_logger().warning(f'odometry of {mmsi} jumped {t - last:.2f} s at t = '
+                                      f'{last:.2f} s (samples missing): a report due then is late')
 
     def _send(self, lines):
         self.sent += 1

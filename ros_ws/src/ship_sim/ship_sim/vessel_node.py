@@ -6,7 +6,7 @@ ship_sim.ros.qos.STREAM = reliable, keep-last 100):
                                              twist in body FLU over ground (REP-103/105)
              rudder      std_msgs/Float64    actual rudder angle (rad, positive turns to port)
              /clock      rosgraph_msgs/Clock sim time, when clock_master (reliable +
-                                             transient_local, depth 10, ship_sim.ros.qos.CLOCK:
+                                             transient_local, ship_sim.ros.qos.CLOCK:
                                              a per-step subscriber matched late still hears
                                              step 0; rclpy's best-effort /clock subscribers
                                              match it)

@@ -56,11 +56,19 @@ DISPLAY = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=DISPLAY_DEPTH,
                      reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
-CLOCK = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+#: Clock steps kept on both ends of /clock: 100 s of sim time at dt 0.1 s. traffic_node and a
+#: lockstep ais_node act on every step but nobody waits for them when no colav_node listens, so
+#: while one is descheduled on a loaded machine the simulator runs on. Reliable keep-last drops
+#: the oldest unacknowledged sample once the writer's history is full: at depth 10 (0.15 s of
+#: wall time at 7x real time) traffic_node skipped steps under test load and its targets' odometry
+#: jumped. Clock messages are a few bytes; a late transient_local joiner replays what is kept.
+CLOCK_DEPTH = 1000
+
+CLOCK = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=CLOCK_DEPTH,
                    reliability=ReliabilityPolicy.RELIABLE,
                    durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
-CLOCK_STEPS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+CLOCK_STEPS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=CLOCK_DEPTH,
                          reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
 

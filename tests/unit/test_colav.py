@@ -760,3 +760,39 @@ def test_an_uncertain_target_is_kept_farther_away(method):
     assert off0 == 0.0 and pass0 == pytest.approx(lateral, rel=1e-3)
     assert unsafe1 > unsafe0
     assert off1 > 0.0 and pass1 >= widened > pass0
+
+
+@pytest.mark.parametrize('method', METHODS)
+def test_a_hold_beside_a_crosser_at_the_own_speed_draws_clear_and_turns_back(method):
+    # Imazu case 4's geometry: the own ship stands on for a crosser from port steering 045 at
+    # the own ship's speed, acts to starboard once the crosser is late, and a 45 deg turn would
+    # put the two on one course side by side: the held command would never pass the crosser,
+    # the turn back to the route (here guidance's course, north) would always close it, and
+    # the ship would escort it for good. The hold must instead leave the crosser at a relative
+    # speed that moves it d_safe_m within a horizon, keep no worse a distance than the held
+    # course, and so come back to the route. Kinematic loop: the own ship takes each commanded
+    # course at once (the own-ship model's turn is the prediction's business, not this test's).
+    col = make_colav(method, ship=SHIP)
+    p_o, p_t = np.zeros(2), np.array([2169.8, -5238.2])
+    chi_t = math.radians(45.0)
+    v_t = velocity(chi_t, U)
+    course, dt = 0.0, 10.0
+    modes, d_min, released_at, hold_speeds = [], np.inf, None, []
+    for step in range(400):
+        t = step * dt
+        own = ShipState(float(p_o[0]), float(p_o[1]), course, U)
+        d = col.decide(t, own, [Target(float(p_t[0]), float(p_t[1]), chi_t, U, name='so')], 0.0, 1.0)
+        modes.append(d.mode)
+        if d.mode == 'stand-on' and 'avoid' in modes:
+            if col.anchor is None:
+                released_at = t
+                break
+            hold_speeds.append(float(np.hypot(*(v_t - velocity(d.course, U * d.speed_multiplier)))))
+        course = d.course
+        p_o = p_o + velocity(course, U * d.speed_multiplier) * dt
+        p_t = p_t + v_t * dt
+        d_min = min(d_min, float(np.hypot(*(p_t - p_o))))
+    assert 'avoid' in modes and hold_speeds, modes           # it acted, then held
+    assert released_at is not None, 'never turned back to the route'
+    assert min(hold_speeds) >= P.d_safe_m / P.horizon_s - 1e-9   # never an escort
+    assert d_min >= P.stand_on_dcpa_m

@@ -46,7 +46,12 @@ and role (ship_guidance.colregs). The steps:
    threat is opening on the present course (the turn back itself can close one again), nor
    once the turn back is predicted to keep ``stand_on_dcpa_m`` (no room for a plant that turns
    slower than the course model; a Rule 17(b) action that then forbids continuing the port
-   turn passes closer still).
+   turn passes closer still). A held command beside which a threat stays (their relative speed
+   too small to move it ``d_safe_m`` within a horizon, and the turn back would not be clear
+   even after one or two more horizons of it) never gets back: the hold then takes the
+   cheapest scenario no further to port and no faster, passing none closer, after which it
+   would be (``_escort_way_out``), a turn further to starboard under a crosser's stern or a
+   slower speed.
 4. Otherwise the method (ship_guidance.sbmpc or ship_guidance.velocity_obstacles) picks a
    scenario; ties go to the first in a fixed order: the larger speed multiplier first, then
    offsets 0, +15, -15, +30, ... deg (smaller first, starboard before port).
@@ -215,11 +220,14 @@ class CollisionAvoidance:
                 self.reset()
                 return Decision(nominal_course, nominal_speed_factor, 'stand-on', 0.0, 1.0, True,
                                 assessments)
-            # still off the route from an avoidance: keep its course and speed (module doc, 3)
-            course, mult = float(sc.chi_c[sc.held]), float(sc.multipliers[sc.held])
+            # still off the route from an avoidance: keep its course and speed (module doc, 3),
+            # or, beside a target that the held command never passes, draw clear of it
+            k = self._escort_way_out(sc, nominal_course)
+            self.last_offset, self.last_multiplier = float(sc.offsets[k]), float(sc.multipliers[k])
+            course, mult = float(sc.chi_c[k]), float(sc.multipliers[k])
             return Decision(course, mult * nominal_speed_factor, 'stand-on',
                             float(wrap_angle(course - nominal_course)), mult, True, assessments,
-                            None, float(sc.offsets[sc.held]))
+                            None, float(sc.offsets[k]))
         k, cost = self._choose(sc)
         mode = 'avoid'
         if sc.dist.min(axis=(1, 2)).max() < self.params.collision_m:
@@ -246,6 +254,59 @@ class CollisionAvoidance:
         d_now = np.hypot(*(sc.p_tgt0 - sc.p_own0).T)
         ok = sc.back_min >= np.minimum(self.params.threat_m, d_now - 1.0)
         return bool(ok[sc.threat].all())
+
+    def _escort_way_out(self, sc, guidance_course):
+        """The scenario a stand-on held after an avoidance keeps (module doc, 3): the held one,
+        unless a threat runs beside it and the turn back to ``guidance_course`` would not be
+        clear (``_turn_back_clear``'s rule) from where the held command leaves the ship after
+        one or two horizons: the turn back would never come. Beside: its relative speed at the
+        horizon's end below ``d_safe_m / horizon_s`` (within a horizon it would not move even
+        ``d_safe_m`` as seen from the own ship, range and bearing frozen), as in Imazu case 4,
+        where a 45 deg turn from a crosser at the own ship's speed put the two on one course to
+        the run's limit. Then the cheapest scenario (``deviation_cost``) that turns no further
+        to port, is no faster, passes no target closer than the held one does (or than
+        ``threat_m``) and after one or two horizons has a clear turn back: a ship handler's
+        turn further to starboard under the crosser's stern, or a slower speed where a shaft
+        exists. None such: the held one. A target that is not beside is left to the held
+        command even when the turn back is not yet clear: it is still closing or passing, and
+        turning away from it only lengthens the way back (Imazu 13 and 16)."""
+        held = sc.held
+        beside = sc.v_rel_beyond[held, sc.threat] < self.params.d_safe_m / self._t[-1]
+        if not beside.any() or self._back_clear_after(sc, held, guidance_course):
+            return held
+        # every target, not only the threats: the turn away must not make a new one (in Imazu
+        # 13 it took the tanker past the head-on ship, no threat then, at 706 m)
+        d_min = np.minimum(sc.dist.min(axis=2), sc.dcpa_beyond)                   # (S, M)
+        keep = np.minimum(d_min[held], self.params.threat_m)
+        ok = ((sc.offsets >= sc.offsets[held]) & (sc.multipliers <= sc.multipliers[held])
+              & (d_min >= keep).all(axis=1))
+        ok[held] = False
+        cost = self.deviation_cost(sc)
+        for k in sorted(np.flatnonzero(ok), key=lambda k: cost[k]):
+            if self._back_clear_after(sc, k, guidance_course):
+                return int(k)
+        return held
+
+    def _back_clear_after(self, sc, k, guidance_course):
+        """Whether the turn back to ``guidance_course`` (at the nominal speed, the targets on
+        their lines) passes every threat beyond ``threat_m`` or only opens it, started after
+        one horizon of scenario ``k`` or after two (the second one straight on at the
+        horizon's end velocity, as ``dcpa_beyond`` continues a scenario): a target that the
+        held command passes slowly is let pass, not turned away from."""
+        horizon = self._t[-1]
+        v_end = velocity(sc.chi[k, -1], sc.u[k, -1])
+        for wait in (0.0, horizon):
+            p_start = sc.p_own[k, -1] + v_end * wait
+            p_tgt0 = sc.p_tgt[:, -1] + sc.v_tgt * wait
+            p_back, _ = predict_own(p_start[0], p_start[1], float(sc.chi[k, -1]),
+                                    float(sc.u[k, -1]), np.array([guidance_course]),
+                                    np.array([sc.u_ref]), self._t, self.ship)
+            back_min = segment_min_distance(p_back, predict_targets(p_tgt0, sc.v_tgt,
+                                                                    self._t))[0][0].min(axis=1)
+            d_start = np.hypot(*(p_tgt0 - p_start).T)
+            if (back_min >= np.minimum(self.params.threat_m, d_start - 1.0))[sc.threat].all():
+                return True
+        return False
 
     # --- shared pieces -------------------------------------------------------------------
 

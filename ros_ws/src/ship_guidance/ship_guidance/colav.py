@@ -274,8 +274,7 @@ class CollisionAvoidance:
         beside = sc.v_rel_beyond[held, sc.threat] < self.params.d_safe_m / self._t[-1]
         if not beside.any() or self._back_clear_after(sc, held, guidance_course):
             return held
-        # every target, not only the threats: the turn away must not make a new one (in Imazu
-        # 13 it took the tanker past the head-on ship, no threat then, at 706 m)
+        # every target, not only the threats: the turn away must not make a new one
         d_min = np.minimum(sc.dist.min(axis=2), sc.dcpa_beyond)                   # (S, M)
         keep = np.minimum(d_min[held], self.params.threat_m)
         ok = ((sc.offsets >= sc.offsets[held]) & (sc.multipliers <= sc.multipliers[held])

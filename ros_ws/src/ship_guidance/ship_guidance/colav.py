@@ -251,9 +251,13 @@ class CollisionAvoidance:
         Keeping ``stand_on_dcpa_m`` is not enough: a release on a prediction just beyond it
         leaves no room for the plant turning slower than the course model, and a Rule 17(b)
         action that then forbids continuing the port turn back can pass closer still."""
-        d_now = np.hypot(*(sc.p_tgt0 - sc.p_own0).T)
-        ok = sc.back_min >= np.minimum(self.params.threat_m, d_now - 1.0)
-        return bool(ok[sc.threat].all())
+        return self._back_passes(sc.back_min, np.hypot(*(sc.p_tgt0 - sc.p_own0).T), sc.threat)
+
+    def _back_passes(self, back_min, d_start, threat):
+        """The release rule on a predicted turn back: its closest approach to every threat
+        beyond ``threat_m`` or no closer than at its start (to a metre)."""
+        ok = back_min >= np.minimum(self.params.threat_m, d_start - 1.0)
+        return bool(ok[threat].all())
 
     def _escort_way_out(self, sc, guidance_course):
         """The scenario a stand-on held after an avoidance keeps (module doc, 3): the held one,
@@ -272,7 +276,10 @@ class CollisionAvoidance:
         turning away from it only lengthens the way back (Imazu 13 and 16)."""
         held = sc.held
         beside = sc.v_rel_beyond[held, sc.threat] < self.params.d_safe_m / self._t[-1]
-        if not beside.any() or self._back_clear_after(sc, held, guidance_course):
+        if not beside.any():
+            return held
+        later = self._targets_later(sc)
+        if self._back_clear_after(sc, held, guidance_course, later):
             return held
         # every target, not only the threats: the turn away must not make a new one
         d_min = np.minimum(sc.dist.min(axis=2), sc.dcpa_beyond)                   # (S, M)
@@ -282,28 +289,31 @@ class CollisionAvoidance:
         ok[held] = False
         cost = self.deviation_cost(sc)
         for k in sorted(np.flatnonzero(ok), key=lambda k: cost[k]):
-            if self._back_clear_after(sc, k, guidance_course):
+            if self._back_clear_after(sc, k, guidance_course, later):
                 return int(k)
         return held
 
-    def _back_clear_after(self, sc, k, guidance_course):
+    def _targets_later(self, sc):
+        """The targets' predicted tracks from the horizon's end and from one horizon after it,
+        the same for every scenario: [(start positions (M, 2), tracks (M, N+1, 2))]."""
+        starts = (sc.p_tgt[:, -1], sc.p_tgt[:, -1] + sc.v_tgt * self._t[-1])
+        return [(p0, predict_targets(p0, sc.v_tgt, self._t)) for p0 in starts]
+
+    def _back_clear_after(self, sc, k, guidance_course, later):
         """Whether the turn back to ``guidance_course`` (at the nominal speed, the targets on
         their lines) passes every threat beyond ``threat_m`` or only opens it, started after
         one horizon of scenario ``k`` or after two (the second one straight on at the
         horizon's end velocity, as ``dcpa_beyond`` continues a scenario): a target that the
-        held command passes slowly is let pass, not turned away from."""
-        horizon = self._t[-1]
+        held command passes slowly is let pass, not turned away from. ``later``:
+        ``_targets_later(sc)``."""
         v_end = velocity(sc.chi[k, -1], sc.u[k, -1])
-        for wait in (0.0, horizon):
+        for wait, (p_tgt0, p_tgt) in zip((0.0, self._t[-1]), later):
             p_start = sc.p_own[k, -1] + v_end * wait
-            p_tgt0 = sc.p_tgt[:, -1] + sc.v_tgt * wait
             p_back, _ = predict_own(p_start[0], p_start[1], float(sc.chi[k, -1]),
                                     float(sc.u[k, -1]), np.array([guidance_course]),
                                     np.array([sc.u_ref]), self._t, self.ship)
-            back_min = segment_min_distance(p_back, predict_targets(p_tgt0, sc.v_tgt,
-                                                                    self._t))[0][0].min(axis=1)
-            d_start = np.hypot(*(p_tgt0 - p_start).T)
-            if (back_min >= np.minimum(self.params.threat_m, d_start - 1.0))[sc.threat].all():
+            back_min = segment_min_distance(p_back, p_tgt)[0][0].min(axis=1)
+            if self._back_passes(back_min, np.hypot(*(p_tgt0 - p_start).T), sc.threat):
                 return True
         return False
 

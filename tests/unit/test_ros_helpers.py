@@ -169,10 +169,14 @@ def test_wait_for_acks_is_quiet_when_a_signal_has_shut_the_context_down(make_nod
     wait_for_acks(node, (pub, None), timeout_s=0.1)
 
 
-def test_a_stop_signal_ends_the_spin_between_callbacks_and_before_it_the_start(make_node):
+def test_a_stop_signal_ends_the_spin_between_callbacks_and_before_it_the_start(make_node,
+                                                                               monkeypatch):
     # rclpy's own handlers shut the context down at any moment, also inside a busy callback,
     # whose next publish then failed (a FATAL traceback on Ctrl-C under load). run_node's only
     # take note while spinning: the running callback finishes and publishes, then spin ends.
+    # After the spin (a lockstep simulator that ended itself at max_steps, tearing down when
+    # the launcher's SIGINT came) a signal is only noted too: raised there, it killed the
+    # process by the signal (exit -2) instead of letting it return its code.
     import signal
 
     from std_msgs.msg import Float64
@@ -197,6 +201,10 @@ def test_a_stop_signal_ends_the_spin_between_callbacks_and_before_it_the_start(m
         assert time.monotonic() - t0 < 5.0
     finally:
         run._stop_signals.clear()
+    run._on_stop_signal(signal.SIGINT, None)   # the spin is over: the teardown goes on
+    assert run.stop_signalled()
+    run._stop_signals.clear()
+    monkeypatch.setattr(run, '_ending', False)   # as before any spin
     with pytest.raises(KeyboardInterrupt):  # not spinning (rclpy starting, node being built)
         run._on_stop_signal(signal.SIGTERM, None)
     run._stop_signals.clear()

@@ -10,6 +10,9 @@ whose next publish then fails and the EventsExecutor logs a FATAL traceback). ru
 handlers only take note while the node spins, and the spin loop ends between two callbacks
 (at most SPIN_TIMEOUT_S later when idle); before that, while rclpy starts or the node is built,
 a signal ends the start at once (KeyboardInterrupt), the way the launcher handles its own.
+Once the spin is over (also when the node ended by itself, e.g. a lockstep run at max_steps),
+a signal is only noted: the process is already ending, and a KeyboardInterrupt raised in its
+teardown would end it killed by the signal instead of with its exit code.
 Exit codes:
 
 - 0: normal end (signal, or the node finished on its own, see ``finish``);
@@ -52,6 +55,8 @@ SPIN_TIMEOUT_S = 0.1
 #: Names of the stop signals received (SIGINT, SIGTERM) while the node spins.
 _stop_signals = []
 _spinning = False
+#: Set once the spin is over: the teardown is not cut short by a signal.
+_ending = False
 
 
 def make_executor(kind=None, context=None):
@@ -128,11 +133,12 @@ def spin(node, executor=None):
 def spinning():
     """While inside, a stop signal is only noted (``stop_signalled``), for a spin loop to see
     between two callbacks; outside, it ends the start at once (module docstring)."""
-    global _spinning
+    global _spinning, _ending
     _spinning = True
     try:
         yield
     finally:
+        _ending = True      # before the spin flag drops: no gap for a signal to raise in
         _spinning = False
 
 
@@ -145,7 +151,7 @@ def _on_stop_signal(signum, frame):
     """SIGINT / SIGTERM: noted while spinning (``spin`` ends between callbacks); before that
     (rclpy starting, the node being built, e.g. blocked opening a file) the start ends now."""
     _stop_signals.append(signal.Signals(signum).name)
-    if not _spinning:
+    if not (_spinning or _ending):
         raise KeyboardInterrupt(_stop_signals[-1])
 
 
@@ -235,6 +241,7 @@ def run_process(build, spin_it, destroy, exit_code, *, args=None, prog=None):
     started, ``obj = build()`` built and ``spin_it(obj)`` spun, ``destroy(obj)`` and rclpy shut
     down on every way out; the exit codes of the module docstring, ``exit_code(obj)`` when it
     ends by itself. A ParameterError from ``build`` is the one line ``<prog>: <message>``."""
+    global _ending
     tune_allocator()   # every node's hot loop (waves, SB-MPC) without mmap churn
     if prog is None:
         prog = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else 'node'
@@ -259,6 +266,7 @@ def run_process(build, spin_it, destroy, exit_code, *, args=None, prog=None):
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
+        _ending = True
         if obj is not None:
             destroy(obj)
         rclpy.try_shutdown()

@@ -11,7 +11,10 @@
   backends is tests/unit/test_batch_closed_loop.py's).
 - The compiled RK4 of each model equals rk4_step(model.rhs) plus the drift bit for bit or to
   rounding, and a vessel whose step leaves the model's domain keeps its last valid state on both.
+- The generated RK4 is compiled once: a new process loads it from the disk cache, a changed
+  parameter is another kernel, an unwritable cache folder only costs the compile.
 """
+import json
 import os
 import subprocess
 import sys
@@ -140,3 +143,51 @@ def test_compiled_rk4_equals_numpy_and_keeps_the_last_valid_state(model):
         assert ok.tolist() == [True, False, True, True]
         np.testing.assert_array_equal(env.x[1], before[1])
     assert_close(envs['numpy'].x, envs['numba'].x, 'state after a failed vessel')
+
+
+_CACHED_RK4 = '''
+import json
+import os
+import sys
+
+import numpy as np
+from ship_sim.models import make_model
+from ship_sim.models.compiled import CACHE_ENV, batch_rk4
+runs = []
+for folder, speed in json.loads(sys.argv[1]):   # one kernel per (cache folder, U0)
+    os.environ[CACHE_ENV] = folder
+    model = make_model('mariner')
+    model.U0 = speed
+    step = batch_rk4(model)
+    x = np.zeros((3, model.n_states))           # straight ahead at U0
+    u = np.full((3, model.n_inputs), 0.05)      # rudder (rad)
+    out = step(x, u, 0.1, np.zeros((3, 2)), 3, 4, np.empty_like(x))
+    runs.append({'hits': sum(step.stats.cache_hits.values()),
+                 'misses': sum(step.stats.cache_misses.values()), 'out': out.tolist()})
+print(json.dumps(runs))
+'''
+
+
+@needs_numba
+def test_the_generated_rk4_is_compiled_once_and_loaded_from_disk_after(tmp_path):
+    """A new process (a sweep worker) loads the generated kernel from the disk cache instead
+    of compiling it again, with the same result; a changed frozen parameter is another kernel
+    (compiled, not a stale one loaded); an unwritable cache folder only costs the compile."""
+    def run(*kernels_wanted):
+        done = subprocess.run([sys.executable, '-c', _CACHED_RK4, json.dumps(kernels_wanted)],
+                              timeout=300, capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr[-2000:]
+        return json.loads(done.stdout.splitlines()[-1])
+
+    folder = str(tmp_path / 'kernels')
+    blocked = tmp_path / 'a_file'
+    blocked.write_text('')
+    first, other = run((folder, 7.7175), (folder, 5.0))
+    again, uncached = run((folder, 7.7175), (str(blocked / 'kernels'), 5.0))
+    assert (first['hits'], first['misses']) == (0, 1)
+    assert (other['hits'], other['misses']) == (0, 1)
+    assert other['out'] != first['out']
+    assert len(list((tmp_path / 'kernels').glob('mariner_rk4_*.py'))) == 2
+    assert (again['hits'], again['misses']) == (1, 0)
+    assert again['out'] == first['out']
+    assert uncached['out'] == other['out']

@@ -8,8 +8,10 @@ holding its route.
   beyond the colav d_safe_m in force; on their routes alone they would meet (range 0).
 - colav_node answers every own odom with one heading_cmd: heading_ref itself, byte for byte,
   while the decision in force keeps the nominal course, another value while it alters.
-- The record is complete (every step of both vessels) and two runs give identical metrics
-  (vessels sections) and identical heading_cmd / colav_targets / colav_decision messages.
+- The record is complete (every step of both vessels). That colav in the graph repeats is
+  checked elsewhere, more strictly than a second run here would: test_imazu_graph.py compares
+  the own ship's odometry and every decision bit for bit with the deterministic in-process
+  runner, and test_ais_scenario.py repeats an AIS-fed run and compares the colav messages.
 - Both ships with their own colav_node (scenarios/head_on_mariner_reciprocal.yaml): each
   alters to starboard, apparently, and they pass port to port beyond d_safe_m.
 - colav_node alone, fed by the test: it waits for a lockstep target up to its own stamp, decides
@@ -22,11 +24,11 @@ import pytest
 import yaml
 
 from ship_mission.bag import read_bag
-from ship_mission.encounter import alteration, decision_rows, min_distance
+from ship_mission.encounter import alteration, colav_messages, decision_rows, min_distance
 from ship_guidance.colav_params import ColavParams
 from ship_sim.ros.qos import STREAM_KEPT
 
-from harness import REPO_ROOT, run_complete, run_twice_complete
+from harness import REPO_ROOT, run_complete
 
 SCENARIO = REPO_ROOT / 'scenarios' / 'head_on_mariner_2.yaml'
 RECIPROCAL = REPO_ROOT / 'scenarios' / 'head_on_mariner_reciprocal.yaml'
@@ -46,16 +48,15 @@ DURATION_S = 400.0
 
 
 @pytest.mark.timeout(420)
-def test_head_on_mariners_pass_port_to_port_beyond_d_safe_identically_twice(launch):
+def test_head_on_mariners_pass_port_to_port_beyond_d_safe(launch):
     scenario = yaml.safe_load(SCENARIO.read_text())
     colav = scenario['vessels'][OWN]['colav']
     d_safe = colav.get('d_safe_m', ColavParams().d_safe_m)
     dt = scenario['dt_s']
     n = int(round(DURATION_S / dt)) + 1
 
-    # Both records complete, identical metrics and colav messages.
-    runs, _, msgs = run_twice_complete(launch, SCENARIO, DURATION_S, colav_ns=OWN)
-    first = runs[0]
+    first, _ = run_complete(launch, SCENARIO, DURATION_S)
+    msgs = colav_messages(first / 'bag', OWN)
     data = read_bag(first / 'bag', namespaces=[f'/{OWN}', f'/{TARGET}'])
     own, tgt = data.vessels[f'/{OWN}'], data.vessels[f'/{TARGET}']
     assert len(own.t) == len(tgt.t) == n, 'every step of both vessels in the bag'

@@ -12,8 +12,11 @@ import math
 import sys
 from pathlib import Path
 
-from imazu.cases import load_cases
-from imazu.maritime_schema_io import dumps, from_traffic_situation, loads, to_traffic_situation
+if __package__ in (None, ''):   # run as a file: its package's parent, scripts/, on the path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from imazu.cases import load_cases  # noqa: E402
+from imazu.maritime_schema_io import dumps, from_traffic_situation, loads, to_traffic_situation  # noqa: E402
 
 #: Largest position difference (m) of a round trip: the tangent-plane map and its inverse.
 POSITION_TOLERANCE_M = 1e-3

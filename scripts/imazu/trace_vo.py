@@ -13,15 +13,19 @@ target's actual closest approach in the run.
 import argparse
 import sys
 import tempfile
+from pathlib import Path
 
 import numpy as np
 
-from imazu.cases import load_cases
-from imazu.runner import case_scenario, run_scenario, write_scenario
+if __package__ in (None, ''):   # run as a file: its package's parent, scripts/, on the path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from ship_guidance import colregs
-from ship_guidance.cpa import cpa, velocity
-from ship_guidance.velocity_obstacles import VelocityObstacles
+from imazu.cases import load_cases  # noqa: E402
+from imazu.runner import case_scenario, run_scenario, write_scenario  # noqa: E402
+
+from ship_guidance import colregs  # noqa: E402
+from ship_guidance.cpa import cpa, velocity  # noqa: E402
+from ship_guidance.velocity_obstacles import VelocityObstacles  # noqa: E402
 
 
 def _deg(values):

@@ -59,7 +59,15 @@ class SBMPC(CollisionAvoidance):
             _compiled.warm_up()
 
     def costs(self, sc):
-        """(S,) total cost of every scenario."""
+        """(S,) total cost of every scenario: the sum of ``cost_terms``."""
+        t = self.cost_terms(sc)
+        return t['risk'] + t['grounding'] + t['port_turn'] + t['not_apparent'] + t['deviation']
+
+    def cost_terms(self, sc):
+        """The parts of every scenario's cost (module doc), each (S,) or a scalar 0: 'risk'
+        (the largest over the targets of the collision risk and the wrong-side penalty),
+        'grounding', 'port_turn', 'not_apparent', 'deviation'; and 'per_target' (S, M), the
+        risk and wrong-side penalty per target. What a trace prints (trace_sbmpc.py)."""
         p = self.params
         if kernels.compiled() and _compiled.exact_for(p):   # _step_risk, compiled
             risk = _compiled.step_risk_max(sc.dist, sc.frac, sc.step, sc.d_safe, sc.t, p.dt_s,
@@ -71,8 +79,10 @@ class SBMPC(CollisionAvoidance):
         beyond = self._risk_beyond_horizon(sc)
         risk = np.maximum(risk, beyond - beyond.min(axis=0))
         per_target = risk + p.w_wrong_side * self._wrong_side(sc)
-        return (per_target.max(axis=1) + self._grounding(sc) + self.port_turn_penalty(sc)
-                + self.not_apparent_penalty(sc) + self.deviation_cost(sc))
+        return {'risk': per_target.max(axis=1), 'grounding': self._grounding(sc),
+                'port_turn': self.port_turn_penalty(sc),
+                'not_apparent': self.not_apparent_penalty(sc),
+                'deviation': self.deviation_cost(sc), 'per_target': per_target}
 
     def _step_risk(self, sc):
         """(S, M, N) risk on every prediction step, less what no scenario avoids (module doc)."""

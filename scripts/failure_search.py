@@ -68,6 +68,7 @@ def main(argv=None):
     args = parse_args(argv)
     if args.replay is not None:
         return do_replay(args)
+    started = provenance()     # the code the runs use is the code at their start
     tune_allocator()
     pool = None
     if args.jobs > 1:
@@ -93,7 +94,7 @@ def main(argv=None):
             s['levels'] = [{'gamma': g, 'elites': e} for g, e in sampler.history]
         out['samplers'][name] = s
     out['wall_s'] = time.perf_counter() - t0
-    out['provenance'] = provenance()
+    out['provenance'] = started
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / 'failure_search.json').write_text(json.dumps(out, indent=1))
     print(f'wrote {args.out / "failure_search.json"}')

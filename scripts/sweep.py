@@ -137,6 +137,8 @@ def main(argv=None):
           f'episodes = {n}, backend {backend}' + (f' ({address})' if address else ''),
           flush=True)
     partial = out / results.PARTIAL_NAME
+    # the code the episodes run is the code at their start
+    started = provenance(None if argv is None else [sys.argv[0], *argv])
     try:
         rows, run = run_sweep(sweep, backend, args.workers, args.chunk, address, args.episodes,
                               duration=args.duration, where=where, partial=partial,
@@ -161,7 +163,7 @@ def main(argv=None):
     (out / 'summary.md').write_text(md)
     # with its provenance and run, summary.json is a results file (doc/results/sweeps.md)
     (out / 'summary.json').write_text(json.dumps(
-        {'provenance': provenance(None if argv is None else [sys.argv[0], *argv]),
+        {'provenance': started,
          'sweep': str(args.sweep), 'kind': sweep.kind, 'seed': sweep.seed,
          'episodes_per_cell': args.episodes or sweep.episodes, 'group_by': group_by,
          'confidence': f'Student-t 95 % (metrics), Wilson 95 % ({", ".join(kind.proportions)})',

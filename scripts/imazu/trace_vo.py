@@ -3,12 +3,14 @@
 
     .venv/bin/python scripts/imazu/trace_vo.py --case 13 --ship mariner [--every 10]
         [--from 0] [--to 2000]
+    .venv/bin/python scripts/imazu/trace_vo.py --scenario runs/failure_search/failures/uniform/uniform_0071.yaml
 
 Prints, per decision while a target is a threat: the mode, the threats' latched situations,
 whether Rule 17 acting is in force, the admissible course offsets (deg) at each speed
 multiplier, the chosen scenario and its predicted minimum distance to each target over the
 horizon (own-ship model) and straight-line closest approach (the held command); then each
-target's actual closest approach in the run.
+target's actual closest approach in the run. ``--scenario`` traces a scenario file written by
+the runner's ``write_scenario`` (a failure the search found) instead of an Imazu case.
 """
 import argparse
 import sys
@@ -32,8 +34,9 @@ def _deg(values):
     return ','.join(f'{v:+.0f}' for v in np.rad2deg(values))
 
 
-def trace(case, ship, every=1, t_from=0.0, t_to=np.inf, out=print):
-    """RunResult of the case; prints the decisions (see the module docstring)."""
+def trace(case, ship, every=1, t_from=0.0, t_to=np.inf, out=print, scenario=None):
+    """RunResult of the case, or of the ``scenario`` file when given; prints the decisions
+    (see the module docstring)."""
     records = []
     original = VelocityObstacles._choose
 
@@ -43,12 +46,14 @@ def trace(case, ship, every=1, t_from=0.0, t_to=np.inf, out=print):
         records.append((sc, ok, first, k))
         return k, cost
 
-    cases = load_cases()
-    scenario, route = case_scenario(case, cases[case], ship, 'vo')
     VelocityObstacles._choose = recording
     try:
-        with tempfile.TemporaryDirectory() as tmp:
-            result = run_scenario(write_scenario(scenario, route, tmp))
+        if scenario is not None:
+            result = run_scenario(scenario)
+        else:
+            doc, route = case_scenario(case, load_cases()[case], ship, 'vo')
+            with tempfile.TemporaryDirectory() as tmp:
+                result = run_scenario(write_scenario(doc, route, tmp))
     finally:
         VelocityObstacles._choose = original
     names = sorted(result.targets)
@@ -85,13 +90,15 @@ def trace(case, ship, every=1, t_from=0.0, t_to=np.inf, out=print):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('--case', type=int, required=True)
+    which = ap.add_mutually_exclusive_group(required=True)
+    which.add_argument('--case', type=int, help='Imazu case')
+    which.add_argument('--scenario', type=Path, help='a scenario file with a VO own ship')
     ap.add_argument('--ship', default='mariner')
     ap.add_argument('--every', type=int, default=1, help='print every n-th decision')
     ap.add_argument('--from', dest='t_from', type=float, default=0.0)
     ap.add_argument('--to', dest='t_to', type=float, default=np.inf)
     a = ap.parse_args(argv)
-    trace(a.case, a.ship, a.every, a.t_from, a.t_to)
+    trace(a.case, a.ship, a.every, a.t_from, a.t_to, scenario=a.scenario)
     return 0
 
 

@@ -73,3 +73,24 @@ def test_the_files_users_run_run_as_files(name):
     assert done.returncode == 0, done.stderr[-1000:]
     assert done.stdout.startswith('usage:')
 
+
+
+def test_trace_vo_traces_a_scenario_file_as_its_case(tmp_path):
+    """``--scenario`` (a failure the search wrote) traces the same run as the Imazu case it was
+    written from."""
+    from imazu import trace_vo
+    from imazu.cases import load_cases
+    from imazu.runner import case_scenario, write_scenario
+    doc, route = case_scenario(1, load_cases()[1], 'mariner', 'vo', 700.0)
+    path = write_scenario(doc, route, tmp_path)
+    from_file, from_case = [], []
+    trace_vo.trace(None, None, every=20, out=from_file.append, scenario=path)
+    original = trace_vo.case_scenario
+    trace_vo.case_scenario = lambda *a: (doc, route)      # the case at the same 700 s
+    try:
+        trace_vo.trace(1, 'mariner', every=20, out=from_case.append)
+    finally:
+        trace_vo.case_scenario = original
+    assert from_file == from_case
+    assert any(' avoid ' in line for line in from_file)
+    assert from_file[-1].startswith('ts1: closest')

@@ -5,6 +5,7 @@ samplers, the score and what counts as a distinct failure).
 
     .venv/bin/python scripts/failure_search.py --ship mariner --method sbmpc --budget 100 \
         --generation 20 --seed 1 --jobs 1 --out runs/failure_search
+    .venv/bin/python scripts/failure_search.py ... --ray ADDRESS     # on a Ray cluster
     .venv/bin/python scripts/failure_search.py --replay runs/failure_search/failures
 
 The search writes OUT/failure_search.json (per sampler: sims, failures, distinct failures and
@@ -13,6 +14,14 @@ scenario under OUT/failures/<sampler>/ (route.yaml beside it), its in-process mi
 in its header. ``--replay`` runs each scenario of a file or folder through run_mission's
 launcher in lockstep and compares the minimum distance (exit 1 if one differs by more than
 1 m). Run with the install sourced (source ros_ws/install/setup.bash).
+
+``--ray`` runs each simulation as a Ray task (montecarlo.backends.RayPool): ``--ray`` alone a
+private local instance of ``--jobs`` CPUs, ``--ray auto`` the cluster of ``ray start`` on this
+machine, ``--ray HOST:6379`` another. Ray reruns a simulation whose worker or node was lost;
+the results are the same as on local processes (each simulation is deterministic and kept in
+draw order), and a line and the results file (``reran_sims``) say which ran again. Every node
+needs this repository at the same path, its .venv (``make venv-sweep``) and the install on its
+PYTHONPATH (as the sweeps, doc/results/sweeps.md).
 """
 import json
 import sys
@@ -40,6 +49,9 @@ def parse_args(argv):
                     choices=study.SAMPLERS, help='default: both')
     ap.add_argument('--jobs', type=integer(1, MAX_JOBS), default=1,
                     help=f'worker processes, 1-{MAX_JOBS} (default 1)')
+    ap.add_argument('--ray', nargs='?', const='local', default=None, metavar='ADDRESS',
+                    help='run the simulations as Ray tasks: alone a private local instance '
+                         'of --jobs CPUs, or a cluster address (auto, HOST:6379, ray://...)')
     ap.add_argument('--out', type=out_folder, default=Path('runs/failure_search'),
                     help='output folder: failure_search.json and failures/ (default '
                          'runs/failure_search)')
@@ -70,10 +82,25 @@ def main(argv=None):
         return do_replay(args)
     started = provenance()     # the code the runs use is the code at their start
     tune_allocator()
-    pool = None
+    if args.ray is not None:
+        try:
+            from montecarlo.backends import RayPool
+            import ray  # noqa: F401
+        except ImportError:
+            print('failure_search.py: --ray needs ray (make venv-sweep)', file=sys.stderr)
+            return 2
+        address = None if args.ray == 'local' else args.ray
+        with RayPool(address, args.jobs) as pool:
+            return _search(args, started, pool)
     if args.jobs > 1:
         import multiprocessing
-        pool = multiprocessing.get_context('fork').Pool(args.jobs)
+        with multiprocessing.get_context('fork').Pool(args.jobs) as pool:
+            return _search(args, started, pool)
+    return _search(args, started, None)
+
+
+def _search(args, started, pool):
+    from montecarlo.backends import SweepRunError
     out = {'settings': {'ship': args.ship, 'method': args.method, 'budget': args.budget,
                         'generation': args.generation, 'seed': args.seed,
                         'limit_s': episode.LIMIT_S, 'failure_level': episode.FAILURE_LEVEL},
@@ -81,9 +108,18 @@ def main(argv=None):
     t0 = time.perf_counter()
     for k, name in enumerate(args.samplers):
         sampler = study.make_sampler(name, [args.seed, k])
-        rows = study.search(sampler, args.budget, args.generation, args.ship, args.method,
-                            args.jobs, lambda line: print(line, flush=True), pool)
+        try:
+            rows = study.search(sampler, args.budget, args.generation, args.ship, args.method,
+                                args.jobs, lambda line: print(line, flush=True), pool)
+        except SweepRunError as exc:
+            print(f'failure_search.py: {exc}', file=sys.stderr)
+            return 1
         s = study.summary(rows, args.ship, args.method)
+        if s['reran_sims'] is None:
+            print(f'{name}: reruns unknown (the cluster\'s key-value store could not be read)')
+        elif s['reran_sims']:
+            print(f"{name}: {len(s['reran_sims'])} of {s['sims']} simulations ran again after "
+                  f"a lost worker or node (sims {s['reran_sims']}); each is kept once")
         folder = args.out / 'failures' / name
         for f in s['failure_list']:
             r = rows[f['index']]

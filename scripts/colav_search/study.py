@@ -3,8 +3,10 @@
 Each sampler gets the same budget of simulations, spent in generations of ``generation``
 encounters (the cross-entropy method updates its density after each; uniform sampling ignores
 the scores). The episodes of a generation run in a process pool of ``jobs`` workers (each
-process runs the reference once: montecarlo.encounters.reference); the results come back in
-draw order, so the search is deterministic for a seed whatever ``jobs`` is.
+process runs the reference once: montecarlo.encounters.reference) or as Ray tasks
+(montecarlo.backends.RayPool, on a cluster); the results come back in draw order, so the search
+is deterministic for a seed whatever the pool. A Ray pool counts the simulations that ran again
+after a lost worker or node: each row's ``reran`` (None where the count was not available).
 """
 import time
 
@@ -48,9 +50,11 @@ def search(sampler, budget, generation, ship, method, jobs=1, progress=print, po
         samples = sampler.propose(min(generation, budget - len(rows)))
         tasks = [(n, x, ship, method) for n, x in samples]
         out = list(pool.map(_run, tasks)) if pool is not None else [_run(t) for t in tasks]
+        reran = getattr(pool, 'reruns', [[]])[-1] if pool is not None else []
         sampler.update(samples, [o['score'] for o in out])
-        rows += [{'generation': g, 'n_targets': int(n), 'x': [float(v) for v in x], **o}
-                 for (n, x), o in zip(samples, out)]
+        rows += [{'generation': g, 'n_targets': int(n), 'x': [float(v) for v in x], **o,
+                  'reran': None if reran is None else k in reran}
+                 for k, ((n, x), o) in enumerate(zip(samples, out))]
         fails = sum(r['failure'] for r in rows)
         progress(f'{sampler.name}: generation {g}, {len(rows)}/{budget} sims, {fails} failures, '
                  f'best domain index {min(r["score"] for r in rows):.3f}, '
@@ -75,6 +79,8 @@ def summary(rows, ship, method):
         'min_distance_m': min(r['min_distance_m'] for r in rows),
         'wall_s_mean': sum(r['wall_s'] for r in rows) / len(rows),
         'sim_s_mean': sum(r['end_s'] for r in rows) / len(rows),
+        'reran_sims': (None if any(r.get('reran') is None for r in rows) else
+                       [i for i, r in enumerate(rows) if r.get('reran')]),
         'failure_list': [{'index': rows.index(r), 'distinct': i in kept, 'generation':
                           r['generation'], 'collision': r['collision'],
                           'min_distance_m': r['min_distance_m'], 'domain_index': r['score'],

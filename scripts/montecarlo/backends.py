@@ -20,9 +20,13 @@ episode index whatever the completion order.
   'auto' (the cluster of ``ray start`` on this machine), ``ray://host:10001`` or
   ``host:6379``, or None for a private local instance of ``workers`` CPUs (started and shut
   down here). Every node needs this repository at the same path and its .venv (``make
-  venv-sweep``), so that the workers import the same code.
+  venv-sweep``), so that the workers import the same code. ``fn`` runs a chunk instead of the
+  sweep's ``run_chunk`` (a module-level function, so that workers import it by name).
+- ``RayPool``: ``multiprocessing.Pool.map`` on ``run_ray`` (one task per item, results in
+  item order, reruns counted per map), for loops that are not sweeps (the failure search).
 """
 import concurrent.futures as cf
+import functools
 import multiprocessing as mp
 import os
 import time
@@ -83,7 +87,7 @@ def _ray_task():
     import ray
 
     @ray.remote(num_cpus=1)
-    def chunk_task(run_id, k, chunk):
+    def chunk_task(run_id, k, chunk, fn=None):
         # A key per attempt, written before the work so that an attempt lost with its worker
         # or node is counted. The store's put is a direct call to the head: a ray.get here (an
         # actor keeping count) would lend this task's CPU to another chunk while it waits.
@@ -93,7 +97,7 @@ def _ray_task():
                                          namespace=_KV_NAMESPACE)
         except Exception:  # noqa: BLE001 (the count is lost, not the chunk)
             pass
-        return run_chunk(chunk)
+        return (fn or run_chunk)(chunk)
     return chunk_task
 
 
@@ -129,7 +133,7 @@ def start_local_ray(num_cpus, attempts=2):
                 raise
 
 
-def run_ray(chunks, on_rows, address=None, workers=None, max_retries=DEFAULT_RETRIES):
+def run_ray(chunks, on_rows, address=None, workers=None, max_retries=DEFAULT_RETRIES, fn=None):
     import ray
     started = False
     if not ray.is_initialized():
@@ -141,7 +145,7 @@ def run_ray(chunks, on_rows, address=None, workers=None, max_retries=DEFAULT_RET
     run_id, counted = uuid.uuid4().hex, False
     try:
         task = _ray_task().options(max_retries=max_retries)
-        pending = [task.remote(run_id, k, c) for k, c in enumerate(chunks)]
+        pending = [task.remote(run_id, k, c, fn) for k, c in enumerate(chunks)]
         no_cpu_since = None
         while pending:
             done, pending = ray.wait(pending, num_returns=1, timeout=_POLL_S)
@@ -168,3 +172,41 @@ def run_ray(chunks, on_rows, address=None, workers=None, max_retries=DEFAULT_RET
             _ray_reruns(run_id)
         if started:
             ray.shutdown()
+
+
+def _indexed(fn, chunk):
+    """[(index, fn(item))] of a chunk of (index, item) pairs: a RayPool task."""
+    return [(i, fn(item)) for i, item in chunk]
+
+
+class RayPool:
+    """``map(fn, items)`` as Ray tasks, one per item, through ``run_ray`` (Ray retries an item
+    whose worker or node was lost, at most ``max_retries`` times); the results in item order.
+    A context manager: Ray is started (``address`` None: a private local instance of
+    ``workers`` CPUs) or joined on entry and shut down on exit, once for every map. ``reruns``
+    holds, per map, the indices of the items that started more than once (None: the cluster's
+    store could not be read); ``fn`` must be a module-level function."""
+
+    def __init__(self, address=None, workers=None, max_retries=DEFAULT_RETRIES):
+        self.address, self.workers, self.max_retries = address, workers, max_retries
+        self.reruns = []
+
+    def __enter__(self):
+        import ray
+        if self.address is None:
+            start_local_ray(self.workers or os.cpu_count() or 1)
+        else:
+            ray.init(address=self.address, log_to_driver=False, configure_logging=False)
+        return self
+
+    def __exit__(self, *exc):
+        import ray
+        ray.shutdown()
+
+    def map(self, fn, items):
+        out = {}
+        chunks = [[(i, item)] for i, item in enumerate(items)]
+        self.reruns.append(run_ray(chunks, lambda rows: out.update(rows), self.address,
+                                   self.workers, self.max_retries,
+                                   fn=functools.partial(_indexed, fn)))
+        return [out[i] for i in range(len(items))]

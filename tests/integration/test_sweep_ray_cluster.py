@@ -1,4 +1,5 @@
-"""Sweeps on a multi-node Ray cluster that loses a node mid-run (issue 30 item 3).
+"""Sweeps and the failure search on a multi-node Ray cluster that loses a node mid-run (issue 30
+item 3).
 
 Each test starts a real cluster in the test process (``ray.cluster_utils.Cluster``: a head of
 no CPU, which only coordinates as on a real cluster, and worker nodes of one CPU, each its own
@@ -13,6 +14,9 @@ shut down, even on failure; Ray needs no ROS domain.
 - One worker node, removed for good: no CPU is left for the pending chunks, the sweep stops
   with one line naming the missing episodes and --resume and keeps the finished rows; with a
   new node, --resume completes the same table.
+- The failure search (scripts/failure_search.py --ray) on two worker nodes, one removed while
+  it runs a simulation: Ray reruns that simulation on the other, the results equal the search's
+  on one local process, and the run names the one simulation that ran again.
 - Two worker nodes and no retries (the backend's max_retries set to 0): the removed node's
   chunk fails for good, the sweep stops with one line, keeps the finished rows, and --resume
   on the node left completes the same table.
@@ -24,6 +28,7 @@ import time
 
 import pytest
 
+import failure_search
 import sweep as sweep_cli
 from montecarlo import backends, results
 
@@ -103,12 +108,15 @@ def _rows(partial):
 
 class NodeRemover(threading.Thread):
     """Removes the first of ``nodes`` seen running a chunk once ``partial`` holds a row (so
-    finished rows and pending chunks both exist); ``rows_before`` is what the file held,
-    ``most_at_once`` the most chunks seen running at once on one node until then."""
+    finished rows and pending chunks both exist; ``partial`` None: at once) and the chunk has
+    run ``running_s`` (a task counts its start as it begins: removed before, its retry would be
+    its first counted start); ``rows_before`` is what the file held, ``most_at_once`` the most
+    chunks seen running at once on one node until then."""
 
-    def __init__(self, cluster, nodes, partial, deadline_s=60.0):
+    def __init__(self, cluster, nodes, partial, deadline_s=60.0, running_s=0.0):
         super().__init__(daemon=True)
         self.cluster, self.nodes, self.partial = cluster, nodes, partial
+        self.running_s, self.since = running_s, {}
         self.deadline = time.monotonic() + deadline_s
         self.removed, self.rows_before, self.error, self.most_at_once = None, None, None, 0
 
@@ -117,10 +125,13 @@ class NodeRemover(threading.Thread):
             while time.monotonic() < self.deadline and self.removed is None:
                 running = [_chunks_running(node) for node in self.nodes]
                 self.most_at_once = max(self.most_at_once, *running)
-                if _rows(self.partial) >= 1:
-                    for node, n in zip(self.nodes, running):
-                        if n:
-                            self.rows_before = _rows(self.partial)
+                now = time.monotonic()
+                for k, n in enumerate(running):
+                    self.since[k] = (self.since.get(k) or now) if n else None
+                if self.partial is None or _rows(self.partial) >= 1:
+                    for k, (node, n) in enumerate(zip(self.nodes, running)):
+                        if n and now - self.since[k] >= self.running_s:
+                            self.rows_before = self.partial and _rows(self.partial)
                             self.cluster.remove_node(node)
                             self.removed = node
                             return
@@ -232,3 +243,41 @@ def test_a_chunk_whose_retries_all_fail_stops_the_sweep_in_one_line(cluster, swe
     assert json.loads((out / 'run.json').read_text())['resumed_rows'] == len(kept)
     assert (out / 'results.csv').read_text() == local_table
     print(f'cluster sweep, a chunk without retries on a removed node: {errors[0]}')
+
+
+#: A failure search of two generations of two simulations (the Mariner with VO, short
+#: encounters): two Ray tasks at a time on two nodes of one CPU.
+SEARCH = ['--ship', 'mariner', '--method', 'vo', '--budget', '4', '--generation', '2',
+          '--seed', '3', '--samplers', 'cross_entropy']
+
+
+def _search_results(folder):
+    """The results file's samplers without what depends on the machine (wall time) and on the
+    backend (reruns)."""
+    data = json.loads((folder / 'failure_search.json').read_text())
+    return {name: {k: v for k, v in s.items() if k not in ('wall_s_mean', 'reran_sims')}
+            for name, s in data['samplers'].items()}, data
+
+
+def test_a_failure_search_with_a_node_removed_reruns_a_simulation_not_a_result(cluster,
+                                                                               tmp_path,
+                                                                               capsys):
+    assert failure_search.main([*SEARCH, '--out', str(tmp_path / 'local')]) == 0
+    local, _ = _search_results(tmp_path / 'local')
+    c = cluster(2)
+    remover = NodeRemover(c, list(c.worker_nodes), None, running_s=1.0)
+    remover.start()
+    code = failure_search.main([*SEARCH, '--ray', c.address, '--out', str(tmp_path / 'ray')])
+    remover.join(timeout=5)
+    printed = capsys.readouterr()
+    assert remover.error is None, remover.error
+    assert remover.removed is not None, 'no worker node was seen running a simulation'
+    assert code == 0, printed.err
+    assert len(c.worker_nodes) == 1
+    on_ray, data = _search_results(tmp_path / 'ray')
+    assert on_ray == local                       # every simulation's result, nothing lost
+    reran = data['samplers']['cross_entropy']['reran_sims']
+    assert remover.most_at_once == 1 and len(reran) == 1
+    lines = [ln for ln in printed.out.splitlines() if 'ran again' in ln]
+    assert len(lines) == 1 and f'(sims {reran})' in lines[0]
+    print(f'failure search with a node removed: {lines[0]}')

@@ -21,3 +21,53 @@ def claims(data):
     return ('\n'.join(lines) + f"\n\n{n_yes} of {len(data['claims'])} claims reproduced; "
             f"{len(runs)} runs" + (f", failed: {', '.join(failed)}" if failed else '')
             + f", {data['wall_time_s']:.0f} s wall.\n")
+
+
+#: The course-change runs (run_seed_scenarios.py, ``course_*``) by name pattern: (ship, gains).
+_COURSE_SETS = (('course_change_{a}_{c}_004', 'Mariner', 'gain table'),
+                ('course_mariner_{a}_{c}_thesisgains_004', 'Mariner', 'Lee 2004'),
+                ('course_tanker_{a}_{c}_004', 'tanker', 'gain table'),
+                ('course_tanker_{a}_{c}_thesisgains_004', 'tanker', 'Lee 2004'))
+_CONTROLLERS = (('pd', 'PD'), ('fuzzy', 'fuzzy PID'))
+_ANGLES = (30, 45, 60, 90)
+
+
+@table('seed_scenarios', 'course_changes')
+def course_changes(data):
+    """Every course-change run: the heading step response and the rudder's use from the step
+    (the runs' metrics: overshoot, 2 % settling time or 'never', steady error, mean |rudder|,
+    mean |rudder rate| = total variation per second, time at the limit)."""
+    import math
+
+    from results_pages.tables import markdown_table
+    runs = {r['scenario']: r for r in data['runs']}
+    rows = []
+    for pattern, ship, gains in _COURSE_SETS:
+        for code, controller in _CONTROLLERS:
+            for a in _ANGLES:
+                run = runs.get(pattern.format(a=a, c=code))
+                if run is None:
+                    continue
+                m = run['metrics']
+                rows.append({'ship': ship, 'controller': controller, 'gains': gains, 'angle': a,
+                             **{k: m.get(k) for k in (
+                                 'overshoot_rad', 'settling_time_s', 'steady_error_rad',
+                                 'manoeuvre_rudder_mean_abs_rad',
+                                 'manoeuvre_rudder_total_variation_rad_per_s',
+                                 'manoeuvre_rudder_time_at_limit_s', 'duration_s')}})
+
+    def deg(key, spec):
+        return (lambda r: None if r[key] is None else math.degrees(r[key])), spec
+
+    def settling(r):
+        return 'never' if r['settling_time_s'] is None else f"{r['settling_time_s']:.0f}"
+    return markdown_table([
+        ('ship', 'ship', ''), ('controller', 'controller', ''), ('gains', 'gains', ''),
+        ('course change deg', 'angle', 'd'), ('run s', 'duration_s', '.0f'),
+        ('overshoot deg', *deg('overshoot_rad', '.1f')),
+        ('settling s', settling, ''),
+        ('steady error deg', *deg('steady_error_rad', '+.2f')),
+        ('mean abs rudder deg', *deg('manoeuvre_rudder_mean_abs_rad', '.1f')),
+        ('mean abs rudder rate deg/s', *deg('manoeuvre_rudder_total_variation_rad_per_s', '.3f')),
+        ('rudder at the limit s', 'manoeuvre_rudder_time_at_limit_s', '.0f'),
+    ], rows)

@@ -108,6 +108,8 @@ def main(argv=None):
     ap.add_argument('--dt', type=float, default=2.0, help='closed-loop step (s)')
     ap.add_argument('--out', type=Path, default=None)
     a = ap.parse_args(argv)
+    from results_pages.provenance import provenance
+    started = provenance()     # the code the runs use is the code at their start
     pop = a.population or (8 if a.quick else 50)
     gens = a.generations or (4 if a.quick else 50)
     out = a.out or REPO / 'runs' / f'guidance_ga-{datetime.now():%Y%m%d-%H%M%S}'
@@ -163,7 +165,8 @@ def main(argv=None):
             print(f'  {lab:22s} cost {m["cost"]:.4f}  xte RMS {m["xte_rms_m"]:.1f} m  max {m["xte_max_abs_m"]:.1f} m  '
                   f'rudder RMS {m["rudder_rms_deg"]:.2f} deg  rate {m["rudder_rate_mean_abs_deg_s"]:.3f} deg/s  '
                   f'energy {m["energy_proxy"]:.4f}  time {m["time_s"]:.0f} s')
-    (out / 'results.json').write_text(json.dumps(results, indent=1))
+    # with its provenance, results.json is a results file (doc/results/seed_scenarios.md)
+    (out / 'results.json').write_text(json.dumps({'provenance': started, **results}, indent=1))
     plot(out, results, runs)
     if a.out is None:
         latest = REPO / 'runs' / 'guidance_ga-latest'

@@ -71,3 +71,47 @@ def course_changes(data):
         ('mean abs rudder rate deg/s', *deg('manoeuvre_rudder_total_variation_rad_per_s', '.3f')),
         ('rudder at the limit s', 'manoeuvre_rudder_time_at_limit_s', '.0f'),
     ], rows)
+
+
+_GA_LAWS = (('tuned', 'tuned by the GA'), ('conventional', 'conventional LOS'),
+            ('best_constant', 'best constant look-ahead'))
+
+
+def _ga_cases(data):
+    return [(name, data[name]) for name in ('coastal', 'oceanic') if name in data]
+
+
+@table('seed_scenarios', 'ga_claims')
+def ga_claims(data):
+    """Lee 2004's claim per case: the GA-tuned look-ahead law beats conventional LOS in the
+    cost it was tuned for (tracking on the coast, energy in the ocean)."""
+    lines = ['| case | tuned law beats conventional LOS | costs: tuned, conventional, '
+             'best constant |', '|---|---|---|']
+    for name, r in _ga_cases(data):
+        t, c, b = r['tuned']['cost'], r['conventional']['cost'], r['best_constant']['cost']
+        lines.append(f"| {name} | {'yes' if t < c else '**no**'} | {t:.5g}, {c:.5g}, {b:.5g} |")
+    return '\n'.join(lines) + '\n'
+
+
+@table('seed_scenarios', 'ga_laws')
+def ga_laws(data):
+    """Per case, the tuned law's genes and the three laws' closed-loop figures."""
+    from results_pages.tables import markdown_table
+    rows = []
+    for name, r in _ga_cases(data):
+        t = r['tuned']
+        law = (f"t_min {t['t_min_s']:.1f} s, t_max {t['t_max_s']:.1f} s, e_s {t['e_scale_m']:.0f} m "
+               f"(on the path {t['lookahead_on_path_m']:.0f} m; stability limit "
+               f"{r['critical_lookahead_m']:.0f} m)")
+        for key, label in _GA_LAWS:
+            m = r[key]
+            rows.append({'case': name, 'law': label,
+                         'look-ahead': law if key == 'tuned' else f"{m['lookahead_m']:.0f} m",
+                         **m})
+    return markdown_table([
+        ('case', 'case', ''), ('law', 'law', ''), ('look-ahead', 'look-ahead', ''),
+        ('cost', 'cost', '.5g'), ('RMS cross-track m', 'xte_rms_m', '.1f'),
+        ('max cross-track m', 'xte_max_abs_m', '.1f'), ('rudder RMS deg', 'rudder_rms_deg', '.2f'),
+        ('mean abs rudder rate deg/s', 'rudder_rate_mean_abs_deg_s', '.3f'),
+        ('energy proxy', 'energy_proxy', '.4f'), ('time s', 'time_s', '.0f'),
+    ], rows)

@@ -237,3 +237,29 @@ def test_a_per_step_clock_subscriber_matched_after_step_0_still_hears_it(make_no
         ex.spin_once(timeout_sec=0.1)
     assert len(heard) == 1 and heard[0].clock.sec == 0
     assert missed == []
+
+
+_RUN_PROCESS_THEN_SIGNAL = '''
+import os, signal, sys
+from ship_sim.ros import run
+code = run.run_process(lambda: object(), lambda obj: None, lambda obj: None, lambda obj: 7,
+                       args=['node'], prog='node')
+print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN,
+      signal.getsignal(signal.SIGTERM) is signal.SIG_IGN, flush=True)
+os.kill(os.getpid(), signal.SIGINT)       # as a launcher's stop landing while the process exits
+os.kill(os.getpid(), signal.SIGTERM)
+sys.exit(code)
+'''
+
+
+def test_a_process_that_returned_from_run_process_exits_with_its_code_whatever_signal_comes():
+    # At interpreter exit Python puts back the default action of a signal with a Python handler,
+    # and a stop landing then killed a node that had ended by itself (exit -2: a lockstep
+    # simulator at max_steps, in test_platoon and test_closed_loop under load). Ignored signals
+    # stay ignored through the exit.
+    import subprocess
+    import sys
+    done = subprocess.run([sys.executable, '-c', _RUN_PROCESS_THEN_SIGNAL], capture_output=True,
+                          text=True, timeout=60)
+    assert done.stdout.split() == ['True', 'True'], done.stderr[-2000:]
+    assert done.returncode == 7, done.stderr[-2000:]

@@ -12,7 +12,10 @@ handlers only take note while the node spins, and the spin loop ends between two
 a signal ends the start at once (KeyboardInterrupt), the way the launcher handles its own.
 Once the spin is over (also when the node ended by itself, e.g. a lockstep run at max_steps),
 a signal is only noted: the process is already ending, and a KeyboardInterrupt raised in its
-teardown would end it killed by the signal instead of with its exit code.
+teardown would end it killed by the signal instead of with its exit code. When run_process
+returns, SIGINT and SIGTERM are ignored: at interpreter exit Python puts back the default action
+of every signal with a Python handler (death by the signal, exit -2 for SIGINT) but leaves an
+ignored one ignored, and rclpy's and DDS's clean-up there can take a while.
 Exit codes:
 
 - 0: normal end (signal, or the node finished on its own, see ``finish``);
@@ -251,9 +254,11 @@ def run_process(build, spin_it, destroy, exit_code, *, args=None, prog=None):
     except (RCLError, UnknownROSArgsError) as exc:
         print(f'{prog}: invalid ROS arguments: {rcl_reason(exc)}', file=sys.stderr, flush=True)
         rclpy.try_shutdown()
+        ignore_stop_signals()
         return 2
     except KeyboardInterrupt:
         rclpy.try_shutdown()
+        ignore_stop_signals()
         return 0
     obj = None
     code = 0
@@ -270,9 +275,17 @@ def run_process(build, spin_it, destroy, exit_code, *, args=None, prog=None):
         if obj is not None:
             destroy(obj)
         rclpy.try_shutdown()
+        ignore_stop_signals()
     if obj is not None:
         code = exit_code(obj) or code
     return code
+
+
+def ignore_stop_signals():
+    """SIGINT and SIGTERM ignored from now on: the process is ending with its own code (module
+    docstring); a stop signal in the interpreter's exit would otherwise kill it."""
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, signal.SIG_IGN)
 
 
 def run_node(node_factory, *, args=None, executor=None):

@@ -108,15 +108,14 @@ def _rows(partial):
 
 class NodeRemover(threading.Thread):
     """Removes the first of ``nodes`` seen running a chunk once ``partial`` holds a row (so
-    finished rows and pending chunks both exist; ``partial`` None: at once) and the chunk has
-    run ``running_s`` (a task counts its start as it begins: removed before, its retry would be
-    its first counted start); ``rows_before`` is what the file held, ``most_at_once`` the most
-    chunks seen running at once on one node until then."""
+    finished rows and pending chunks both exist, and the workers have started); with
+    ``partial`` None, once ``ready()`` says so. ``rows_before`` is what the file held,
+    ``most_at_once`` the most chunks seen running at once on one node until then."""
 
-    def __init__(self, cluster, nodes, partial, deadline_s=60.0, running_s=0.0):
+    def __init__(self, cluster, nodes, partial, deadline_s=60.0, ready=None):
         super().__init__(daemon=True)
         self.cluster, self.nodes, self.partial = cluster, nodes, partial
-        self.running_s, self.since = running_s, {}
+        self.ready = ready or (lambda: _rows(partial) >= 1)
         self.deadline = time.monotonic() + deadline_s
         self.removed, self.rows_before, self.error, self.most_at_once = None, None, None, 0
 
@@ -125,12 +124,9 @@ class NodeRemover(threading.Thread):
             while time.monotonic() < self.deadline and self.removed is None:
                 running = [_chunks_running(node) for node in self.nodes]
                 self.most_at_once = max(self.most_at_once, *running)
-                now = time.monotonic()
-                for k, n in enumerate(running):
-                    self.since[k] = (self.since.get(k) or now) if n else None
-                if self.partial is None or _rows(self.partial) >= 1:
-                    for k, (node, n) in enumerate(zip(self.nodes, running)):
-                        if n and now - self.since[k] >= self.running_s:
+                if self.ready():
+                    for node, n in zip(self.nodes, running):
+                        if n:
                             self.rows_before = self.partial and _rows(self.partial)
                             self.cluster.remove_node(node)
                             self.removed = node
@@ -259,13 +255,30 @@ def _search_results(folder):
             for name, s in data['samplers'].items()}, data
 
 
+def _starts_recorded(at_least):
+    """Whether the cluster's key-value store holds ``at_least`` task starts (the backend's
+    records, one written as each task begins, deleted as each map ends): a task removed with
+    its node before it wrote one would be retried as its first counted start. False before the
+    search has joined the cluster."""
+    def ready():
+        try:
+            from ray.experimental import internal_kv
+            return len(internal_kv._internal_kv_list('', namespace=backends._KV_NAMESPACE)) \
+                >= at_least
+        except Exception:  # noqa: BLE001 (not connected yet)
+            return False
+    return ready
+
+
 def test_a_failure_search_with_a_node_removed_reruns_a_simulation_not_a_result(cluster,
                                                                                tmp_path,
                                                                                capsys):
     assert failure_search.main([*SEARCH, '--out', str(tmp_path / 'local')]) == 0
     local, _ = _search_results(tmp_path / 'local')
     c = cluster(2)
-    remover = NodeRemover(c, list(c.worker_nodes), None, running_s=1.0)
+    # both simulations of a generation started (a worker's first task imports the package
+    # before it records its start: under load that can take seconds)
+    remover = NodeRemover(c, list(c.worker_nodes), None, ready=_starts_recorded(2))
     remover.start()
     code = failure_search.main([*SEARCH, '--ray', c.address, '--out', str(tmp_path / 'ray')])
     remover.join(timeout=5)

@@ -1,7 +1,6 @@
-#!/usr/bin/env python3
 """Write the 22 Imazu cases as maritime-schema TrafficSituation JSON files (one per case).
 
-    .venv/bin/python scripts/imazu/export_maritime_schema.py OUT_DIR [--cases 1,2,5]
+    .venv/bin/python scripts/export_maritime_schema.py OUT_DIR [--cases 1,2,5]
 
 Each file is imazu_NN.json, validated by reading it back with the schema's classes and
 checked to give back the case (positions within a millimetre, courses and speeds within
@@ -12,11 +11,8 @@ import math
 import sys
 from pathlib import Path
 
-if __package__ in (None, ''):   # run as a file: its package's parent, scripts/, on the path
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from imazu.cases import load_cases  # noqa: E402
-from imazu.maritime_schema_io import dumps, from_traffic_situation, loads, to_traffic_situation  # noqa: E402
+from imazu.cases import load_cases
+from imazu.maritime_schema_io import dumps, from_traffic_situation, loads, to_traffic_situation
 
 #: Largest position difference (m) of a round trip: the tangent-plane map and its inverse.
 POSITION_TOLERANCE_M = 1e-3

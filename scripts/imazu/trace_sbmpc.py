@@ -1,10 +1,9 @@
-#!/usr/bin/env python3
 """Trace SB-MPC's decisions in one Imazu or DNV run (in process, scripts/imazu/runner.py): why
 it chose what it chose.
 
-    .venv/bin/python scripts/imazu/trace_sbmpc.py --set dnv --case 16 --ship mariner
+    .venv/bin/python scripts/trace_sbmpc.py --set dnv --case 16 --ship mariner
         --at 467,600,860 [--top 8]
-    .venv/bin/python scripts/imazu/trace_sbmpc.py --case 4 --every 60
+    .venv/bin/python scripts/trace_sbmpc.py --case 4 --every 60
 
 At each traced decision (``--at`` times, or every n-th decision that scored scenarios) it
 prints the mode and the situations, then the ``--top`` cheapest scenarios: course offset from
@@ -17,20 +16,15 @@ approach in the run.
 """
 import argparse
 import copy
-import sys
 import tempfile
-from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ''):   # run as a file: its package's parent, scripts/, on the path
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from imazu.cases import SETS, load_set
+from imazu.runner import LIMIT_S, RunEnd, SHIPS, case_scenario, run_scenario, write_scenario
 
-from imazu.cases import SETS, load_set  # noqa: E402
-from imazu.runner import LIMIT_S, RunEnd, SHIPS, case_scenario, run_scenario, write_scenario  # noqa: E402
-
-from ship_guidance import colregs  # noqa: E402
-from ship_guidance.sbmpc import SBMPC  # noqa: E402
+from ship_guidance import colregs
+from ship_guidance.sbmpc import SBMPC
 
 TERMS = ('risk', 'port_turn', 'not_apparent', 'deviation')
 
@@ -114,6 +108,3 @@ def main(argv=None):
     trace(a.set, a.case, a.ship, a.at, a.every, a.top)
     return 0
 
-
-if __name__ == '__main__':
-    sys.exit(main())

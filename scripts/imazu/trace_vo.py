@@ -1,9 +1,8 @@
-#!/usr/bin/env python3
 """Trace velocity-obstacle decisions in one Imazu run (in process, scripts/imazu/runner.py).
 
-    .venv/bin/python scripts/imazu/trace_vo.py --case 13 --ship mariner [--every 10]
+    .venv/bin/python scripts/trace_vo.py --case 13 --ship mariner [--every 10]
         [--from 0] [--to 2000]
-    .venv/bin/python scripts/imazu/trace_vo.py --scenario runs/failure_search/failures/uniform/uniform_0071.yaml
+    .venv/bin/python scripts/trace_vo.py --scenario runs/failure_search/failures/uniform/uniform_0071.yaml
 
 Prints, per decision while a target is a threat: the mode, the threats' latched situations,
 whether Rule 17 acting is in force, the admissible course offsets (deg) at each speed
@@ -13,21 +12,17 @@ target's actual closest approach in the run. ``--scenario`` traces a scenario fi
 the runner's ``write_scenario`` (a failure the search found) instead of an Imazu case.
 """
 import argparse
-import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ''):   # run as a file: its package's parent, scripts/, on the path
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from imazu.cases import load_cases
+from imazu.runner import case_scenario, run_scenario, write_scenario
 
-from imazu.cases import load_cases  # noqa: E402
-from imazu.runner import case_scenario, run_scenario, write_scenario  # noqa: E402
-
-from ship_guidance import colregs  # noqa: E402
-from ship_guidance.cpa import cpa, velocity  # noqa: E402
-from ship_guidance.velocity_obstacles import VelocityObstacles  # noqa: E402
+from ship_guidance import colregs
+from ship_guidance.cpa import cpa, velocity
+from ship_guidance.velocity_obstacles import VelocityObstacles
 
 
 def _deg(values):
@@ -101,6 +96,3 @@ def main(argv=None):
     trace(a.case, a.ship, a.every, a.t_from, a.t_to, scenario=a.scenario)
     return 0
 
-
-if __name__ == '__main__':
-    sys.exit(main())

@@ -4,8 +4,8 @@ that users run.
 - trace_sbmpc: at every traced decision that scored scenarios, the scenario the decision took
   is the cheapest listed (the stand-on hold, which keeps a scenario, is marked held), and each
   listed cost is the sum of its printed parts (SBMPC.cost_terms); SBMPC.costs is that sum.
-- Every runnable file in scripts/imazu runs as the file its usage line names (``python
-  scripts/imazu/X.py``), not only as a module.
+- The entry files of the traces and the export (scripts/X.py, the code in scripts/imazu) run
+  as their usage lines say.
 """
 import subprocess
 import sys
@@ -68,7 +68,7 @@ def test_sbmpc_costs_are_the_sum_of_their_terms():
 
 @pytest.mark.parametrize('name', ['trace_sbmpc.py', 'trace_vo.py', 'export_maritime_schema.py'])
 def test_the_files_users_run_run_as_files(name):
-    done = subprocess.run([sys.executable, str(SCRIPTS / 'imazu' / name), '--help'],
+    done = subprocess.run([sys.executable, str(SCRIPTS / name), '--help'],
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr[-1000:]
     assert done.stdout.startswith('usage:')

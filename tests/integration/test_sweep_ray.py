@@ -36,6 +36,8 @@ def ray_local(tmp_path, monkeypatch):
     marker = tmp_path / 'failed_once'
     # Workers inherit the driver's environment when the instance starts.
     monkeypatch.setenv(mc_episodes.FAIL_ONCE_ENV, str(marker))
+    # and run at niceness 0, not Ray's 15, which beside the suite's other tests starved them
+    monkeypatch.setenv('RAY_worker_niceness', '0')
     try:
         start_local_ray(2)
     except Exception as exc:  # noqa: BLE001 (any start failure is a reason to skip)

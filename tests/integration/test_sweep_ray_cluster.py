@@ -52,7 +52,7 @@ def sweep_file(tmp_path_factory):
 
 
 @pytest.fixture
-def cluster():
+def cluster(monkeypatch):
     """cluster(workers) -> a running Cluster: a head of 0 CPU and ``workers`` nodes of 1 CPU;
     shut down (every node's processes) after the test, whatever happened."""
     pytest.importorskip('ray', reason='ray is not installed (make venv-sweep)')
@@ -61,6 +61,10 @@ def cluster():
     made = []
 
     def start(workers):
+        # Ray starts its worker processes at niceness 15: beside the suite's other tests (at 0)
+        # a chunk then ran some 40 times slower than alone and a worker's first chunk took a
+        # minute. Its raylets read this at start.
+        monkeypatch.setenv('RAY_worker_niceness', '0')
         try:
             made.append(Cluster(initialize_head=True, head_node_args={'num_cpus': 0}))
             for _ in range(workers):
@@ -112,16 +116,21 @@ class NodeRemover(threading.Thread):
     ``partial`` None, once ``ready()`` says so. ``rows_before`` is what the file held,
     ``most_at_once`` the most chunks seen running at once on one node until then."""
 
-    def __init__(self, cluster, nodes, partial, deadline_s=60.0, ready=None):
+    def __init__(self, cluster, nodes, partial, ready=None):
         super().__init__(daemon=True)
         self.cluster, self.nodes, self.partial = cluster, nodes, partial
         self.ready = ready or (lambda: _rows(partial) >= 1)
-        self.deadline = time.monotonic() + deadline_s
+        self.finished = threading.Event()   # set by the test once the run returned
         self.removed, self.rows_before, self.error, self.most_at_once = None, None, None, 0
+
+    def stop(self):
+        """Stop looking (the run is over) and wait for the thread."""
+        self.finished.set()
+        self.join(timeout=5)
 
     def run(self):
         try:
-            while time.monotonic() < self.deadline and self.removed is None:
+            while not self.finished.is_set() and self.removed is None:
                 running = [_chunks_running(node) for node in self.nodes]
                 self.most_at_once = max(self.most_at_once, *running)
                 if self.ready():
@@ -146,7 +155,7 @@ def test_a_node_removed_mid_sweep_costs_a_rerun_not_a_row(cluster, sweep_file, t
     t0 = time.monotonic()
     code = sweep_cli.main([str(path), '--out', str(out), '--ray', c.address, *OPTS])
     wall = time.monotonic() - t0
-    remover.join(timeout=5)
+    remover.stop()
     printed = capsys.readouterr()
     assert remover.error is None, remover.error
     assert remover.removed is not None, 'no worker node was seen running a chunk'
@@ -176,7 +185,7 @@ def test_a_node_lost_for_good_keeps_the_rows_and_resume_completes(cluster, sweep
     remover = NodeRemover(c, list(c.worker_nodes), partial)
     remover.start()
     code = sweep_cli.main([str(path), '--out', str(out), '--ray', c.address, *OPTS])
-    remover.join(timeout=5)
+    remover.stop()
     printed = capsys.readouterr()
     assert remover.error is None, remover.error
     assert remover.removed is not None, 'no worker node was seen running a chunk'
@@ -218,7 +227,7 @@ def test_a_chunk_whose_retries_all_fail_stops_the_sweep_in_one_line(cluster, swe
     remover = NodeRemover(c, list(c.worker_nodes), partial)
     remover.start()
     code = sweep_cli.main([str(path), '--out', str(out), '--ray', c.address, *OPTS])
-    remover.join(timeout=5)
+    remover.stop()
     printed = capsys.readouterr()
     assert remover.error is None, remover.error
     assert remover.removed is not None, 'no worker node was seen running a chunk'
@@ -281,7 +290,7 @@ def test_a_failure_search_with_a_node_removed_reruns_a_simulation_not_a_result(c
     remover = NodeRemover(c, list(c.worker_nodes), None, ready=_starts_recorded(2))
     remover.start()
     code = failure_search.main([*SEARCH, '--ray', c.address, '--out', str(tmp_path / 'ray')])
-    remover.join(timeout=5)
+    remover.stop()
     printed = capsys.readouterr()
     assert remover.error is None, remover.error
     assert remover.removed is not None, 'no worker node was seen running a simulation'

@@ -699,6 +699,33 @@ def test_planner_chart_as_occupancy_grid_reads_back_cell_for_cell():
     assert np.array_equal(mask.hits(centres + [6.0, -6.0]), ~chart.water)
 
 
+def test_vo_judges_a_slower_command_at_the_speed_the_ship_has_not_the_one_it_was_given():
+    # A crosser from starboard meets the own ship in 300 s. Stopped at once, the own ship would
+    # see it pass 1852 m ahead, clear of d_safe; a ship whose speed lag is 240 s still makes
+    # way and is about 800 m from the crossing point as the crosser arrives. Each candidate on
+    # the nominal course is judged on the line the ship runs at its lagging speed, sampled here
+    # every 0.1 s from the closed form of a first-order lag: inside d_safe -> inadmissible,
+    # entered at the first sample inside.
+    tau = 240.0
+    ship = OwnShipModel(speed_at_factor_one_mps=U, speed_time_constant_s=tau)
+    target = _target_on_collision_course(270.0, 300.0)
+    col = make_colav('vo', ship=ship)
+    sc = col.scenarios(OWN, [target], 0.0, 1.0)
+    ok, first_entry = col.admissible(sc)
+    t = np.arange(0.0, P.horizon_s + 1e-9, 0.1)
+    p_t = np.array([target.north, target.east]) + np.outer(t, velocity(target.course, U))
+    stop = int(np.flatnonzero((sc.offsets == 0.0) & (sc.multipliers == 0.0))[0])
+    assert cpa([0.0, 0.0], [0.0, 0.0], p_t[0], velocity(target.course, U))[1] > P.d_safe_m
+    for k in np.flatnonzero(sc.offsets == 0.0):
+        u_c = sc.u_c[k]
+        run = u_c * t + (U - u_c) * tau * -np.expm1(-t / tau)      # along north
+        d = np.hypot(p_t[:, 0] - run, p_t[:, 1])
+        assert ok[k] == (d.min() >= P.d_safe_m), sc.multipliers[k]
+        if not ok[k]:
+            assert first_entry[k] == pytest.approx(t[np.argmax(d < P.d_safe_m)], abs=0.2)
+    assert not ok[stop]
+
+
 def test_vo_least_bad_choice_still_avoids_a_collision_while_inside_another_targets_d_safe():
     # target a keeps station 500 m off the port beam (inside d_safe: every straight line starts
     # inside its cone, so nothing is admissible); target b meets the own ship head-on in 300 s.

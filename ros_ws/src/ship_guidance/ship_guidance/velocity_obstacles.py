@@ -50,8 +50,9 @@ class VelocityObstacles(CollisionAvoidance):
         u = speed_response(sc.u[0, 0], sc.u_c, sc.t, self.ship)                  # (S, N+1)
         run = np.zeros_like(u)
         np.cumsum(0.5 * np.diff(sc.t) * (u[:, 1:] + u[:, :-1]), axis=1, out=run[:, 1:])
-        heading = np.stack((np.cos(sc.chi_c), np.sin(sc.chi_c)), axis=-1)       # (S, 2)
-        own = sc.p_own0 + run[..., None] * heading[:, None]
+        own = np.empty(run.shape + (2,))   # x and y apart: a trailing axis of 2 broadcasts slowly
+        own[..., 0] = sc.p_own0[0] + run * np.cos(sc.chi_c)[:, None]
+        own[..., 1] = sc.p_own0[1] + run * np.sin(sc.chi_c)[:, None]
         return own, segment_min_distance(own, sc.p_tgt)[0]
 
     def _entry(self, sc, own, dist, radius):
@@ -74,10 +75,11 @@ class VelocityObstacles(CollisionAvoidance):
         t = sc.t[n] + np.clip(into, 0.0, 1.0) * np.diff(sc.t)[n]
         return np.where(inside.any(axis=2), t, np.inf)
 
-    def admissible(self, sc):
-        """((S,) bool, (S,) s until the first target enters d_safe, inf if none does)."""
+    def admissible(self, sc, lines=None):
+        """((S,) bool, (S,) s until the first target enters d_safe, inf if none does);
+        ``lines``: ``_lines(sc)`` if already made."""
         p = self.params
-        own, dist = self._lines(sc)
+        own, dist = lines or self._lines(sc)
         t_in = self._entry(sc, own, dist, sc.d_safe)                             # (S, M)
         in_cone = np.isfinite(t_in)
         v_c = velocity(sc.chi_c, sc.u_c)[:, None, :]                            # (S, 1, 2)
@@ -89,19 +91,20 @@ class VelocityObstacles(CollisionAvoidance):
         widened = give_way[None] & to_port & (tcpa > 0.0) & (tcpa < p.horizon_s)
         return ~(in_cone | widened).any(axis=1), t_in.min(axis=1)
 
-    def least_bad(self, sc):
+    def least_bad(self, sc, lines=None):
         """((S,) s until the first target comes within ``collision_m`` on the lines, inf if none
         does within the horizon; (S,) m, the closest approach to any target on the lines within
         the horizon)."""
-        own, dist = self._lines(sc)
+        own, dist = lines or self._lines(sc)
         t_col = self._entry(sc, own, dist, np.full(len(sc.p_tgt0), self.params.collision_m))
         return t_col.min(axis=1), dist.min(axis=(1, 2))
 
     def _choose(self, sc):
-        ok, _ = self.admissible(sc)
+        lines = self._lines(sc)
+        ok, _ = self.admissible(sc, lines)
         cost = self.deviation_cost(sc) + self.port_turn_penalty(sc) + self.not_apparent_penalty(sc)
         if ok.any():
             k = int(np.argmin(np.where(ok, cost, np.inf)))
             return k, float(cost[k])
-        t_col, clearance = self.least_bad(sc)
+        t_col, clearance = self.least_bad(sc, lines)
         return int(np.lexsort((cost, -clearance, -t_col))[0]), None

@@ -34,10 +34,11 @@ GRAPH_FIXTURES = frozenset({'ros_graph', 'module_ros_graph'})
 #: Checked at collection: none of their tests may take ``launch``.
 SINGLE_NODES = frozenset(GRAPH_TESTS + name for name in (
     'test_ais_node.py', 'test_ais_node_hostile.py', 'test_colav_node_hostile.py',
-    'test_colav_uncertainty.py', 'test_held_by_name.py', 'test_live_bridge_latched.py',
-    'test_node_input_processes.py', 'test_param_schema_processes.py', 'test_planner_node.py',
-    'test_speed_factor_node.py', 'test_tracker_node.py', 'test_vessel_node.py',
-    'test_vessel_node_wind.py', 'test_waves_node.py'))
+    'test_colav_uncertainty.py', 'test_file_input_processes.py', 'test_held_by_name.py',
+    'test_live_bridge_latched.py', 'test_node_input_processes.py',
+    'test_param_schema_processes.py', 'test_planner_node.py', 'test_speed_factor_node.py',
+    'test_tracker_node.py', 'test_vessel_node.py', 'test_vessel_node_wind.py',
+    'test_waves_node.py'))
 LAUNCH_FIXTURE = 'launch'
 
 

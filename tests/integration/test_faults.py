@@ -7,17 +7,23 @@
    flushed chunks, metrics.json covers the steps that reached the disk, and the record is
    reported INCOMPLETE (its end is lost), never complete.
 3. Ctrl-C: the interrupted run gets its metrics and plots of what was recorded.
+4. A run on a full disk (2 MB tmpfs) fails with exit code 1 and no traceback, and what the
+   launcher wrote (parameter files, the scenario copy, run.json if any) is whole.
 """
 import json
 import os
 import signal
+import subprocess
+import sys
 import time
 
 import pytest
+import yaml
 
 from ship_mission.bag import read_bag
 from ship_mission.bag_recovery import scan
 
+from harness import REPO_ROOT
 from test_launcher import NS, SCENARIO, run_processes
 
 
@@ -93,3 +99,38 @@ def test_an_interrupted_run_gets_metrics_of_what_was_recorded(launch):
     assert metrics['run']['outcome'] == 'interrupted'
     assert metrics['record']['complete'], metrics['record']
     assert any(p.suffix == '.png' for p in run.run_dir().iterdir())
+
+
+@pytest.mark.timeout(240)
+def test_a_run_on_a_full_disk_ends_without_a_traceback_leaving_readable_files(tmp_path):
+    """run_mission on a 2 MB tmpfs: the run fails (exit 1) without a traceback, and what the
+    launcher wrote (parameters, scenario copy, run.json if any) is whole."""
+    disk = tmp_path / 'disk'
+    disk.mkdir()
+    r = subprocess.run(['mount', '-t', 'tmpfs', '-o', 'size=2m', 'tmpfs', str(disk)],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        pytest.skip(f'cannot mount a tmpfs here: {r.stderr.strip()}')
+    try:
+        out = subprocess.run([sys.executable, str(REPO_ROOT / 'scripts' / 'run_mission.py'),
+                              str(REPO_ROOT / 'scenarios' / 'flagship_mariner.yaml'), '--runs',
+                              str(disk), '--duration', '600', '--wall-timeout', '150'],
+                             capture_output=True, text=True, timeout=200,
+                             stdin=subprocess.DEVNULL)
+        assert out.returncode == 1, out.stderr
+        assert 'Traceback' not in out.stderr + out.stdout, out.stderr
+        assert out.stderr.startswith('run_mission: FAILED:'), out.stderr
+        run = (disk / 'latest').resolve()
+        for f in (run / 'params').iterdir():
+            assert yaml.safe_load(f.read_text())['/**']['ros__parameters'], f
+        assert (run / 'scenario.yaml').read_bytes() == \
+            (REPO_ROOT / 'scenarios' / 'flagship_mariner.yaml').read_bytes()
+        if (run / 'run.json').exists():
+            assert yaml.safe_load((run / 'run.json').read_text())['outcome']
+        else:
+            # the run's failure (stderr) when nothing else failed first, else a progress line
+            # beside the failure that came first (with zstd bags the 2 MB fill later than they did)
+            assert f'cannot write {run / "run.json"}' in out.stdout + out.stderr
+        assert not (run / '.run.json.tmp').exists()
+    finally:
+        subprocess.run(['umount', '-l', str(disk)], capture_output=True)

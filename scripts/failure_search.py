@@ -22,6 +22,12 @@ the results are the same as on local processes (each simulation is deterministic
 draw order), and a line and the results file (``reran_sims``) say which ran again. Every node
 needs this repository at the same path, its .venv (``make venv-sweep``) and the install on its
 PYTHONPATH (as the sweeps, doc/results/sweeps.md).
+
+Each finished generation is appended to OUT/failure_search.partial.jsonl (deleted once the
+results file is written). A search that stopped (Ctrl-C, a lost cluster) continues with the
+same arguments and ``--resume``: the samplers draw the finished generations again (their draws
+depend only on the seed and the scores), take their recorded results without running them,
+and the results equal an uninterrupted search's.
 """
 import json
 import sys
@@ -55,6 +61,9 @@ def parse_args(argv):
     ap.add_argument('--out', type=out_folder, default=Path('runs/failure_search'),
                     help='output folder: failure_search.json and failures/ (default '
                          'runs/failure_search)')
+    ap.add_argument('--resume', action='store_true',
+                    help='continue the search of OUT/failure_search.partial.jsonl (the same '
+                         'arguments), running only the generations it lacks')
     ap.add_argument('--replay', type=Path, default=None, metavar='FOLDER_OR_YAML',
                     help='replay written failures through run_mission and compare')
     ap.add_argument('--runs', type=Path, default=Path('runs/failure_replay'),
@@ -99,21 +108,46 @@ def main(argv=None):
     return _search(args, started, None)
 
 
+PARTIAL_NAME = 'failure_search.partial.jsonl'
+
+
 def _search(args, started, pool):
     from montecarlo.backends import SweepRunError
+    from montecarlo.results import PartialRows, SweepError, episodes_fingerprint
     out = {'settings': {'ship': args.ship, 'method': args.method, 'budget': args.budget,
                         'generation': args.generation, 'seed': args.seed,
                         'limit_s': episode.LIMIT_S, 'failure_level': episode.FAILURE_LEVEL},
            'samplers': {}}
+    partial = args.out / PARTIAL_NAME
+    args.out.mkdir(parents=True, exist_ok=True)
+    try:
+        kept = PartialRows(partial, episodes_fingerprint([out['settings'], args.samplers]),
+                           args.resume, other='another search (--ship, --method, --budget, '
+                           '--generation, --seed or --samplers differ)')
+    except SweepError as exc:
+        print(f'failure_search.py: {exc}', file=sys.stderr)
+        return 2
+
+    def record(key, samples, results, reran):
+        kept.add([{'episode': key, 'samples': samples, 'out': results, 'reran': reran}])
+    try:
+        return _samplers(args, started, pool, out, kept, record)
+    except (SweepRunError, study.ResumeError, KeyboardInterrupt) as exc:
+        why = 'interrupted' if isinstance(exc, KeyboardInterrupt) else str(exc)
+        print(f'failure_search.py: {why}; the finished generations are in {partial} (rerun '
+              'with --resume)', file=sys.stderr)
+        return 130 if isinstance(exc, KeyboardInterrupt) else 1
+    finally:
+        kept.close()
+
+
+def _samplers(args, started, pool, out, kept, record):
     t0 = time.perf_counter()
     for k, name in enumerate(args.samplers):
         sampler = study.make_sampler(name, [args.seed, k])
-        try:
-            rows = study.search(sampler, args.budget, args.generation, args.ship, args.method,
-                                args.jobs, lambda line: print(line, flush=True), pool)
-        except SweepRunError as exc:
-            print(f'failure_search.py: {exc}', file=sys.stderr)
-            return 1
+        rows = study.search(sampler, args.budget, args.generation, args.ship, args.method,
+                            args.jobs, lambda line: print(line, flush=True), pool,
+                            done=kept.done, record=record)
         s = study.summary(rows, args.ship, args.method)
         if s['reran_sims'] is None:
             print(f'{name}: reruns unknown (the cluster\'s key-value store could not be read)')
@@ -131,8 +165,8 @@ def _search(args, started, pool):
         out['samplers'][name] = s
     out['wall_s'] = time.perf_counter() - t0
     out['provenance'] = started
-    args.out.mkdir(parents=True, exist_ok=True)
     (args.out / 'failure_search.json').write_text(json.dumps(out, indent=1))
+    kept.path.unlink()
     print(f'wrote {args.out / "failure_search.json"}')
     return 0
 

@@ -42,15 +42,32 @@ def _run(task):
     return episode.run(n, x, ship, method)
 
 
-def search(sampler, budget, generation, ship, method, jobs=1, progress=print, pool=None):
+class ResumeError(Exception):
+    """A finished generation of a partial file is not the one the sampler draws now."""
+
+
+def search(sampler, budget, generation, ship, method, jobs=1, progress=print, pool=None,
+           done=None, record=None):
     """Rows (one per simulation: n_targets, x, the episode's dict, generation) of ``sampler``
-    run for ``budget`` simulations."""
+    run for ``budget`` simulations. ``done``: finished generations ({'<sampler>:<g>': record},
+    as ``record`` got them) whose episodes are not run again: the sampler draws them anew (its
+    draws depend only on its seed and the scores) and takes their recorded results.
+    ``record(key, samples, out, reran)`` is called after each generation that ran."""
     rows, t0, g = [], time.perf_counter(), 0
     while len(rows) < budget:
         samples = sampler.propose(min(generation, budget - len(rows)))
-        tasks = [(n, x, ship, method) for n, x in samples]
-        out = list(pool.map(_run, tasks)) if pool is not None else [_run(t) for t in tasks]
-        reran = getattr(pool, 'reruns', [[]])[-1] if pool is not None else []
+        key = f'{sampler.name}:{g}'
+        if done and key in done:
+            out, reran = done[key]['out'], done[key]['reran']
+            if _drawn(samples) != done[key]['samples']:
+                raise ResumeError(f'generation {g} of {sampler.name} draws other encounters '
+                                  'than the partial file holds')
+        else:
+            tasks = [(n, x, ship, method) for n, x in samples]
+            out = list(pool.map(_run, tasks)) if pool is not None else [_run(t) for t in tasks]
+            reran = getattr(pool, 'reruns', [[]])[-1] if pool is not None else []
+            if record is not None:
+                record(key, _drawn(samples), out, reran)
         sampler.update(samples, [o['score'] for o in out])
         rows += [{'generation': g, 'n_targets': int(n), 'x': [float(v) for v in x], **o,
                   'reran': None if reran is None else k in reran}
@@ -61,6 +78,11 @@ def search(sampler, budget, generation, ship, method, jobs=1, progress=print, po
                  f'{time.perf_counter() - t0:.0f} s')
         g += 1
     return rows
+
+
+def _drawn(samples):
+    """Samples as the partial file holds them (JSON keeps every float exactly)."""
+    return [[int(n), [float(v) for v in x]] for n, x in samples]
 
 
 def summary(rows, ship, method):

@@ -189,17 +189,20 @@ class PartialRows:
     are ``done`` (a last line cut by a crash is dropped) and new rows are appended; a missing
     file or one of another sweep is a SweepError. Otherwise ``path`` starts empty."""
 
-    def __init__(self, path, fingerprint, resume=False):
+    #: What differs when a partial file is another run's (the refusal names it).
+    OTHER = 'another sweep (the file, --episodes, --duration or --where differ)'
+
+    def __init__(self, path, fingerprint, resume=False, other=OTHER):
         self.path, self.done = path, {}
         if resume:
-            self.done = self._read(path, fingerprint)
+            self.done = self._read(path, fingerprint, other)
             self._file = open(path, 'a')
         else:
             self._file = open(path, 'w')
             self._write([{'partial_of': fingerprint}])
 
     @staticmethod
-    def _read(path, fingerprint):
+    def _read(path, fingerprint, other):
         try:
             lines = path.read_text().splitlines()
         except FileNotFoundError:
@@ -209,8 +212,7 @@ class PartialRows:
         except ValueError:
             head = {}
         if head.get('partial_of') != fingerprint:
-            raise SweepError(f'--resume: {path} was written by another sweep (the file, '
-                             f'--episodes, --duration or --where differ); run without --resume')
+            raise SweepError(f'--resume: {path} was written by {other}; run without --resume')
         done = {}
         for i, line in enumerate(lines[1:], 2):
             try:

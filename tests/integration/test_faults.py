@@ -21,10 +21,9 @@ import pytest
 import yaml
 
 from ship_mission.bag import read_bag
-from ship_mission.bag_recovery import scan
 
 from harness import REPO_ROOT
-from test_launcher import NS, SCENARIO, run_processes
+from test_launcher import NS, SCENARIO, run_processes, wait_flushed
 
 
 def wait_gone(marker, timeout):
@@ -35,19 +34,6 @@ def wait_gone(marker, timeout):
             return []
         time.sleep(0.2)
     return run_processes(marker)
-
-
-def wait_flushed(bag, timeout, n=20):
-    """Until the recorder has put n odometry messages on disk (it closes a chunk every second)."""
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        for mcap in bag.glob('*.mcap'):
-            _schemas, channels, messages, _stop = scan(mcap)
-            odom = {cid for cid, ch in channels.items() if ch[0] == f'{NS}/odom'}
-            if sum(1 for m in messages if m[0] in odom) >= n:
-                return True
-        time.sleep(0.2)
-    return False
 
 
 def started(run, log='vessel_0.vessel_node', text='publishing step 0'):

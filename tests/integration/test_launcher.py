@@ -28,6 +28,7 @@ import pytest
 import yaml
 
 from ship_mission.bag import read_bag
+from ship_mission.bag_recovery import scan
 from ship_planner.route_loader import load_route
 from ship_sim.frames import ned_to_enu_xy
 
@@ -125,6 +126,19 @@ class Launch:
                 f'stdout:\n{self.stdout()[-3000:]}\nstderr:\n{self.stderr()[-3000:]}')
 
 
+def wait_flushed(bag, timeout, n=20):
+    """Until the recorder has put n odometry messages on disk (it closes a chunk every second)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        for mcap in bag.glob('*.mcap'):
+            _schemas, channels, messages, _stop = scan(mcap)
+            odom = {cid for cid, ch in channels.items() if ch[0] == f'{NS}/odom'}
+            if sum(1 for m in messages if m[0] in odom) >= n:
+                return True
+        time.sleep(0.2)
+    return False
+
+
 POLICY_SCENARIO = REPO_ROOT / 'scenarios' / 'curved_path_mariner_current09_policy_000.yaml'
 
 
@@ -168,7 +182,8 @@ def _failed_logs(run_dir, codes):
 def test_killing_the_autopilot_stops_every_process_and_fails(launch):
     run = launch(SCENARIO, '--duration', 10000, '--wall-timeout', 60)
     assert run.wait_for_log('vessel_0.vessel_node', 'publishing step 0', timeout=40.0), run.report()
-    time.sleep(1.0)  # mid-run: hundreds of lockstep steps
+    # mid-run: steps on disk (a fixed second after step 0 was sometimes still step 0 under load)
+    assert wait_flushed(run.run_dir() / 'bag', 30.0), run.report()
     procs = [(pid, argv) for pid, argv in run_processes(str(run.runs)) if pid != run.popen.pid]
     names = sorted(_program(argv) for _pid, argv in procs)
     # the four nodes and the recorder, each started with the run folder on its command line

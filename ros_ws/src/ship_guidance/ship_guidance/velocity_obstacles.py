@@ -59,15 +59,15 @@ class VelocityObstacles(CollisionAvoidance):
         """(S, M) s until each target first comes within ``radius`` ((M,) m) of the ``own``
         positions (both moving linearly within a step) within the horizon, inf if it does
         not; 0 when already within it."""
-        r2 = np.asarray(radius, float)[None, :] ** 2                            # (1, M)
-        inside = dist < np.sqrt(r2)[..., None]                                  # (S, M, N)
+        r = np.asarray(radius, float)[None, :]                                  # (1, M)
+        inside = dist < r[..., None]                                            # (S, M, N)
         n = inside.argmax(axis=2)                                               # first step
         k, m = np.arange(dist.shape[0])[:, None], np.arange(dist.shape[1])[None, :]
         r0 = sc.p_tgt[m, n] - own[k, n]                                         # (S, M, 2)
         step = sc.p_tgt[m, n + 1] - sc.p_tgt[m, n] - (own[k, n + 1] - own[k, n])
         a = (step ** 2).sum(axis=-1)
         b = (r0 * step).sum(axis=-1)
-        c = (r0 ** 2).sum(axis=-1) - r2
+        c = (r0 ** 2).sum(axis=-1) - r ** 2
         root = np.sqrt(np.maximum(b * b - a * c, 0.0))
         # the smaller root of a tau^2 + 2 b tau + c = 0; none needed when inside at the start
         into = np.where(c > 0.0, np.divide(-b - root, a, out=np.zeros_like(a), where=a > 0.0),
